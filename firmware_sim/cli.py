@@ -1,0 +1,74 @@
+"""Command line of the emulator: ``python -m firmware_sim`` and ``ego sim``."""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+from types import FrameType
+
+from firmware_sim.dspic import FIRMWARES
+from firmware_sim.faults import FAULT_KINDS, FaultTimings, parse_fault
+from firmware_sim.server import Emulator
+
+__all__ = ["add_arguments", "build_parser", "main", "run"]
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--firmware", choices=FIRMWARES, default="thesis",
+                        help="which asercom to answer as (default: thesis)")
+    parser.add_argument("--baud", type=int, default=230400,
+                        help="line rate used to pace the bytes (default: 230400)")
+    parser.add_argument("--processing-delay-us", type=float, default=0.0,
+                        help="extra dsPIC time per command, in microseconds (default: 0)")
+    parser.add_argument("--fault", action="append", default=[], metavar="KIND=RATE|KIND@N",
+                        help=f"inject faults; KIND is one of {', '.join(FAULT_KINDS)}")
+    parser.add_argument("--seed", type=int, default=None, help="seed for noise and faults")
+    parser.add_argument("--hardware", default="1.1", help="HW revision reported by V")
+    parser.add_argument("--delay-s", type=float, default=0.1, help="length of a delay fault")
+    parser.add_argument("--stall-s", type=float, default=1.0, help="length of a stall fault")
+    parser.add_argument("--replug-s", type=float, default=0.3, help="length of a disconnect")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m firmware_sim",
+        description="Emulated e-puck dsPIC on a pseudo-terminal. Prints the port's path "
+        "as the first line of standard output, then serves until killed.",
+    )
+    add_arguments(parser)
+    return parser
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        faults = [parse_fault(text) for text in args.fault]
+        emulator = Emulator(
+            args.firmware,
+            baud=args.baud,
+            processing_delay_s=args.processing_delay_us * 1e-6,
+            faults=faults,
+            seed=args.seed,
+            timings=FaultTimings(args.delay_s, args.stall_s, args.replug_s),
+            hardware=args.hardware,
+        )
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+
+    def stop(signum: int, frame: FrameType | None) -> None:
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, stop)
+    print(emulator.path, flush=True)
+    try:
+        emulator.serve_forever()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        emulator.stop()
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    return run(build_parser().parse_args(argv))

@@ -1,0 +1,235 @@
+"""The emulated dsPIC on a real pseudo-terminal, paced at the line's baud rate.
+
+pyserial opens :attr:`Emulator.path` like a real port. The path is a stable symlink to
+the current pty, so that a "disconnect" fault can make the port vanish and come back
+under the same name, as a re-plugged serial adapter does under ``/dev/serial/by-id``.
+
+Pacing: each byte takes 10 bits of line time both ways (43.4 us at 230400), so a batch
+is heard only once its last byte would have crossed the wire, and its reply leaves in
+small chunks at line rate; an optional processing delay per command reproduces the
+thesis' measured 84 us/byte.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import select
+import shutil
+import tempfile
+import threading
+import time
+import tty
+from collections import deque
+from collections.abc import Iterable
+from types import TracebackType
+
+from firmware_sim.dspic import BANNER, BatchRecord, Dspic, Emission
+from firmware_sim.faults import FaultPlan, FaultSpec, FaultTimings
+from firmware_sim.world import World
+
+__all__ = ["Emulator"]
+
+log = logging.getLogger(__name__)
+
+#: Bytes written to the pty at a time: small enough that stray bytes right behind a
+#: reply arrive within a few byte times, as they would on a real UART.
+CHUNK = 4
+
+
+class Emulator:
+    """A dsPIC + world behind a pty; ``with Emulator() as emu: Robot(emu.path)``.
+
+    Runs in a background thread (:meth:`start`) or in the calling thread
+    (:meth:`serve_forever`, for ``python -m firmware_sim``).
+    """
+
+    def __init__(
+        self,
+        firmware: str = "thesis",
+        *,
+        baud: int = 230400,
+        processing_delay_s: float = 0.0,
+        faults: Iterable[FaultSpec] = (),
+        seed: int | None = None,
+        timings: FaultTimings | None = None,
+        world: World | None = None,
+        hardware: str = "1.1",
+    ) -> None:
+        if baud <= 0:
+            raise ValueError(f"baud rate {baud} must be positive")
+        self.world = world or World(seed=seed)
+        self.dspic = Dspic(self.world, firmware, hardware)
+        self.plan = FaultPlan(faults, seed, timings or FaultTimings())
+        self.baud = baud
+        self.byte_s = 10.0 / baud
+        self.processing_delay_s = processing_delay_s
+        #: Every answered batch, newest last: the ground truth tests compare against.
+        self.history: deque[BatchRecord] = deque(maxlen=100_000)
+        self._dir = tempfile.mkdtemp(prefix="ego-sim-")
+        self.path = os.path.join(self._dir, "ttyEPUCK")
+        self._master = -1
+        self._slave = -1
+        self._out: deque[tuple[float, bytes]] = deque()
+        self._out_free = 0.0
+        self._in_free = 0.0
+        self._stalled_until = 0.0
+        self._replug_at: float | None = None
+        self._wake_r, self._wake_w = os.pipe()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._closed = False
+        self._plug()
+        self._schedule(BANNER, time.monotonic())  # power-on banner, drained at open
+
+    # -- lifecycle -----------------------------------------------------------------------
+
+    def start(self) -> Emulator:
+        self._thread = threading.Thread(target=self.serve_forever, name="ego-sim", daemon=True)
+        self._thread.start()
+        return self
+
+    def stop(self) -> None:
+        """Stop serving, close the pty and remove its symlink; idempotent."""
+        if self._closed:
+            return
+        self._closed = True
+        self._stop.set()
+        with contextlib.suppress(OSError):
+            os.write(self._wake_w, b"x")
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join(timeout=5)
+        self._unplug()
+        for fd in (self._wake_r, self._wake_w):
+            with contextlib.suppress(OSError):
+                os.close(fd)
+        shutil.rmtree(self._dir, ignore_errors=True)
+
+    def __enter__(self) -> Emulator:
+        return self.start()
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.stop()
+
+    @property
+    def firmware(self) -> str:
+        return self.dspic.firmware
+
+    def inject(self, kind: str) -> None:
+        """Strike the next batch with fault ``kind`` (a trigger, beside the rates)."""
+        self.plan.force(kind)
+
+    # -- the pty -------------------------------------------------------------------------
+
+    def _plug(self) -> None:
+        self._master, self._slave = os.openpty()
+        tty.setraw(self._slave)  # no echo, no CR/LF translation before pyserial opens it
+        # Holding the slave open keeps the master readable without EIO between clients.
+        os.set_blocking(self._master, False)
+        tmp = self.path + ".new"
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        os.symlink(os.ttyname(self._slave), tmp)
+        os.replace(tmp, self.path)
+
+    def _unplug(self) -> None:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(self.path)
+        for fd in (self._master, self._slave):
+            if fd >= 0:
+                with contextlib.suppress(OSError):
+                    os.close(fd)
+        self._master = self._slave = -1
+        self._out.clear()
+
+    # -- the loop ------------------------------------------------------------------------
+
+    def serve_forever(self) -> None:
+        try:
+            while not self._stop.is_set():
+                self._tick()
+        except Exception:  # a crashed emulator must say why, not hang its tests
+            log.exception("emulator loop failed")
+            raise
+
+    def _tick(self) -> None:
+        now = time.monotonic()
+        if self._replug_at is not None:
+            if now < self._replug_at:
+                select.select([self._wake_r], [], [], self._replug_at - now)
+                return
+            self._replug_at = None
+            self._plug()
+            log.info("emulator: port back at %s", self.path)
+        timeout = 0.05
+        if self._out:
+            timeout = min(timeout, max(0.0, self._out[0][0] - now))
+        readable, _, _ = select.select([self._master, self._wake_r], [], [], timeout)
+        if self._master in readable:
+            try:
+                data = os.read(self._master, 4096)
+            except (BlockingIOError, InterruptedError):
+                data = b""
+            if data:
+                self._receive(data, time.monotonic())
+        self._flush(time.monotonic())
+
+    def _flush(self, now: float) -> None:
+        while self._out and self._out[0][0] <= now and self._master >= 0:
+            _, chunk = self._out.popleft()
+            try:
+                os.write(self._master, chunk)
+            except BlockingIOError:  # nobody reads: a real UART's FIFO would overflow too
+                log.debug("emulator: output overflow, %d bytes lost", len(chunk))
+
+    def _schedule(self, data: bytes, ready: float) -> None:
+        start = max(ready, self._out_free)
+        for i in range(0, len(data), CHUNK):
+            chunk = data[i : i + CHUNK]
+            self._out.append((start + (i + len(chunk)) * self.byte_s, chunk))
+        self._out_free = start + len(data) * self.byte_s
+
+    def _receive(self, data: bytes, now: float) -> None:
+        if now < self._stalled_until:
+            return  # a hung dsPIC hears nothing
+        data, corrupted = self.plan.corrupt_chunk(data, self.dspic.batches + 1)
+        # The last byte of this chunk has crossed the wire only after its line time.
+        arrived = max(now, self._in_free) + len(data) * self.byte_s
+        self._in_free = arrived
+        for emission in self.dspic.feed(data):
+            if emission.kind == "reply":
+                self._answer(emission, arrived, corrupted)
+                corrupted = False
+            else:
+                self._schedule(emission.data, arrived)
+
+    def _answer(self, emission: Emission, arrived: float, corrupted: bool) -> None:
+        record = emission.record
+        assert record is not None
+        kinds = self.plan.for_batch(record.index, has_reply=bool(emission.data))
+        record.faults = (["corrupt"] if corrupted else []) + kinds
+        self.history.append(record)
+        ready = arrived + self.processing_delay_s * (len(record.commands) + 1)
+        if "reset" in kinds:
+            self.dspic.reset()
+            self._schedule(BANNER, ready)
+            return
+        if "disconnect" in kinds:
+            self._unplug()
+            self._replug_at = time.monotonic() + self.plan.timings.replug_s
+            log.info("emulator: port unplugged for %.2f s", self.plan.timings.replug_s)
+            return
+        if "stall" in kinds:
+            self._stalled_until = ready + self.plan.timings.stall_s
+            return
+        if "delay" in kinds:
+            ready += self.plan.timings.delay_s
+        data = self.plan.mangle_reply(kinds, emission.data)
+        if data:
+            self._schedule(data, ready)

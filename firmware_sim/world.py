@@ -1,0 +1,427 @@
+"""A small world for the emulated e-puck: a walled arena, a lamp, a sound source, a floor pattern.
+
+Values move the way a real robot's do: the step counters integrate the wheel speeds,
+proximity follows the e-puck IR response to the nearest surface, light falls (lower is
+brighter) as the lamp gets nearer, the accelerometer sees gravity and motion, and the
+microphones hear the source. Time is the host's monotonic clock, so a controller that
+drives for one second moves the robot one second's worth.
+
+Geometry (e-puck): body 75 mm across, wheel radius 20.5 mm, axle 52 mm, 1000 steps a
+wheel turn, speeds clamped to +-1000 steps/s. Frame: x east, y north, theta = 0 faces
++x, counter-clockwise positive.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = [
+    "IR_RESPONSE",
+    "Arena",
+    "Block",
+    "Lamp",
+    "Pose",
+    "SoundSource",
+    "World",
+]
+
+ROBOT_RADIUS_M = 0.0375
+WHEEL_RADIUS_M = 0.0205
+AXLE_M = 0.052
+STEPS_PER_TURN = 1000
+MAX_SPEED_STEPS = 1000
+METRES_PER_STEP = 2 * math.pi * WHEEL_RADIUS_M / STEPS_PER_TURN
+GRAVITY = 9.81
+ACC_ZERO = 2000  # raw accelerometer counts at 0 g (protocol.md)
+ACC_PER_G = 800
+
+#: Webots' e-puck IR table: distance from the body (m) -> raw value.
+IR_RESPONSE = ((0.0, 4095.0), (0.005, 2133.0), (0.01, 1466.0), (0.02, 384.0),
+               (0.05, 120.0), (0.07, 67.0))
+#: Sensor bearings from the heading, CCW positive (ps0 front-right ... ps7 front-left).
+SENSOR_BEARINGS_RAD = (-0.30, -0.80, -1.57, -2.64, 2.64, 1.57, 0.80, 0.30)
+#: The Overo board's long-range IR8 (left) and IR9 (right), facing ahead-left/right.
+LONG_RANGE_BEARINGS_RAD = (0.5, -0.5)
+#: Floor sensors: (forward, left) offsets from the centre, left / centre / right.
+FLOOR_SENSOR_OFFSETS_M = ((0.03, 0.012), (0.032, 0.0), (0.03, -0.012))
+#: Microphones: mic0 right, mic1 left, mic2 back (forward, left offsets).
+MIC_OFFSETS_M = ((0.0, -0.03), (0.0, 0.03), (-0.03, 0.0))
+MIC_RATE_HZ = 16384
+MIC_SAMPLES = 100
+
+
+@dataclass(frozen=True, slots=True)
+class Pose:
+    x_m: float
+    y_m: float
+    theta_rad: float
+
+
+@dataclass(frozen=True, slots=True)
+class Arena:
+    """Square arena with walls at x, y = +-half_size_m."""
+
+    half_size_m: float = 0.5
+    wall_rgb: tuple[int, int, int] = (200, 190, 170)
+
+
+@dataclass(frozen=True, slots=True)
+class Block:
+    """An axis-aligned square box, 5 cm high: an obstacle with a colour to follow."""
+
+    x_m: float
+    y_m: float
+    half_size_m: float
+    rgb: tuple[int, int, int]
+
+
+@dataclass(frozen=True, slots=True)
+class Lamp:
+    x_m: float = 0.3
+    y_m: float = 0.3
+    height_m: float = 0.15
+
+
+@dataclass(frozen=True, slots=True)
+class SoundSource:
+    x_m: float = -0.3
+    y_m: float = 0.3
+    frequency_hz: float = 1000.0
+    amplitude: float = 900.0  # ADC counts at 10 cm
+
+
+def _default_blocks() -> list[Block]:
+    return [
+        Block(0.25, -0.25, 0.04, (200, 30, 30)),
+        Block(-0.25, -0.22, 0.04, (30, 160, 40)),
+        Block(-0.3, 0.05, 0.03, (30, 60, 200)),
+    ]
+
+
+@dataclass(slots=True)
+class _Body:
+    x_m: float = 0.0
+    y_m: float = 0.0
+    theta_rad: float = 0.0
+    speed_steps: list[int] = field(default_factory=lambda: [0, 0])
+    steps: list[float] = field(default_factory=lambda: [0.0, 0.0])
+    forward_mps: float = 0.0
+    forward_acc: float = 0.0
+    lateral_acc: float = 0.0
+    leds: list[int] = field(default_factory=lambda: [0] * 10)
+
+
+class World:
+    """The emulator's ground truth; every method is thread-safe."""
+
+    def __init__(
+        self,
+        seed: int | None = None,
+        arena: Arena | None = None,
+        blocks: list[Block] | None = None,
+        lamp: Lamp | None = None,
+        sound: SoundSource | None = None,
+        start: Pose | None = None,
+        noise: bool = True,
+    ) -> None:
+        self.arena = arena or Arena()
+        self.blocks = _default_blocks() if blocks is None else list(blocks)
+        self.lamp = lamp or Lamp()
+        self.sound = sound or SoundSource()
+        self.noise = noise
+        self._rng = np.random.default_rng(seed)
+        self._lock = threading.RLock()
+        self._start = start or Pose(0.0, 0.0, 0.0)
+        self._body = _Body(self._start.x_m, self._start.y_m, self._start.theta_rad)
+        self._t = time.monotonic()
+        self.battery_raw = 3800
+        #: Closest distance (m) between the body and any wall or block so far.
+        self.closest_approach_m = math.inf
+        self.distance_travelled_m = 0.0
+
+    # -- state ---------------------------------------------------------------------
+
+    def reset(self) -> None:
+        """What a dsPIC reset does to the robot: motors stop, counters and LEDs clear."""
+        with self._lock:
+            self.advance()
+            self._body.speed_steps = [0, 0]
+            self._body.steps = [0.0, 0.0]
+            self._body.leds = [0] * 10
+
+    def snapshot(self) -> Pose:
+        with self._lock:
+            self.advance()
+            return Pose(self._body.x_m, self._body.y_m, self._body.theta_rad)
+
+    def place(self, pose: Pose) -> None:
+        with self._lock:
+            self.advance()
+            self._body.x_m, self._body.y_m, self._body.theta_rad = pose
+            self._body.x_m, self._body.y_m = self._resolve_collisions(pose.x_m, pose.y_m)
+
+    @property
+    def speeds(self) -> tuple[int, int]:
+        with self._lock:
+            return (self._body.speed_steps[0], self._body.speed_steps[1])
+
+    @property
+    def leds(self) -> tuple[int, ...]:
+        with self._lock:
+            return tuple(self._body.leds)
+
+    def set_speeds(self, left: int, right: int) -> None:
+        """Commanded wheel speeds; the firmware clamps them to +-1000 steps/s."""
+        with self._lock:
+            self.advance()
+            clamp = lambda v: max(-MAX_SPEED_STEPS, min(MAX_SPEED_STEPS, v))  # noqa: E731
+            self._body.speed_steps = [clamp(left), clamp(right)]
+
+    def set_led(self, index: int, value: int) -> None:
+        """protocol.md: led 0-7 ring, 8 body, 9 front; any other number sets all ring LEDs."""
+        with self._lock:
+            targets = [index] if 0 <= index <= 9 else list(range(8))
+            for i in targets:
+                if value == 2:
+                    self._body.leds[i] ^= 1
+                else:
+                    self._body.leds[i] = 1 if value else 0
+
+    def set_steps(self, left: int, right: int) -> None:
+        with self._lock:
+            self.advance()
+            self._body.steps = [float(left), float(right)]
+
+    def steps_int16(self) -> tuple[int, int]:
+        """The step counters as the firmware holds them: int16, wrapping at +-32768."""
+        with self._lock:
+            self.advance()
+            return tuple(  # type: ignore[return-value]
+                ((int(math.floor(s)) + 32768) % 65536) - 32768 for s in self._body.steps
+            )
+
+    # -- physics -------------------------------------------------------------------
+
+    def advance(self, now: float | None = None) -> None:
+        """Integrate the wheels up to ``now`` (exact arcs for constant wheel speeds)."""
+        with self._lock:
+            now = time.monotonic() if now is None else now
+            dt = now - self._t
+            if dt <= 0:
+                return
+            self._t = now
+            b = self._body
+            vl = b.speed_steps[0] * METRES_PER_STEP
+            vr = b.speed_steps[1] * METRES_PER_STEP
+            v = (vl + vr) / 2
+            w = (vr - vl) / AXLE_M
+            b.steps[0] += b.speed_steps[0] * dt
+            b.steps[1] += b.speed_steps[1] * dt
+            if abs(w) < 1e-9:
+                nx = b.x_m + v * dt * math.cos(b.theta_rad)
+                ny = b.y_m + v * dt * math.sin(b.theta_rad)
+            else:
+                r = v / w
+                nx = b.x_m + r * (math.sin(b.theta_rad + w * dt) - math.sin(b.theta_rad))
+                ny = b.y_m - r * (math.cos(b.theta_rad + w * dt) - math.cos(b.theta_rad))
+            b.theta_rad = (b.theta_rad + w * dt + math.pi) % (2 * math.pi) - math.pi
+            nx, ny = self._resolve_collisions(nx, ny)
+            self.distance_travelled_m += math.hypot(nx - b.x_m, ny - b.y_m)
+            b.x_m, b.y_m = nx, ny
+            # Smoothed accelerations over ~50 ms, as the accelerometer's filter would.
+            alpha = min(1.0, dt / 0.05)
+            b.forward_acc += alpha * ((v - b.forward_mps) / dt - b.forward_acc)
+            b.forward_mps = v
+            b.lateral_acc += alpha * (v * w - b.lateral_acc)
+            self.closest_approach_m = min(self.closest_approach_m, self._clearance())
+
+    def _resolve_collisions(self, x: float, y: float) -> tuple[float, float]:
+        """Keep the body inside the walls and outside the blocks (the wheels slip)."""
+        limit = self.arena.half_size_m - ROBOT_RADIUS_M
+        x = min(max(x, -limit), limit)
+        y = min(max(y, -limit), limit)
+        for blk in self.blocks:
+            cx = min(max(x, blk.x_m - blk.half_size_m), blk.x_m + blk.half_size_m)
+            cy = min(max(y, blk.y_m - blk.half_size_m), blk.y_m + blk.half_size_m)
+            d = math.hypot(x - cx, y - cy)
+            if d >= ROBOT_RADIUS_M:
+                continue
+            if d < 1e-9:  # the centre got inside the box: out through the x face
+                side = 1.0 if x >= blk.x_m else -1.0
+                x = blk.x_m + side * (blk.half_size_m + ROBOT_RADIUS_M)
+            else:  # touch the nearest point of the box from outside
+                x = cx + (x - cx) / d * ROBOT_RADIUS_M
+                y = cy + (y - cy) / d * ROBOT_RADIUS_M
+        return x, y
+
+    def _clearance(self) -> float:
+        b = self._body
+        h = self.arena.half_size_m
+        gaps = [h - abs(b.x_m), h - abs(b.y_m)]
+        for blk in self.blocks:
+            dx = max(abs(b.x_m - blk.x_m) - blk.half_size_m, 0.0)
+            dy = max(abs(b.y_m - blk.y_m) - blk.half_size_m, 0.0)
+            gaps.append(math.hypot(dx, dy))
+        return max(0.0, min(gaps) - ROBOT_RADIUS_M)
+
+    def ray_distance(self, ox: float, oy: float, angle: float) -> float:
+        """Distance from (ox, oy) along ``angle`` to the first wall or block face."""
+        c, s = math.cos(angle), math.sin(angle)
+        h = self.arena.half_size_m
+        best = math.inf
+        for pos, d in ((ox, c), (oy, s)):
+            if abs(d) > 1e-12:
+                best = min(best, ((h if d > 0 else -h) - pos) / d)
+        for blk in self.blocks:
+            t = _ray_box(ox, oy, c, s, blk)
+            if t is not None:
+                best = min(best, t)
+        return max(best, 0.0)
+
+    # -- sensors -------------------------------------------------------------------
+
+    def _noise(self, sigma: float) -> float:
+        return float(self._rng.normal(0.0, sigma)) if self.noise and sigma > 0 else 0.0
+
+    def _sensor_origin(self, bearing: float) -> tuple[float, float, float]:
+        b = self._body
+        a = b.theta_rad + bearing
+        return (b.x_m + ROBOT_RADIUS_M * math.cos(a), b.y_m + ROBOT_RADIUS_M * math.sin(a), a)
+
+    def _ir_value(self, bearing: float, scale: float = 1.0) -> int:
+        ox, oy, a = self._sensor_origin(bearing)
+        # A beam about 17 degrees wide: the nearest of three rays.
+        d = min(self.ray_distance(ox, oy, a + da) for da in (-0.15, 0.0, 0.15)) / scale
+        value = float(np.interp(d, [p[0] for p in IR_RESPONSE], [p[1] for p in IR_RESPONSE]))
+        value += self._noise(0.02 * value + 3.0)
+        return int(round(min(4095.0, max(-20.0, value))))
+
+    def proximity(self, long_range: bool = False) -> list[int]:
+        """ps0..ps7 (and IR8, IR9 of the Overo board, which reach four times as far)."""
+        with self._lock:
+            self.advance()
+            values = [self._ir_value(a) for a in SENSOR_BEARINGS_RAD]
+            if long_range:
+                values += [self._ir_value(a, scale=4.0) for a in LONG_RANGE_BEARINGS_RAD]
+            return values
+
+    def true_proximity(self) -> list[float]:
+        """Noise-free proximity, for tests that check the world's response."""
+        with self._lock:
+            noise, self.noise = self.noise, False
+            try:
+                return [float(v) for v in self.proximity()]
+            finally:
+                self.noise = noise
+
+    def light(self, long_range: bool = False) -> list[int]:
+        """ls0..ls7, 0..4095, lower is brighter: the lamp's light on each sensor's face."""
+        with self._lock:
+            self.advance()
+            values = []
+            bearings = SENSOR_BEARINGS_RAD + (LONG_RANGE_BEARINGS_RAD if long_range else ())
+            for bearing in bearings:
+                ox, oy, a = self._sensor_origin(bearing)
+                dx, dy = self.lamp.x_m - ox, self.lamp.y_m - oy
+                d2 = dx * dx + dy * dy + self.lamp.height_m**2
+                facing = 0.5 + 0.5 * math.cos(math.atan2(dy, dx) - a)
+                illum = facing * 0.25**2 / (d2 + 0.25**2 - self.lamp.height_m**2)
+                value = 4000.0 - 3600.0 * min(1.0, illum) + self._noise(4.0)
+                values.append(int(round(min(4095.0, max(0.0, value)))))
+            return values
+
+    def floor_reflectance(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+        """1.0 on the white floor, 0.15 on the black pattern (a stripe and a disc)."""
+        x = np.asarray(x_m, dtype=float)
+        y = np.asarray(y_m, dtype=float)
+        stripe = np.abs(y - 0.2) < 0.02
+        disc = (x + 0.3) ** 2 + (y + 0.3) ** 2 < 0.08**2
+        return np.where(stripe | disc, 0.15, 1.0)
+
+    def floor_rgb_at(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+        """The floor's colour where the camera looks, (..., 3) uint8."""
+        r = self.floor_reflectance(x_m, y_m)
+        grey = (40 + 200 * r).astype(np.uint8)
+        return np.stack([grey, grey, grey], axis=-1)
+
+    def floor(self) -> list[int]:
+        """gs0..gs2: about 1000 on white, 300 on black."""
+        with self._lock:
+            self.advance()
+            b = self._body
+            c, s = math.cos(b.theta_rad), math.sin(b.theta_rad)
+            xs = np.array([b.x_m + f * c - left * s for f, left in FLOOR_SENSOR_OFFSETS_M])
+            ys = np.array([b.y_m + f * s + left * c for f, left in FLOOR_SENSOR_OFFSETS_M])
+            refl = self.floor_reflectance(xs, ys)
+            return [int(round(200 + 800 * r + self._noise(5.0))) for r in refl]
+
+    def accelerometer_raw(self) -> tuple[int, int, int]:
+        """ADC counts: 0 g near 2000, 800 counts a g; z sees gravity, x/y see motion.
+
+        Webots' conversion (protocol.md) is x = -(g/800)(raw-2000), y and z = +(g/800)(raw-2000),
+        so x carries the lateral (centripetal) and y the forward acceleration.
+        """
+        with self._lock:
+            self.advance()
+            k = ACC_PER_G / GRAVITY
+            x = ACC_ZERO - k * self._body.lateral_acc + self._noise(2.0)
+            y = ACC_ZERO + k * self._body.forward_acc + self._noise(2.0)
+            z = ACC_ZERO + ACC_PER_G + self._noise(2.0)
+            return (int(round(x)), int(round(y)), int(round(z)))
+
+    def accelerometer_spherical(self) -> tuple[float, float, float]:
+        """Magnitude (g), orientation (0-360 deg) and inclination (0-180 deg)."""
+        x, y, z = (v - ACC_ZERO for v in self.accelerometer_raw())
+        mag = math.sqrt(x * x + y * y + z * z)
+        orientation = math.degrees(math.atan2(y, x)) % 360.0
+        inclination = math.degrees(math.acos(z / mag)) if mag else 0.0
+        return (mag / ACC_PER_G, orientation, inclination)
+
+    def microphone_buffer(self) -> tuple[list[list[int]], int]:
+        """The last 100 samples of each microphone (16384 Hz) and the newest sample's index."""
+        with self._lock:
+            self.advance()
+            now = self._t
+            b = self._body
+            c, s = math.cos(b.theta_rad), math.sin(b.theta_rad)
+            k = np.arange(MIC_SAMPLES)
+            newest = int(now * MIC_RATE_HZ) % MIC_SAMPLES
+            # Circular buffer: slot i holds the sample taken (newest - i) mod 100 ago.
+            age = (newest - k) % MIC_SAMPLES
+            t = now - age / MIC_RATE_HZ
+            buffers = []
+            for f, left in MIC_OFFSETS_M:
+                mx, my = b.x_m + f * c - left * s, b.y_m + f * s + left * c
+                d = math.hypot(self.sound.x_m - mx, self.sound.y_m - my)
+                amp = self.sound.amplitude / (1.0 + d / 0.1)
+                wave = amp * np.sin(2 * np.pi * self.sound.frequency_hz * (t - d / 343.0))
+                if self.noise:
+                    wave = wave + self._rng.normal(0.0, 3.0, MIC_SAMPLES)
+                buffers.append([int(v) for v in np.round(wave)])
+            return buffers, newest
+
+    def microphone_amplitudes(self) -> list[int]:
+        """Max - min over the last 100 samples of each microphone."""
+        buffers, _ = self.microphone_buffer()
+        return [max(b) - min(b) for b in buffers]
+
+
+def _ray_box(ox: float, oy: float, c: float, s: float, blk: Block) -> float | None:
+    """Slab test: distance along the ray to the box, or None if it misses."""
+    t0, t1 = -math.inf, math.inf
+    for o, d, lo, hi in ((ox, c, blk.x_m - blk.half_size_m, blk.x_m + blk.half_size_m),
+                         (oy, s, blk.y_m - blk.half_size_m, blk.y_m + blk.half_size_m)):
+        if abs(d) < 1e-12:
+            if not lo <= o <= hi:
+                return None
+            continue
+        a, b = (lo - o) / d, (hi - o) / d
+        t0, t1 = max(t0, min(a, b)), min(t1, max(a, b))
+    if t1 < max(t0, 0.0):
+        return None
+    return max(t0, 0.0)

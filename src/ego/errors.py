@@ -1,0 +1,158 @@
+"""Every error and warning ego raises, in one tree.
+
+Each class mixes in the builtin it refines, so ``except ValueError`` or
+``except TimeoutError`` in user code keeps working::
+
+    EgoError
+    ├── DeviceError
+    │   ├── UnknownDeviceError (KeyError)        a name that no device answers to
+    │   ├── UnsupportedDeviceError               the connected firmware cannot serve it
+    │   └── OutOfRangeError (ValueError)         a speed, LED value, period... outside its range
+    ├── LinkError (OSError)
+    │   ├── PortNotFoundError (FileNotFoundError) the port or URL does not exist
+    │   ├── LinkTimeoutError (TimeoutError)      no (complete) reply within the timeout
+    │   ├── LinkLostError                        the port went away and did not come back
+    │   └── NotAnEpuckError                      something answered, but not an e-puck
+    ├── ProtocolError
+    │   ├── ShortReplyError                      fewer bytes than the batch asks for
+    │   ├── ExtraBytesError                      bytes left over after the reply
+    │   ├── RobotResetError                      the dsPIC restarted (its banner arrived)
+    │   └── FirmwareMismatchError                the firmware is not the one we were told
+    ├── CameraError
+    │   ├── CameraConfigError (ValueError)       a malformed camera configuration file
+    │   └── CameraCaptureError (OSError)         the V4L2 device refused or failed
+    └── RemoteError (ConnectionError)
+        ├── AuthenticationError                  wrong or missing shared secret
+        ├── RobotBusyError                       another client already controls the robot
+        └── FrameError (ValueError)              a malformed or oversized network frame
+    EgoWarning (UserWarning)
+    └── StepOverrunWarning                       a step's work took longer than the step
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "AuthenticationError",
+    "CameraCaptureError",
+    "CameraConfigError",
+    "CameraError",
+    "DeviceError",
+    "EgoError",
+    "EgoWarning",
+    "ExtraBytesError",
+    "FirmwareMismatchError",
+    "FrameError",
+    "LinkError",
+    "LinkLostError",
+    "LinkTimeoutError",
+    "NotAnEpuckError",
+    "OutOfRangeError",
+    "PortNotFoundError",
+    "ProtocolError",
+    "RemoteError",
+    "RobotBusyError",
+    "RobotResetError",
+    "ShortReplyError",
+    "StepOverrunWarning",
+    "UnknownDeviceError",
+    "UnsupportedDeviceError",
+]
+
+
+class EgoError(Exception):
+    """Base of every error ego raises on purpose."""
+
+
+class DeviceError(EgoError):
+    """A device was asked something it cannot do."""
+
+
+class UnknownDeviceError(DeviceError, KeyError):
+    """No device has this name; the message lists the names that exist."""
+
+    def __str__(self) -> str:  # KeyError would quote the whole message
+        return str(self.args[0]) if self.args else ""
+
+
+class UnsupportedDeviceError(DeviceError):
+    """The connected firmware cannot serve this device (it never reads zeros instead)."""
+
+
+class OutOfRangeError(DeviceError, ValueError):
+    """A value outside its documented range; ego refuses it rather than clamping."""
+
+
+class LinkError(EgoError, OSError):
+    """The line to the robot failed."""
+
+
+class PortNotFoundError(LinkError, FileNotFoundError):
+    """The serial port, pty or URL does not exist or cannot be opened."""
+
+
+class LinkTimeoutError(LinkError, TimeoutError):
+    """No complete reply arrived in time, after the bounded retries."""
+
+
+class LinkLostError(LinkError):
+    """The port disappeared and did not come back within the reconnect deadline."""
+
+
+class NotAnEpuckError(LinkError):
+    """The port answers, but not as an e-puck's dsPIC does."""
+
+
+class ProtocolError(EgoError):
+    """Bytes that do not fit the protocol (after the bounded retries)."""
+
+
+class ShortReplyError(ProtocolError):
+    """Fewer reply bytes than the batch asks for."""
+
+
+class ExtraBytesError(ProtocolError):
+    """More reply bytes than the batch asks for: the stream is out of step."""
+
+
+class RobotResetError(ProtocolError):
+    """The dsPIC printed its welcome banner mid-stream: it restarted."""
+
+
+class FirmwareMismatchError(ProtocolError):
+    """The firmware answers differently from the profile in use."""
+
+
+class CameraError(EgoError):
+    """The camera could not do what was asked."""
+
+
+class CameraConfigError(CameraError, ValueError):
+    """A camera configuration file line that cannot be used (its line number is given)."""
+
+
+class CameraCaptureError(CameraError, OSError):
+    """The video device refused a request or failed during capture."""
+
+
+class RemoteError(EgoError, ConnectionError):
+    """The network link to a remote robot failed or was refused."""
+
+
+class AuthenticationError(RemoteError):
+    """The shared secret was wrong or missing."""
+
+
+class RobotBusyError(RemoteError):
+    """Another client already controls this robot."""
+
+
+class FrameError(RemoteError, ValueError):
+    """A network frame that is malformed, oversized or out of sequence."""
+
+
+class EgoWarning(UserWarning):
+    """Base of ego's warnings."""
+
+
+class StepOverrunWarning(EgoWarning):
+    """A step's work (I/O included) took longer than the step itself."""

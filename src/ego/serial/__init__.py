@@ -1,0 +1,30 @@
+"""The serial side of ego: the dsPIC protocol (sans-I/O), transports and the link."""
+
+from ego.serial.firmware import FirmwareInfo
+from ego.serial.link import Link, LinkSettings, LinkStats
+from ego.serial.protocol import (
+    PROFILES,
+    Batch,
+    Command,
+    Firmware,
+    Profile,
+    Request,
+    encode_batch,
+)
+from ego.serial.transport import SerialTransport, Transport
+
+__all__ = [
+    "PROFILES",
+    "Batch",
+    "Command",
+    "Firmware",
+    "FirmwareInfo",
+    "Link",
+    "LinkSettings",
+    "LinkStats",
+    "Profile",
+    "Request",
+    "SerialTransport",
+    "Transport",
+    "encode_batch",
+]

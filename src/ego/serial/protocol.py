@@ -1,0 +1,280 @@
+"""The dsPIC's binary protocol as data and pure functions: requests in, bytes out; bytes in, values out.
+
+Nothing here does I/O, so every quirk of protocol.md is tested on bytes alone:
+
+* a command byte is the negative of an ASCII letter, ``(-ord(c)) & 0xFF``;
+* a batch ends with 0x00, and only then does the dsPIC answer, all replies back to
+  back in command order, with no header, length or checksum;
+* a batch of actuator commands only (``D``, ``L``, ``P``) gets no reply at all;
+* ``U`` sends its 600 sample bytes at once when parsed, before the batch's replies,
+  and adds one byte (the newest sample's index) to them;
+* the stock GCtronic firmware in Overo mode answers ``N``/``O`` with 20 bytes, not 16,
+  and ``M`` with nothing.
+
+Firmware differences live in the :data:`PROFILES` table, not in ``if`` chains.
+"""
+
+from __future__ import annotations
+
+import enum
+import struct
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+from ego.errors import ExtraBytesError, ShortReplyError, UnsupportedDeviceError
+
+__all__ = [
+    "BANNER_MARKER",
+    "BITS_PER_BYTE",
+    "DEFAULT_BAUD",
+    "MAX_SPEED_STEPS",
+    "PROFILES",
+    "STEPS_PER_TURN",
+    "Batch",
+    "Command",
+    "Firmware",
+    "Profile",
+    "Request",
+    "WireFormat",
+    "command_byte",
+    "encode_batch",
+    "reply_sizes",
+    "wire_time_s",
+]
+
+DEFAULT_BAUD = 230400
+BITS_PER_BYTE = 10  # 8N1: start + 8 data + stop
+STEPS_PER_TURN = 1000
+MAX_SPEED_STEPS = 1000
+#: Every welcome banner of the firmwares we know contains this; its arrival mid-stream
+#: means the dsPIC restarted.
+BANNER_MARKER = b"WELCOME"
+
+
+def command_byte(letter: str) -> int:
+    """The binary command byte for an ASCII letter: its negative, modulo 256."""
+    if len(letter) != 1 or not letter.isascii():
+        raise ValueError(f"a command is one ASCII letter, not {letter!r}")
+    return (-ord(letter)) & 0xFF
+
+
+def wire_time_s(n_bytes: int, baud: int = DEFAULT_BAUD) -> float:
+    """How long ``n_bytes`` take on an 8N1 line: 10 bits a byte (43.4 us at 230400)."""
+    return n_bytes * BITS_PER_BYTE / baud
+
+
+class Command(enum.IntEnum):
+    """Wire bytes of the binary commands (protocol.md, thesis Table 4.1)."""
+
+    ACCELEROMETER_RAW = 0x9F  # a
+    ACCELEROMETER_SPHERICAL = 0xBF  # A
+    SET_SPEED = 0xBC  # D
+    GET_SPEED = 0xBB  # E
+    SET_LED = 0xB4  # L
+    FLOOR = 0xB3  # M
+    PROXIMITY = 0xB2  # N
+    LIGHT = 0xB1  # O
+    SET_STEPS = 0xB0  # P
+    GET_STEPS = 0xAF  # Q
+    MIC_AMPLITUDE = 0x8B  # u
+    MIC_BUFFER = 0xAB  # U
+    BATTERY = 0x9E  # b
+    END = 0x00
+
+    @property
+    def letter(self) -> str:
+        """The ASCII letter this command is the negative of ('' for END)."""
+        return chr((-self.value) & 0xFF) if self.value else ""
+
+
+class Firmware(str, enum.Enum):
+    """Which dsPIC firmware answers: the thesis' (also Webots') or the stock Overo one."""
+
+    THESIS = "thesis"
+    GCTRONIC_OVERO = "gctronic-overo"
+
+    def __str__(self) -> str:
+        return self.value
+
+
+_NONE = struct.Struct("")
+
+
+@dataclass(frozen=True, slots=True)
+class WireFormat:
+    """How one command travels: its arguments, its in-batch reply, and bytes it sends first."""
+
+    arguments: struct.Struct = _NONE
+    reply: struct.Struct = _NONE
+    #: Bytes sent at once when the command is parsed, before the batch's replies (``U``).
+    prefix: struct.Struct = _NONE
+
+
+def _fmt(arguments: str = "", reply: str = "", prefix: str = "") -> WireFormat:
+    return WireFormat(
+        struct.Struct("<" + arguments), struct.Struct("<" + reply), struct.Struct("<" + prefix)
+    )
+
+
+_COMMON: dict[Command, WireFormat] = {
+    Command.ACCELEROMETER_RAW: _fmt(reply="3H"),
+    Command.ACCELEROMETER_SPHERICAL: _fmt(reply="3f"),
+    Command.SET_SPEED: _fmt(arguments="2h"),
+    Command.GET_SPEED: _fmt(reply="2h"),
+    Command.SET_LED: _fmt(arguments="2B"),
+    Command.FLOOR: _fmt(reply="3H"),
+    Command.PROXIMITY: _fmt(reply="8h"),
+    Command.LIGHT: _fmt(reply="8h"),
+    Command.SET_STEPS: _fmt(arguments="2h"),
+    Command.GET_STEPS: _fmt(reply="2h"),
+    Command.MIC_AMPLITUDE: _fmt(reply="3H"),
+    Command.MIC_BUFFER: _fmt(reply="B", prefix="300h"),
+    Command.BATTERY: _fmt(reply="H"),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Profile:
+    """What one firmware serves: its commands' wire formats and which LEDs it drives."""
+
+    firmware: Firmware
+    commands: Mapping[Command, WireFormat] = field(repr=False)
+    leds: tuple[int, ...] = field(repr=False)
+    #: Free text for error messages ("stock GCtronic asercom 1.2.2, selector 10").
+    description: str = ""
+    hardware: str = field(default="", compare=False)
+
+    def supports(self, command: Command) -> bool:
+        return command is Command.END or command in self.commands
+
+    def wire_format(self, command: Command) -> WireFormat:
+        try:
+            return self.commands[command]
+        except KeyError:
+            raise UnsupportedDeviceError(
+                f"the {self.firmware} firmware ({self.description}) cannot serve command "
+                f"{command.letter!r} ({command.name.lower()})"
+            ) from None
+
+    def without(self, *commands: Command, why: str) -> Profile:
+        """The same profile with some commands removed (a hardware revision's quirk)."""
+        kept = {c: f for c, f in self.commands.items() if c not in commands}
+        return Profile(
+            self.firmware,
+            MappingProxyType(kept),
+            self.leds,
+            f"{self.description}; {why}",
+            self.hardware,
+        )
+
+
+_overo = dict(_COMMON)
+# protocol.md: ps0-ps7 plus the Overo board's long-range IR8 (left) and IR9 (right).
+_overo[Command.PROXIMITY] = _fmt(reply="10h")
+_overo[Command.LIGHT] = _fmt(reply="10h")
+# protocol.md: M returns nothing; the ground sensors sit on the Overo's I2C bus.
+del _overo[Command.FLOOR]
+
+PROFILES: Mapping[Firmware, Profile] = MappingProxyType(
+    {
+        Firmware.THESIS: Profile(
+            Firmware.THESIS,
+            MappingProxyType(_COMMON),
+            tuple(range(10)),
+            "E-GO / Webots asercom",
+        ),
+        Firmware.GCTRONIC_OVERO: Profile(
+            Firmware.GCTRONIC_OVERO,
+            MappingProxyType(_overo),
+            tuple(range(8)),  # L 8 and L 9 (body, front) are ignored by this firmware
+            "stock GCtronic asercom, selector 10",
+        ),
+    }
+)
+
+
+@dataclass(frozen=True, slots=True)
+class Request:
+    """One command of a batch with its arguments (speeds, an LED and its value...)."""
+
+    command: Command
+    arguments: tuple[int, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Batch:
+    """The bytes of one time step and how to read their answer.
+
+    ``reply_size`` counts every byte the dsPIC sends back for this batch, ``U``'s
+    600-byte prefixes included; 0 means the dsPIC stays silent and nobody may wait.
+    """
+
+    requests: tuple[Request, ...]
+    tx: bytes
+    reply_size: int
+    _formats: tuple[WireFormat, ...]
+
+    @property
+    def expects_reply(self) -> bool:
+        return self.reply_size > 0
+
+    def decode(self, reply: bytes | bytearray | memoryview) -> list[tuple[float, ...]]:
+        """Values for each request, in request order (``()`` for actuators).
+
+        Raises ShortReplyError / ExtraBytesError when ``reply`` is not exactly
+        ``reply_size`` bytes: the length is the protocol's only integrity check.
+        """
+        view = memoryview(reply).cast("B")
+        if len(view) < self.reply_size:
+            raise ShortReplyError(
+                f"reply of {len(view)} bytes, the batch asks for {self.reply_size}"
+            )
+        if len(view) > self.reply_size:
+            raise ExtraBytesError(
+                f"reply of {len(view)} bytes, the batch asks for {self.reply_size}"
+            )
+        # protocol.md: U's 600 bytes arrive before the rest of the batch's replies.
+        offset = 0
+        prefixes: list[tuple[float, ...]] = []
+        for fmt in self._formats:
+            prefixes.append(fmt.prefix.unpack_from(view, offset))
+            offset += fmt.prefix.size
+        values: list[tuple[float, ...]] = []
+        for fmt, prefix in zip(self._formats, prefixes, strict=True):
+            values.append(prefix + fmt.reply.unpack_from(view, offset))
+            offset += fmt.reply.size
+        return values
+
+
+def encode_batch(requests: Iterable[Request], profile: Profile) -> Batch:
+    """The bytes of one step: every request's command and arguments, then 0x00.
+
+    An empty batch encodes to nothing at all (a lone 0x00 would be harmless, but
+    sending nothing costs nothing).
+    """
+    reqs = tuple(requests)
+    if not reqs:
+        return Batch((), b"", 0, ())
+    tx = bytearray()
+    formats: list[WireFormat] = []
+    for req in reqs:
+        fmt = profile.wire_format(req.command)
+        tx.append(req.command.value)
+        try:
+            tx += fmt.arguments.pack(*req.arguments)
+        except struct.error as exc:
+            raise ValueError(
+                f"command {req.command.letter!r} takes arguments {fmt.arguments.format!r}, "
+                f"got {req.arguments!r}"
+            ) from exc
+        formats.append(fmt)
+    tx.append(Command.END.value)
+    reply = sum(f.prefix.size + f.reply.size for f in formats)
+    return Batch(reqs, bytes(tx), reply, tuple(formats))
+
+
+def reply_sizes(profile: Profile, commands: Sequence[Command]) -> list[int]:
+    """Reply bytes of each command under ``profile`` (for overhead tables)."""
+    formats = [profile.wire_format(c) for c in commands]
+    return [f.prefix.size + f.reply.size for f in formats]

@@ -1,0 +1,184 @@
+"""The one byte-stream interface under the link: a serial port, a pty, or a network robot.
+
+Every transport offers ``write``, ``read(size, timeout_s)`` and ``close``; the shared
+``read_exactly`` and ``drain`` are written once here. :class:`SerialTransport` opens
+anything pyserial can (``/dev/ttyS0``, a pty path, ``loop://``, ``socket://host:port``,
+``spy://...`` for a hex dump of the wire).
+"""
+
+from __future__ import annotations
+
+import abc
+import contextlib
+import logging
+import time
+from collections.abc import Iterator
+from types import TracebackType
+
+import serial
+
+from ego.errors import LinkLostError, LinkTimeoutError, PortNotFoundError
+from ego.serial.protocol import DEFAULT_BAUD
+
+__all__ = ["SerialTransport", "Transport"]
+
+log = logging.getLogger(__name__)
+
+
+class Transport(abc.ABC):
+    """A byte stream to a robot's dsPIC. Subclasses implement the four primitives."""
+
+    #: Where the bytes go, for messages ("/dev/ttyS0", "tcp://robot:4242").
+    name: str = "?"
+    #: Line rate in bits per second, for reply timeouts; None where it means nothing.
+    baudrate: int | None = None
+    #: Extra time a reply may take beyond the line's wire time (a network hop, a
+    #: server's own retries); the link adds it to every reply timeout.
+    latency_s: float = 0.0
+
+    @abc.abstractmethod
+    def write(self, data: bytes) -> None:
+        """Send all of ``data`` (raise LinkLostError if the line is gone)."""
+
+    @abc.abstractmethod
+    def read(self, size: int, timeout_s: float) -> bytes:
+        """Up to ``size`` bytes, returning early once ``size`` arrived; b'' on timeout."""
+
+    @abc.abstractmethod
+    def close(self) -> None:
+        """Release the line; calling it twice is harmless."""
+
+    def reopen(self) -> None:
+        """Open the line again after it was lost (a re-plugged port). Default: cannot."""
+        raise LinkLostError(f"{self.name}: this transport cannot reconnect")
+
+    def pending(self) -> bytes:
+        """Bytes already waiting, without blocking (stale bytes before a new batch)."""
+        return self.read(4096, 0.0)
+
+    def read_line(self, timeout_s: float) -> bytes:
+        """One line up to and including ``\\n``, or what came before ``timeout_s``."""
+        deadline = time.monotonic() + timeout_s
+        line = bytearray()
+        while not line.endswith(b"\n"):
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                break
+            line += self.read(1, remaining)
+        return bytes(line)
+
+    def read_exactly(self, size: int, timeout_s: float) -> bytes:
+        """Exactly ``size`` bytes within ``timeout_s``, or LinkTimeoutError with what came."""
+        deadline = time.monotonic() + timeout_s
+        data = bytearray()
+        while len(data) < size:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                break
+            data += self.read(size - len(data), remaining)
+        if len(data) < size:
+            err = LinkTimeoutError(
+                f"{self.name}: {len(data)} of {size} reply bytes after {timeout_s * 1e3:.1f} ms"
+            )
+            err.partial = bytes(data)  # type: ignore[attr-defined]
+            raise err
+        return bytes(data)
+
+    def drain(self, quiet_s: float, max_s: float) -> bytes:
+        """Read and return whatever arrives until the line has been quiet for ``quiet_s``."""
+        deadline = time.monotonic() + max_s
+        drained = bytearray()
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return bytes(drained)
+            chunk = self.read(4096, min(quiet_s, remaining))
+            if not chunk:
+                return bytes(drained)
+            drained += chunk
+
+    def __enter__(self) -> Transport:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self.name}>"
+
+
+class SerialTransport(Transport):
+    """Any pyserial port or URL, 8N1 without flow control (protocol.md: Line)."""
+
+    def __init__(self, url: str, baudrate: int = DEFAULT_BAUD) -> None:
+        self.name = url
+        self.baudrate = baudrate
+        self._port: serial.SerialBase | None = None
+        self._timeout: float | None = None
+        self._open()
+
+    def _open(self) -> None:
+        try:
+            port = serial.serial_for_url(
+                self.name,
+                baudrate=self.baudrate,
+                bytesize=serial.EIGHTBITS,
+                parity=serial.PARITY_NONE,
+                stopbits=serial.STOPBITS_ONE,
+                xonxoff=False,
+                rtscts=False,
+                timeout=0,
+            )
+        except (serial.SerialException, OSError, ValueError) as exc:
+            raise PortNotFoundError(f"cannot open port {self.name!r}: {exc}") from exc
+        self._port = port
+        self._timeout = 0
+
+    @contextlib.contextmanager
+    def _io(self, what: str) -> Iterator[serial.SerialBase]:
+        if self._port is None:
+            raise LinkLostError(f"{self.name}: port is closed")
+        try:
+            yield self._port
+        except (serial.SerialException, OSError) as exc:
+            raise LinkLostError(f"{self.name}: {what} failed: {exc}") from exc
+
+    def write(self, data: bytes) -> None:
+        with self._io("write") as port:
+            port.write(data)
+
+    def read(self, size: int, timeout_s: float) -> bytes:
+        with self._io("read") as port:
+            # Setting pyserial's timeout reconfigures the port (a tcsetattr), so only
+            # when it changes.
+            timeout = max(0.0, timeout_s)
+            if timeout != self._timeout:
+                port.timeout = timeout
+                self._timeout = timeout
+            return bytes(port.read(size))
+
+    def pending(self) -> bytes:
+        with self._io("read") as port:
+            waiting = port.in_waiting  # FIONREAD: no timeout juggling needed
+        return self.read(waiting, 0.0) if waiting else b""
+
+    def reopen(self) -> None:
+        self.close()
+        self._open()
+        log.info("%s: port reopened", self.name)
+
+    def close(self) -> None:
+        port, self._port = self._port, None
+        if port is not None:
+            with contextlib.suppress(serial.SerialException, OSError):
+                port.close()
+
+    @property
+    def is_open(self) -> bool:
+        return self._port is not None
+
