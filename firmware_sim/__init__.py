@@ -1,4 +1,4 @@
-"""An emulated e-puck dsPIC on a pseudo-terminal, with a small world behind it, for ego's tests and demo."""
+"""An emulated e-puck dsPIC on a pseudo-terminal, with a world behind it, for tests and demo."""
 
 from firmware_sim.dspic import BANNER, BatchRecord, Dspic
 from firmware_sim.faults import FAULT_KINDS, FaultSpec, FaultTimings, parse_fault

@@ -15,14 +15,31 @@ __all__ = ["add_arguments", "build_parser", "main", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--firmware", choices=FIRMWARES, default="thesis",
-                        help="which asercom to answer as (default: thesis)")
-    parser.add_argument("--baud", type=int, default=230400,
-                        help="line rate used to pace the bytes (default: 230400)")
-    parser.add_argument("--processing-delay-us", type=float, default=0.0,
-                        help="extra dsPIC time per command, in microseconds (default: 0)")
-    parser.add_argument("--fault", action="append", default=[], metavar="KIND=RATE|KIND@N",
-                        help=f"inject faults; KIND is one of {', '.join(FAULT_KINDS)}")
+    parser.add_argument(
+        "--firmware",
+        choices=FIRMWARES,
+        default="thesis",
+        help="which asercom to answer as (default: thesis)",
+    )
+    parser.add_argument(
+        "--baud",
+        type=int,
+        default=230400,
+        help="line rate used to pace the bytes (default: 230400)",
+    )
+    parser.add_argument(
+        "--processing-delay-us",
+        type=float,
+        default=0.0,
+        help="extra dsPIC time per command, in microseconds (default: 0)",
+    )
+    parser.add_argument(
+        "--fault",
+        action="append",
+        default=[],
+        metavar="KIND=RATE|KIND@N",
+        help=f"inject faults; KIND is one of {', '.join(FAULT_KINDS)}",
+    )
     parser.add_argument("--seed", type=int, default=None, help="seed for noise and faults")
     parser.add_argument("--hardware", default="1.1", help="HW revision reported by V")
     parser.add_argument("--delay-s", type=float, default=0.1, help="length of a delay fault")

@@ -17,7 +17,7 @@ __all__ = ["BANNER", "FIRMWARES", "BatchRecord", "Dspic", "Emission"]
 
 #: asercom's welcome text after a reset.
 BANNER = (
-    b'\x0c\x07 WELCOME to the SerCom protocol on e-Puck\r\n'
+    b"\x0c\x07 WELCOME to the SerCom protocol on e-Puck\r\n"
     b' the EPFL education robot type "H" for help\r\n'
 )
 FIRMWARES = ("thesis", "gctronic-overo")

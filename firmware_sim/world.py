@@ -41,8 +41,14 @@ ACC_ZERO = 2000  # raw accelerometer counts at 0 g (protocol.md)
 ACC_PER_G = 800
 
 #: Webots' e-puck IR table: distance from the body (m) -> raw value.
-IR_RESPONSE = ((0.0, 4095.0), (0.005, 2133.0), (0.01, 1466.0), (0.02, 384.0),
-               (0.05, 120.0), (0.07, 67.0))
+IR_RESPONSE = (
+    (0.0, 4095.0),
+    (0.005, 2133.0),
+    (0.01, 1466.0),
+    (0.02, 384.0),
+    (0.05, 120.0),
+    (0.07, 67.0),
+)
 #: Sensor bearings from the heading, CCW positive (ps0 front-right ... ps7 front-left).
 SENSOR_BEARINGS_RAD = (-0.30, -0.80, -1.57, -2.64, 2.64, 1.57, 0.80, 0.30)
 #: The Overo board's long-range IR8 (left) and IR9 (right), facing ahead-left/right.
@@ -162,7 +168,7 @@ class World:
     def place(self, pose: Pose) -> None:
         with self._lock:
             self.advance()
-            self._body.x_m, self._body.y_m, self._body.theta_rad = pose
+            self._body.theta_rad = pose.theta_rad
             self._body.x_m, self._body.y_m = self._resolve_collisions(pose.x_m, pose.y_m)
 
     @property
@@ -179,8 +185,9 @@ class World:
         """Commanded wheel speeds; the firmware clamps them to +-1000 steps/s."""
         with self._lock:
             self.advance()
-            clamp = lambda v: max(-MAX_SPEED_STEPS, min(MAX_SPEED_STEPS, v))  # noqa: E731
-            self._body.speed_steps = [clamp(left), clamp(right)]
+            self._body.speed_steps = [
+                max(-MAX_SPEED_STEPS, min(MAX_SPEED_STEPS, v)) for v in (left, right)
+            ]
 
     def set_led(self, index: int, value: int) -> None:
         """protocol.md: led 0-7 ring, 8 body, 9 front; any other number sets all ring LEDs."""
@@ -414,8 +421,10 @@ class World:
 def _ray_box(ox: float, oy: float, c: float, s: float, blk: Block) -> float | None:
     """Slab test: distance along the ray to the box, or None if it misses."""
     t0, t1 = -math.inf, math.inf
-    for o, d, lo, hi in ((ox, c, blk.x_m - blk.half_size_m, blk.x_m + blk.half_size_m),
-                         (oy, s, blk.y_m - blk.half_size_m, blk.y_m + blk.half_size_m)):
+    for o, d, lo, hi in (
+        (ox, c, blk.x_m - blk.half_size_m, blk.x_m + blk.half_size_m),
+        (oy, s, blk.y_m - blk.half_size_m, blk.y_m + blk.half_size_m),
+    ):
         if abs(d) < 1e-12:
             if not lo <= o <= hi:
                 return None

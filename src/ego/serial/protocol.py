@@ -1,4 +1,4 @@
-"""The dsPIC's binary protocol as data and pure functions: requests in, bytes out; bytes in, values out.
+"""The dsPIC's binary protocol as data and pure functions: requests in bytes out, and back.
 
 Nothing here does I/O, so every quirk of protocol.md is tested on bytes alone:
 
@@ -39,6 +39,7 @@ __all__ = [
     "WireFormat",
     "command_byte",
     "encode_batch",
+    "parse_batch",
     "reply_sizes",
     "wire_time_s",
 ]
@@ -272,6 +273,44 @@ def encode_batch(requests: Iterable[Request], profile: Profile) -> Batch:
     tx.append(Command.END.value)
     reply = sum(f.prefix.size + f.reply.size for f in formats)
     return Batch(reqs, bytes(tx), reply, tuple(formats))
+
+
+def parse_batch(tx: bytes, profile: Profile) -> Batch:
+    """The batch that ``tx`` encodes, read back as the dsPIC would (a relay's view).
+
+    A network server uses it to learn how many reply bytes a client's batch asks for.
+    Raises ValueError for bytes that are not exactly one well-formed batch: an unknown
+    or unsupported command, arguments cut short, or anything after the final 0x00.
+    """
+    data = memoryview(tx)
+    requests: list[Request] = []
+    pos = 0
+    while True:
+        if pos >= len(data):
+            raise ValueError("batch does not end with 0x00")
+        byte = data[pos]
+        pos += 1
+        if byte == Command.END:
+            break
+        try:
+            command = Command(byte)
+            fmt = profile.wire_format(command)
+        except (ValueError, UnsupportedDeviceError) as exc:
+            raise ValueError(
+                f"byte 0x{byte:02x} at {pos - 1} is not a command of {profile.firmware}"
+            ) from exc
+        end = pos + fmt.arguments.size
+        if end > len(data):
+            raise ValueError(f"command {command.letter!r} at {pos - 1} lacks its arguments")
+        requests.append(
+            Request(command, tuple(int(v) for v in fmt.arguments.unpack(data[pos:end])))
+        )
+        pos = end
+    if pos != len(data):
+        raise ValueError(f"{len(data) - pos} bytes after the end of the batch")
+    if not requests:
+        raise ValueError("a batch needs at least one command")
+    return encode_batch(requests, profile)
 
 
 def reply_sizes(profile: Profile, commands: Sequence[Command]) -> list[int]:

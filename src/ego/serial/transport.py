@@ -117,7 +117,7 @@ class SerialTransport(Transport):
 
     def __init__(self, url: str, baudrate: int = DEFAULT_BAUD) -> None:
         self.name = url
-        self.baudrate = baudrate
+        self.baudrate: int = baudrate
         self._port: serial.SerialBase | None = None
         self._timeout: float | None = None
         self._open()
@@ -164,7 +164,7 @@ class SerialTransport(Transport):
 
     def pending(self) -> bytes:
         with self._io("read") as port:
-            waiting = port.in_waiting  # FIONREAD: no timeout juggling needed
+            waiting = int(port.in_waiting)  # type: ignore[attr-defined]  # FIONREAD, cheap
         return self.read(waiting, 0.0) if waiting else b""
 
     def reopen(self) -> None:
@@ -181,4 +181,3 @@ class SerialTransport(Transport):
     @property
     def is_open(self) -> bool:
         return self._port is not None
-

@@ -1,0 +1,29 @@
+"""Where to connect: a port name or URL becomes a transport ("sim" is handled by Robot)."""
+
+from __future__ import annotations
+
+import os
+
+from ego.serial.protocol import DEFAULT_BAUD
+from ego.serial.transport import SerialTransport, Transport
+
+__all__ = ["DEFAULT_PORT", "NETWORK_SCHEMES", "open_transport", "resolve_port"]
+
+#: The Overo's UART to the dsPIC.
+DEFAULT_PORT = "/dev/ttyS0"
+#: ego's own remote protocol (``ego serve``); pyserial's ``socket://`` stays a raw byte pipe.
+NETWORK_SCHEMES = ("tcp://", "udp://")
+
+
+def resolve_port(port: str | None) -> str:
+    """The argument, else ``EGO_PORT``, else ``/dev/ttyS0`` (api.md)."""
+    return port or os.environ.get("EGO_PORT") or DEFAULT_PORT
+
+
+def open_transport(port: str, baudrate: int = DEFAULT_BAUD, secret: str | None = None) -> Transport:
+    """A transport for ``port``: a remote robot for tcp:// and udp://, else any pyserial URL."""
+    if port.startswith(NETWORK_SCHEMES):
+        from ego.remote.client import RemoteTransport  # the network stack only when asked
+
+        return RemoteTransport.from_url(port, secret=secret)
+    return SerialTransport(port, baudrate)
