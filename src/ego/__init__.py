@@ -1,3 +1,17 @@
-"""ego: run Webots e-puck controllers on the real robot, or drive it from a PC."""
+"""ego: run Webots e-puck controllers on the real robot, or drive it from a PC.
+
+>>> import ego
+>>> with ego.Robot("sim") as robot:                      # doctest: +SKIP
+...     robot.proximity.enable(64)
+...     robot.step(64)
+"""
+
+from ego import errors
+from ego.devices.leds import LedValue
+from ego.robot import SIM_PORT, Robot
+from ego.serial.link import LinkSettings
+from ego.serial.protocol import Firmware
 
 __version__ = "0.1.0"
+
+__all__ = ["SIM_PORT", "Firmware", "LedValue", "LinkSettings", "Robot", "__version__", "errors"]

@@ -1,0 +1,219 @@
+"""What every device family shares: names, sampling periods, due checks, firmware checks.
+
+A device family is one wire command serving several named devices (``N`` serves
+``ps0``..``ps7``). As in the thesis, a sensor's command is queued only when one of its
+members' sampling period is due, an actuator's only when its value changed; the robot
+gathers everything due in one step into one batch.
+"""
+
+from __future__ import annotations
+
+import abc
+from collections.abc import Iterable, Sequence
+from typing import ClassVar
+
+from ego.errors import DeviceError, OutOfRangeError, UnknownDeviceError, UnsupportedDeviceError
+from ego.serial.protocol import Command, Profile, Request
+
+__all__ = ["MAX_PERIOD_MS", "Actuator", "ArraySensor", "Device", "Sensor", "check_int"]
+
+#: Longest sampling period accepted (a day); anything longer is surely a unit mistake.
+MAX_PERIOD_MS = 86_400_000
+
+
+def check_int(what: str, value: object, low: int, high: int, unit: str = "") -> int:
+    """``value`` as an int within low..high, else OutOfRangeError (TypeError for non-numbers)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise TypeError(f"{what} must be a number, not {type(value).__name__}")
+    if isinstance(value, float) and not value.is_integer():
+        raise OutOfRangeError(f"{what} {value} must be a whole number{unit}")
+    number = int(value)
+    if not low <= number <= high:
+        raise OutOfRangeError(f"{what} {value}{unit} is outside {low}..{high}{unit}")
+    return number
+
+
+class Device:
+    """A family of named devices behind one firmware; the base of sensors and actuators."""
+
+    #: The Webots names of the devices in this family (``ps0``..``ps7``).
+    names: ClassVar[tuple[str, ...]] = ()
+    #: Short family name for messages.
+    family: ClassVar[str] = "device"
+
+    def __init__(self, profile: Profile) -> None:
+        self._profile = profile
+
+    @property
+    def profile(self) -> Profile:
+        return self._profile
+
+    def set_profile(self, profile: Profile) -> None:
+        """The firmware changed (re-detected after a restart)."""
+        self._profile = profile
+
+    @property
+    def member_names(self) -> tuple[str, ...]:
+        """The names that exist under the connected firmware."""
+        return self.names
+
+    def check_name(self, name: str) -> str:
+        if name not in self.member_names:
+            raise UnknownDeviceError(
+                f"{name!r} is not a {self.family} device; valid names: "
+                f"{', '.join(self.member_names)}"
+            )
+        return name
+
+    def require(self, command: Command) -> None:
+        """Refuse at once a device this firmware cannot serve (it never reads zeros)."""
+        if not self._profile.supports(command):
+            raise UnsupportedDeviceError(
+                f"the {self._profile.firmware} firmware ({self._profile.description}) cannot "
+                f"serve the {self.family} (wire command {command.letter!r})"
+            )
+
+    def requests(self, now_ms: int) -> list[Request]:
+        """The commands this family wants in the batch of the step starting at ``now_ms``."""
+        return []
+
+    def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
+        """Take the reply values of one of this family's requests."""
+
+    def committed(self, now_ms: int) -> None:
+        """The step's batch went through: pending actuator commands are done."""
+
+    def restarted(self) -> None:
+        """The dsPIC restarted or the port was re-plugged: re-send what it lost."""
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {', '.join(self.member_names)}>"
+
+
+class Sensor(Device, abc.ABC):
+    """A sensor family: members enabled with a sampling period, fetched when due.
+
+    The family's command goes out when any enabled member's period has elapsed since
+    the last fetch; one fetch refreshes every member.
+    """
+
+    command: ClassVar[Command]
+
+    def __init__(self, profile: Profile) -> None:
+        super().__init__(profile)
+        self._periods: dict[str, int] = {}
+        self._last_fetch_ms: int | None = None
+        self._sampled_ms: int | None = None
+
+    def enable(self, period_ms: int, names: Iterable[str] | None = None) -> None:
+        """Sample the named members (all by default) every ``period_ms`` milliseconds."""
+        period = check_int("sampling period", period_ms, 1, MAX_PERIOD_MS, " ms")
+        members = self.member_names if names is None else [self.check_name(n) for n in names]
+        self.require(self.command_for_enable())
+        for name in members:
+            self._periods[name] = period
+
+    def command_for_enable(self) -> Command:
+        return self.command
+
+    def disable(self, names: Iterable[str] | None = None) -> None:
+        """Stop sampling the named members (all by default)."""
+        members = self.member_names if names is None else [self.check_name(n) for n in names]
+        for name in members:
+            self._periods.pop(name, None)
+        if not self._periods:
+            self._last_fetch_ms = None
+
+    def sampling_period(self, name: str | None = None) -> int | None:
+        """The member's (or the family's shortest) period in ms; None when disabled."""
+        if name is not None:
+            return self._periods.get(self.check_name(name))
+        return min(self._periods.values()) if self._periods else None
+
+    @property
+    def enabled(self) -> bool:
+        return bool(self._periods)
+
+    def is_due(self, now_ms: int) -> bool:
+        period = self.sampling_period()
+        if period is None:
+            return False
+        return self._last_fetch_ms is None or now_ms - self._last_fetch_ms >= period
+
+    def requests(self, now_ms: int) -> list[Request]:
+        return [Request(self.current_command())] if self.is_due(now_ms) else []
+
+    def current_command(self) -> Command:
+        return self.command
+
+    def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
+        self._last_fetch_ms = now_ms
+        self._sampled_ms = now_ms
+        self.take(values)
+
+    @abc.abstractmethod
+    def take(self, values: Sequence[float]) -> None:
+        """Store one reply's values."""
+
+    @property
+    def has_values(self) -> bool:
+        return self._sampled_ms is not None
+
+    def require_values(self) -> None:
+        """Reading before the first sample is an error, never a silent zero."""
+        if not self.has_values:
+            state = "is not enabled" if not self.enabled else "has not been sampled yet"
+            raise DeviceError(
+                f"the {self.family} {state}: enable it and call step() before reading it"
+            )
+
+    def set_profile(self, profile: Profile) -> None:
+        super().set_profile(profile)
+        if self._periods and not profile.supports(self.command_for_enable()):
+            self._periods.clear()
+            raise UnsupportedDeviceError(
+                f"after a restart the firmware is {profile.firmware}, which cannot serve the "
+                f"{self.family}"
+            )
+
+    def restarted(self) -> None:
+        self._last_fetch_ms = None  # fetch again at the next step
+
+
+class Actuator(Device):
+    """An actuator family: a command goes out once, when its value changed."""
+
+    def __init__(self, profile: Profile) -> None:
+        super().__init__(profile)
+        self._pending: dict[object, Request] = {}
+
+    def queue(self, key: object, request: Request) -> None:
+        self._pending[key] = request
+
+    def requests(self, now_ms: int) -> list[Request]:
+        return list(self._pending.values())
+
+    def committed(self, now_ms: int) -> None:
+        self._pending.clear()
+
+
+class ArraySensor(Sensor):
+    """A sensor family whose reply is one integer per member, in member order."""
+
+    def __init__(self, profile: Profile) -> None:
+        super().__init__(profile)
+        self._values: tuple[int, ...] = ()
+
+    def take(self, values: Sequence[float]) -> None:
+        self._values = tuple(int(v) for v in values[: len(self.member_names)])
+
+    @property
+    def values(self) -> tuple[int, ...]:
+        """Every member's last sample, in name order."""
+        self.require_values()
+        return self._values
+
+    def value(self, name: str) -> int:
+        """One member's last sample."""
+        self.require_values()
+        return self._values[self.member_names.index(self.check_name(name))]

@@ -1,0 +1,90 @@
+"""The wheels' step counters, left and right (wire commands Q to read, P to set)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import ClassVar
+
+from ego.devices.base import Sensor, check_int
+from ego.serial.protocol import STEPS_PER_TURN, Command, Profile, Request
+
+__all__ = ["Encoders", "wrap_int16"]
+
+_INT16 = 1 << 16
+
+
+def wrap_int16(value: int) -> int:
+    """``value`` as the dsPIC's int16 counter holds it."""
+    return ((value + 0x8000) % _INT16) - 0x8000
+
+
+class Encoders(Sensor):
+    """Steps counted by each stepper motor since start or since set, unwrapped.
+
+    The dsPIC's counters are int16 and wrap at +-32768 (about 4 m of travel); ego keeps
+    the running total, so a long drive never jumps back. 1000 steps are one wheel turn.
+
+    >>> robot.encoders.enable(64)                        # doctest: +SKIP
+    >>> robot.step(64); left, right = robot.encoders.values
+    """
+
+    family = "encoders"
+    names: ClassVar[tuple[str, ...]] = ("left wheel sensor", "right wheel sensor")
+    command = Command.GET_STEPS
+
+    def __init__(self, profile: Profile) -> None:
+        super().__init__(profile)
+        self._total = [0, 0]
+        self._last_raw: list[int] | None = None
+        self._set: Request | None = None
+
+    def set(self, left: int, right: int) -> None:
+        """Overwrite both counters (steps); the firmware stores them as int16."""
+        values = [
+            check_int(f"{side} encoder value", v, -(2**31), 2**31 - 1, " steps")
+            for side, v in (("left", left), ("right", right))
+        ]
+        self._total = values
+        self._last_raw = [wrap_int16(v) for v in values]
+        self._set = Request(Command.SET_STEPS, (self._last_raw[0], self._last_raw[1]))
+
+    def requests(self, now_ms: int) -> list[Request]:
+        # P goes before Q in the same batch, so the read sees the new values.
+        pending = [self._set] if self._set is not None else []
+        return pending + super().requests(now_ms)
+
+    def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
+        if request.command is Command.GET_STEPS:
+            super().decode(request, values, now_ms)
+
+    def committed(self, now_ms: int) -> None:
+        self._set = None
+
+    def take(self, values: Sequence[float]) -> None:
+        raw = [int(v) for v in values]
+        if self._last_raw is not None:
+            for i in (0, 1):
+                self._total[i] += wrap_int16(raw[i] - self._last_raw[i])
+        else:
+            self._total = raw
+        self._last_raw = raw
+
+    def restarted(self) -> None:
+        """A restarted dsPIC counts from 0 again: give it our totals back."""
+        super().restarted()
+        if self._last_raw is not None:
+            self._set = Request(Command.SET_STEPS, (self._last_raw[0], self._last_raw[1]))
+
+    @property
+    def values(self) -> tuple[int, int]:
+        """Left and right totals in steps."""
+        self.require_values()
+        return (self._total[0], self._total[1])
+
+    @property
+    def radians(self) -> tuple[float, float]:
+        """Left and right wheel angles in radians (Webots' PositionSensor unit)."""
+        left, right = self.values
+        k = 2 * math.pi / STEPS_PER_TURN
+        return (left * k, right * k)

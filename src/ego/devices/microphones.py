@@ -1,0 +1,84 @@
+"""The three microphones: amplitudes (wire command u) and the raw sample buffer (U)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import ClassVar
+
+import numpy as np
+import numpy.typing as npt
+
+from ego.devices.base import MAX_PERIOD_MS, ArraySensor, check_int
+from ego.errors import DeviceError
+from ego.serial.protocol import Command, Profile, Request
+
+__all__ = ["MIC_RATE_HZ", "MIC_SAMPLES", "Microphones"]
+
+MIC_RATE_HZ = 16384
+MIC_SAMPLES = 100
+
+
+class Microphones(ArraySensor):
+    """Amplitude (max - min of the last 100 samples, 0..4095) of mic0..mic2, and their samples.
+
+    The raw buffer (``U``) is 600 bytes a fetch, 14 ms of line time at 230400 baud: it has
+    its own period so that amplitudes can be sampled faster.
+
+    >>> robot.microphones.enable(100)                    # doctest: +SKIP
+    >>> robot.microphones.enable_buffer(500)
+    >>> robot.step(100); samples = robot.microphones.buffer   # (3, 100) int16, oldest first
+    """
+
+    family = "microphones"
+    names: ClassVar[tuple[str, ...]] = ("mic0", "mic1", "mic2")
+    command = Command.MIC_AMPLITUDE
+
+    def __init__(self, profile: Profile) -> None:
+        super().__init__(profile)
+        self._buffer_period: int | None = None
+        self._buffer_fetch_ms: int | None = None
+        self._buffer: npt.NDArray[np.int16] | None = None
+
+    def enable_buffer(self, period_ms: int) -> None:
+        """Fetch the raw 3 x 100 samples every ``period_ms``."""
+        self.require(Command.MIC_BUFFER)
+        self._buffer_period = check_int("sampling period", period_ms, 1, MAX_PERIOD_MS, " ms")
+
+    def disable_buffer(self) -> None:
+        self._buffer_period = None
+        self._buffer_fetch_ms = None
+
+    def requests(self, now_ms: int) -> list[Request]:
+        reqs = super().requests(now_ms)
+        period = self._buffer_period
+        if period is not None and (
+            self._buffer_fetch_ms is None or now_ms - self._buffer_fetch_ms >= period
+        ):
+            reqs.append(Request(Command.MIC_BUFFER))
+        return reqs
+
+    def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
+        if request.command is Command.MIC_BUFFER:
+            self._buffer_fetch_ms = now_ms
+            samples = np.asarray(values[:300], dtype=np.int16).reshape(3, MIC_SAMPLES)
+            newest = int(values[300])
+            if not 0 <= newest < MIC_SAMPLES:
+                raise DeviceError(f"microphone buffer index {newest} is outside 0..99")
+            # A circular buffer written at rising indices, the newest sample at ``newest``:
+            # oldest first means starting at the slot after it.
+            self._buffer = np.roll(samples, -(newest + 1), axis=1)
+        else:
+            super().decode(request, values, now_ms)
+
+    @property
+    def buffer(self) -> npt.NDArray[np.int16]:
+        """(3, 100) samples of mic0..mic2 at 16384 Hz, oldest first."""
+        if self._buffer is None:
+            raise DeviceError(
+                "the microphone buffer has not been fetched: enable_buffer() and step()"
+            )
+        return self._buffer
+
+    def restarted(self) -> None:
+        super().restarted()
+        self._buffer_fetch_ms = None

@@ -1,0 +1,320 @@
+"""The robot: owns the link, the devices and the step clock; stops safely however it ends."""
+
+from __future__ import annotations
+
+import atexit
+import contextlib
+import logging
+import os
+import signal
+import threading
+import weakref
+from collections.abc import Callable
+from types import FrameType, TracebackType
+from typing import TYPE_CHECKING, Any
+
+from ego.devices.accelerometer import Accelerometer
+from ego.devices.base import MAX_PERIOD_MS, Device, check_int
+from ego.devices.encoders import Encoders
+from ego.devices.floor import FloorSensors
+from ego.devices.leds import Leds
+from ego.devices.light import LightSensors
+from ego.devices.microphones import Microphones
+from ego.devices.motors import Motors
+from ego.devices.proximity import ProximitySensors
+from ego.errors import EgoError, LinkLostError, RobotResetError, UnknownDeviceError
+from ego.ports import NETWORK_SCHEMES, open_transport, resolve_port
+from ego.scheduler import StepClock
+from ego.serial.link import Link, LinkSettings
+from ego.serial.protocol import DEFAULT_BAUD, Firmware, Request, encode_batch
+from ego.serial.transport import SerialTransport, Transport
+
+if TYPE_CHECKING:
+    from ego.camera import Camera
+
+__all__ = ["SIM_PORT", "Robot"]
+
+log = logging.getLogger(__name__)
+
+#: The port name that starts the built-in dsPIC emulator.
+SIM_PORT = "sim"
+#: A step whose robot restarts more often than this gives up.
+MAX_RESTARTS_PER_STEP = 3
+
+
+class Robot:
+    """An e-puck: its devices, one batch of commands per time step, and a safe stop.
+
+    >>> import ego
+    >>> with ego.Robot("sim") as robot:                  # doctest: +SKIP
+    ...     robot.proximity.enable(64)
+    ...     robot.motors.set_speed(300, 300)
+    ...     while robot.step(64) != -1 and robot.time_s < 2:
+    ...         if max(robot.proximity.values) > 300:
+    ...             robot.motors.set_speed(-200, 200)
+
+    ``port`` is a serial port or any pyserial URL, ``"sim"`` for the built-in emulator,
+    or ``tcp://host:port`` / ``udp://host:port`` for a robot served by ``ego serve``;
+    without one, ``EGO_PORT``, else ``/dev/ttyS0``. Leaving the ``with`` block, an
+    exception, SIGINT or SIGTERM stops the motors and turns the LEDs off before the
+    port closes.
+    """
+
+    def __init__(
+        self,
+        port: str | None = None,
+        *,
+        transport: Transport | None = None,
+        firmware: Firmware | str | None = None,
+        baudrate: int = DEFAULT_BAUD,
+        link_settings: LinkSettings | None = None,
+        secret: str | None = None,
+        seed: int | None = None,
+        camera_source: Any = None,
+        camera_device: str | None = None,
+        handle_signals: bool = True,
+    ) -> None:
+        self._closed = True  # until the link is up, close() has nothing to stop
+        self._emulator: Any = None
+        if transport is None:
+            self.port = resolve_port(port)
+            transport = self._open(self.port, firmware, baudrate, secret, seed)
+        else:
+            self.port = transport.name
+        try:
+            self.link = Link(transport, firmware, link_settings)
+        except BaseException:
+            transport.close()
+            self._stop_emulator()
+            raise
+        self._closed = False
+        self._lost = False
+        profile = self.link.profile
+        self.motors = Motors(profile)
+        self.leds = Leds(profile)
+        self.encoders = Encoders(profile)
+        self.accelerometer = Accelerometer(profile)
+        self.proximity = ProximitySensors(profile)
+        self.floor = FloorSensors(profile)
+        self.light = LightSensors(profile)
+        self.microphones = Microphones(profile)
+        #: Actuators first, so that ``P`` precedes ``Q`` in a batch.
+        self.families: tuple[Device, ...] = (
+            self.motors,
+            self.leds,
+            self.encoders,
+            self.accelerometer,
+            self.proximity,
+            self.floor,
+            self.light,
+            self.microphones,
+        )
+        self._camera: Camera | None = None
+        self._camera_source = camera_source
+        self._camera_device = camera_device or os.environ.get("EGO_CAMERA", "/dev/video0")
+        self.clock = StepClock()
+        self._time_ms = 0
+        self.steps = 0
+        self._listeners: list[Callable[[Robot], None]] = []
+        _OPEN_ROBOTS.add(self)
+        if handle_signals:
+            _install_signal_handlers()
+        log.info("robot on %s, firmware %s", self.port, self.link.info.firmware)
+
+    def _open(
+        self,
+        port: str,
+        firmware: Firmware | str | None,
+        baudrate: int,
+        secret: str | None,
+        seed: int | None,
+    ) -> Transport:
+        if port != SIM_PORT:
+            return open_transport(port, baudrate, secret)
+        from firmware_sim import Emulator  # only the emulator's users pay for it
+
+        fw = Firmware(firmware) if firmware not in (None, "auto") else Firmware.THESIS
+        self._emulator = Emulator(fw.value, baud=baudrate, seed=seed).start()
+        return SerialTransport(self._emulator.path, baudrate)
+
+    # -- devices ---------------------------------------------------------------------
+
+    @property
+    def emulator(self) -> Any:
+        """The built-in emulator when ``port="sim"`` (its world is the ground truth), else None."""
+        return self._emulator
+
+    @property
+    def camera(self) -> Camera:
+        """The camera, opened at first use (the robot's V4L2 device, the emulator's, or remote)."""
+        if self._camera is None:
+            from ego.camera import Camera
+
+            self._camera = Camera(source=self._camera_source or self._default_camera_source())
+        return self._camera
+
+    def _default_camera_source(self) -> Any:
+        if self._emulator is not None:
+            from firmware_sim.camera import SimulatedSource
+
+            return SimulatedSource(self._emulator.world)
+        if self.port.startswith(NETWORK_SCHEMES):
+            from ego.remote.client import RemoteFrameSource
+
+            return RemoteFrameSource(self.link.transport)
+        from ego.camera import V4L2Source
+
+        return V4L2Source(self._camera_device)
+
+    def device(self, name: str) -> Device:
+        """The family serving the Webots device ``name`` ("ps3", "left wheel motor"...)."""
+        for family in self.families:
+            if name in family.member_names:
+                return family
+        raise UnknownDeviceError(
+            f"no device named {name!r}; valid names: {', '.join(self.device_names)}"
+        )
+
+    @property
+    def device_names(self) -> tuple[str, ...]:
+        """Every Webots device name this robot answers to, camera included."""
+        return tuple(n for f in self.families for n in f.member_names) + ("camera",)
+
+    # -- time ------------------------------------------------------------------------
+
+    @property
+    def time_s(self) -> float:
+        """Controller time: the sum of the steps taken, in seconds (Webots' getTime)."""
+        return self._time_ms / 1000.0
+
+    @property
+    def overruns(self) -> int:
+        return self.clock.overruns
+
+    def add_step_listener(self, listener: Callable[[Robot], None]) -> None:
+        """Call ``listener(robot)`` after every step (progress displays, loggers)."""
+        self._listeners.append(listener)
+
+    def step(self, ms: int) -> int:
+        """Run one time step of ``ms`` milliseconds: send what is due, read, wait out the rest.
+
+        Returns 0, or -1 once the link is lost for good (or the robot is closed), like
+        Webots' ``step``.
+        """
+        if self._closed or self._lost:
+            return -1
+        step_ms = check_int("time step", ms, 1, MAX_PERIOD_MS, " ms")
+        self.clock.begin()
+        now = self._time_ms
+        try:
+            self._exchange(now)
+        except LinkLostError as exc:
+            log.error("link lost for good: %s", exc)
+            self._lost = True
+            return -1
+        if self._camera is not None:
+            self._camera.update(now)
+        self._time_ms += step_ms
+        self.steps += 1
+        self.clock.wait(step_ms)
+        for listener in self._listeners:
+            listener(self)
+        return 0
+
+    def _exchange(self, now: int) -> None:
+        for _ in range(MAX_RESTARTS_PER_STEP):
+            plan = [(f, r) for f in self.families for r in f.requests(now)]
+            if not plan:
+                return
+            batch = encode_batch([r for _, r in plan], self.link.profile)
+            try:
+                reply = self.link.exchange(batch)
+            except RobotResetError as exc:
+                log.warning("%s; re-applying the robot's state", exc)
+                self._restarted()
+                continue
+            for (family, request), values in zip(plan, batch.decode(reply), strict=True):
+                family.decode(request, values, now)
+            for family in self.families:
+                family.committed(now)
+            return
+        raise RobotResetError(f"the robot restarted {MAX_RESTARTS_PER_STEP} times in one step")
+
+    def _restarted(self) -> None:
+        profile = self.link.profile
+        for family in self.families:
+            family.set_profile(profile)
+            family.restarted()
+
+    # -- safe stop -------------------------------------------------------------------
+
+    def stop_actuators(self) -> None:
+        """Stop both wheels and switch every LED off now, whatever ego believes their state."""
+        requests: list[Request] = [self.motors.stop_request(), *self.leds.all_off()]
+        self.link.exchange(encode_batch(requests, self.link.profile))
+
+    def close(self) -> None:
+        """Stop the motors, LEDs off, then close the port; calling it again does nothing."""
+        if self._closed:
+            return
+        self._closed = True
+        _OPEN_ROBOTS.discard(self)
+        if not self._lost:
+            try:
+                self.stop_actuators()
+            except (EgoError, OSError) as exc:
+                log.error("could not stop the robot's actuators: %s", exc)
+        if self._camera is not None:
+            self._camera.close()
+        self.clock.close()
+        self.link.close()
+        self._stop_emulator()
+
+    def _stop_emulator(self) -> None:
+        if self._emulator is not None:
+            self._emulator.stop()
+
+    def __enter__(self) -> Robot:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        state = "closed" if self._closed else ("lost" if self._lost else "open")
+        return f"<Robot {self.port} {self.link.info.firmware} {state}>"
+
+
+# -- stopping robots however the controller ends --------------------------------------
+
+_OPEN_ROBOTS: weakref.WeakSet[Robot] = weakref.WeakSet()
+_signals_installed = False
+
+
+def _close_open_robots() -> None:
+    for robot in list(_OPEN_ROBOTS):
+        with contextlib.suppress(Exception):
+            robot.close()
+
+
+def _on_sigterm(signum: int, frame: FrameType | None) -> None:
+    # Unwind like Ctrl-C does: with-blocks close their robots, atexit closes the rest.
+    raise SystemExit(128 + signum)
+
+
+def _install_signal_handlers() -> None:
+    """SIGTERM unwinds the controller (SIGINT already does); only if nobody else handles it."""
+    global _signals_installed
+    if _signals_installed or threading.current_thread() is not threading.main_thread():
+        return
+    if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
+        signal.signal(signal.SIGTERM, _on_sigterm)
+    _signals_installed = True
+
+
+atexit.register(_close_open_robots)
