@@ -32,7 +32,7 @@ from ego.serial.transport import SerialTransport, Transport
 if TYPE_CHECKING:
     from ego.camera import Camera
 
-__all__ = ["SIM_PORT", "Robot"]
+__all__ = ["SIM_PORT", "Robot", "close_all_robots"]
 
 log = logging.getLogger(__name__)
 
@@ -178,7 +178,7 @@ class Robot:
     @property
     def device_names(self) -> tuple[str, ...]:
         """Every Webots device name this robot answers to, camera included."""
-        return tuple(n for f in self.families for n in f.member_names) + ("camera",)
+        return (*(n for f in self.families for n in f.member_names), "camera")
 
     # -- time ------------------------------------------------------------------------
 
@@ -296,7 +296,7 @@ _OPEN_ROBOTS: weakref.WeakSet[Robot] = weakref.WeakSet()
 _signals_installed = False
 
 
-def _close_open_robots() -> None:
+def close_all_robots() -> None:
     for robot in list(_OPEN_ROBOTS):
         with contextlib.suppress(Exception):
             robot.close()
@@ -317,4 +317,4 @@ def _install_signal_handlers() -> None:
     _signals_installed = True
 
 
-atexit.register(_close_open_robots)
+atexit.register(close_all_robots)

@@ -22,7 +22,7 @@ class AccelerometerMode(str, enum.Enum):
 
 
 class Spherical(NamedTuple):
-    """Acceleration in spherical form: magnitude (g), orientation 0-360 deg, inclination 0-180 deg."""
+    """Spherical acceleration: magnitude (g), orientation 0-360 deg, inclination 0-180 deg."""
 
     magnitude: float
     orientation_deg: float

@@ -46,9 +46,10 @@ class Leds(Actuator):
         index = self.index(led)
         action = LedValue(check_int(f"value for {self.names[index]}", value, 0, 2))
         if index not in self.profile.leds:
+            driven = ", ".join(self.names[i] for i in self.profile.leds)
             raise UnsupportedDeviceError(
                 f"the {self.profile.firmware} firmware ({self.profile.description}) ignores "
-                f"{self.names[index]}; it drives {', '.join(self.names[i] for i in self.profile.leds)}"
+                f"{self.names[index]}; it drives {driven}"
             )
         new = 1 - self._state[index] if action is LedValue.TOGGLE else int(action)
         if new != self._state[index]:

@@ -1,0 +1,146 @@
+"""The ``ego`` command: demo, run, sim, serve, bench."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import subprocess
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from ego import __version__, runtime
+from ego.errors import EgoError
+
+__all__ = ["build_parser", "main"]
+
+
+def _positive(text: str) -> float:
+    value = float(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"{text} is not a positive number")
+    return value
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    from ego.demo import run_demo
+
+    run_demo(args.duration, args.firmware, args.seed)
+    return 0
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from ego.runner import run_controller
+
+    options = runtime.RunOptions(
+        port=args.port,
+        firmware=args.firmware,
+        duration_s=args.duration,
+        basic_time_step_ms=args.time_step,
+        seed=args.seed,
+    )
+    run_controller(args.controller, options, args.args)
+    return 0
+
+
+def _cmd_sim(args: argparse.Namespace) -> int:
+    from firmware_sim.cli import run
+
+    return run(args)
+
+
+def _cmd_serve(args: argparse.Namespace) -> int:
+    from ego.remote.cli import run
+
+    return run(args)
+
+
+def _cmd_bench(args: argparse.Namespace) -> int:
+    root = Path(__file__).resolve().parents[2]
+    if not (root / "benchmarks" / "__main__.py").is_file():
+        raise EgoError("ego bench runs from a source checkout (benchmarks/ beside src/)")
+    cmd = [sys.executable, "-m", "benchmarks", *args.bench_args]
+    return subprocess.call(cmd, cwd=root)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="ego", description="Run e-puck controllers on the robot, the emulator or remotely."
+    )
+    parser.add_argument("--version", action="version", version=f"ego {__version__}")
+    parser.add_argument("-v", "--verbose", action="count", default=0, help="log more (-vv: debug)")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    demo = sub.add_parser("demo", help="obstacle avoidance on the built-in emulator, shown live")
+    demo.add_argument("--duration", type=_positive, default=20.0, help="seconds (default 20)")
+    demo.add_argument("--firmware", choices=("thesis", "gctronic-overo"), default="thesis")
+    demo.add_argument("--seed", type=int, default=1)
+    demo.set_defaults(func=_cmd_demo)
+
+    run = sub.add_parser("run", help="run a Webots controller file unchanged")
+    run.add_argument(
+        "--port",
+        default=None,
+        help="serial port, pyserial URL, 'sim', tcp:// or udp:// (default: EGO_PORT or /dev/ttyS0)",
+    )
+    run.add_argument("--firmware", choices=("auto", "thesis", "gctronic-overo"), default=None)
+    run.add_argument(
+        "--duration",
+        type=_positive,
+        default=None,
+        help="stop after this many seconds of controller time",
+    )
+    run.add_argument(
+        "--time-step",
+        type=_positive,
+        default=32.0,
+        help="what getBasicTimeStep() answers, ms (default 32)",
+    )
+    run.add_argument("--seed", type=int, default=None, help="seed of the emulator (port sim)")
+    run.add_argument("controller", help="the controller's .py file")
+    run.add_argument("args", nargs=argparse.REMAINDER, help="arguments for the controller")
+    run.set_defaults(func=_cmd_run)
+
+    sim = sub.add_parser("sim", help="serve the emulated dsPIC on a pty (prints its path)")
+    from firmware_sim.cli import add_arguments as add_sim_arguments
+
+    add_sim_arguments(sim)
+    sim.set_defaults(func=_cmd_sim)
+
+    serve = sub.add_parser("serve", help="let a PC drive this robot over TCP or UDP")
+    try:
+        from ego.remote.cli import add_arguments as add_serve_arguments
+    except ImportError:  # pragma: no cover - only while the remote package is absent
+        pass
+    else:
+        add_serve_arguments(serve)
+    serve.set_defaults(func=_cmd_serve)
+
+    bench = sub.add_parser("bench", help="reproduce the thesis' tables (benchmarks/)")
+    bench.add_argument(
+        "bench_args",
+        nargs=argparse.REMAINDER,
+        help="arguments for python -m benchmarks (--quick, ...)",
+    )
+    bench.set_defaults(func=_cmd_bench)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    level = (logging.WARNING, logging.INFO, logging.DEBUG)[min(args.verbose, 2)]
+    logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
+    try:
+        return int(args.func(args))
+    except EgoError as exc:
+        print(f"ego: error: {exc}", file=sys.stderr)
+        return 1
+    except FileNotFoundError as exc:
+        print(f"ego: error: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

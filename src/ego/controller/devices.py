@@ -1,0 +1,258 @@
+"""Webots' device classes (camelCase, Webots units) as thin views of ego's device families."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from ego.devices.base import Sensor
+from ego.devices.motors import MAX_SPEED_RAD_S, rad_s_to_steps
+from ego.errors import DeviceError, OutOfRangeError
+
+if TYPE_CHECKING:
+    from ego.robot import Robot as CoreRobot
+
+__all__ = [
+    "LED",
+    "Accelerometer",
+    "Camera",
+    "Device",
+    "DistanceSensor",
+    "LightSensor",
+    "Motor",
+    "PositionSensor",
+    "encoder_steps",
+]
+
+_NAN = float("nan")
+
+
+class Device:
+    """A named device of the robot (Webots' ``Device``)."""
+
+    def __init__(self, core: CoreRobot, name: str) -> None:
+        self._core = core
+        self._name = name
+
+    def getName(self) -> str:
+        return self._name
+
+    def getModel(self) -> str:
+        return "e-puck"
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self._name!r}>"
+
+
+class _SampledDevice(Device):
+    """``enable(ms)``, ``disable()``, ``getSamplingPeriod()`` of one member of a family."""
+
+    def _family(self) -> Sensor:
+        family = self._core.device(self._name)
+        assert isinstance(family, Sensor)
+        return family
+
+    def enable(self, samplingPeriod: int) -> None:
+        self._family().enable(samplingPeriod, [self._name])
+
+    def disable(self) -> None:
+        self._family().disable([self._name])
+
+    def getSamplingPeriod(self) -> int:
+        """The period in ms, 0 when disabled (Webots' convention)."""
+        return self._family().sampling_period(self._name) or 0
+
+    def _readable(self) -> bool:
+        family = self._family()
+        return family.sampling_period(self._name) is not None and family.has_values
+
+
+class DistanceSensor(_SampledDevice):
+    """ps0..ps9 proximity and gs0..gs2 floor sensors: raw values, as Webots' e-puck gives."""
+
+    def getValue(self) -> float:
+        if not self._readable():
+            return _NAN
+        family = self._family()
+        return float(family.value(self._name))  # type: ignore[attr-defined]
+
+    def getMinValue(self) -> float:
+        return 0.0
+
+    def getMaxValue(self) -> float:
+        return 4095.0
+
+
+class LightSensor(DistanceSensor):
+    """ls0..ls7: 0..4095, lower is brighter (the e-puck's own convention)."""
+
+
+class Accelerometer(_SampledDevice):
+    def getValues(self) -> list[float]:
+        """x, y, z in m/s^2 (NaN while not enabled)."""
+        if not self._readable():
+            return [_NAN, _NAN, _NAN]
+        return list(self._core.accelerometer.acceleration_mps2)
+
+
+def encoder_steps(core: CoreRobot, side: int) -> float:
+    """A wheel's step count, NaN until the encoders are enabled and sampled."""
+    encoders = core.encoders
+    return float(encoders.values[side]) if encoders.has_values else _NAN
+
+
+class PositionSensor(_SampledDevice):
+    """A wheel's step counter as an angle in radians."""
+
+    def getValue(self) -> float:
+        if not self._readable():
+            return _NAN
+        left, right = self._core.encoders.radians
+        return left if self._name.startswith("left") else right
+
+
+class Motor(Device):
+    """A wheel motor. ``setPosition(float('inf'))`` then ``setVelocity(rad/s)``, max 6.28.
+
+    A finite ``setPosition`` drives the wheel to that angle (rad) at the set velocity,
+    using the step counters, as Webots' position control does.
+    """
+
+    def __init__(self, core: CoreRobot, name: str) -> None:
+        super().__init__(core, name)
+        self._side = 0 if name.startswith("left") else 1
+        self._velocity = MAX_SPEED_RAD_S
+        self._target = 0.0  # Webots' default: position control towards 0 rad
+
+    def getMaxVelocity(self) -> float:
+        return MAX_SPEED_RAD_S
+
+    def getVelocity(self) -> float:
+        return self._velocity
+
+    def getTargetPosition(self) -> float:
+        return self._target
+
+    def setVelocity(self, velocity: float) -> None:
+        """Wheel speed in rad/s within +-getMaxVelocity(); refused beyond (OutOfRangeError)."""
+        if not isinstance(velocity, (int, float)) or math.isnan(velocity):
+            raise TypeError(f"velocity must be a number of rad/s, not {velocity!r}")
+        if abs(velocity) > MAX_SPEED_RAD_S + 1e-9:
+            raise OutOfRangeError(
+                f"velocity {velocity} rad/s is outside +-{MAX_SPEED_RAD_S:.2f} rad/s"
+            )
+        self._velocity = float(velocity)
+        self._apply()
+
+    def setPosition(self, position: float) -> None:
+        """``inf`` for velocity control; a finite angle (rad) to drive the wheel there."""
+        if not isinstance(position, (int, float)) or math.isnan(position):
+            raise TypeError(f"position must be a number of rad or inf, not {position!r}")
+        self._target = float(position)
+        if not math.isinf(self._target) and not self._core.encoders.enabled:
+            self._core.encoders.enable(int(_position_period(self._core)))
+        self._apply()
+
+    def _apply(self) -> None:
+        speeds = list(self._core.motors.speed)
+        if math.isinf(self._target):
+            speeds[self._side] = round(
+                rad_s_to_steps(
+                    math.copysign(self._velocity, self._target) if self._velocity else 0.0
+                )
+            )
+        else:
+            speeds[self._side] = self._position_speed()
+        self._core.motors.set_speed(speeds[0], speeds[1])
+
+    def _position_speed(self) -> int:
+        """Steps/s towards the target: full velocity far away, proportional near it."""
+        if not self._core.encoders.has_values:
+            return 0
+        current = self._core.encoders.radians[self._side]
+        error = self._target - current
+        if abs(error) < 2 * math.pi / 1000:  # within one step
+            return 0
+        speed = min(abs(self._velocity), 5.0 * abs(error))
+        return round(rad_s_to_steps(math.copysign(speed, error)))
+
+    def step_update(self) -> None:
+        """Position control: recompute the speed after each step."""
+        if not math.isinf(self._target):
+            self._apply()
+
+
+def _position_period(core: CoreRobot) -> float:
+    from ego import runtime
+
+    return runtime.current().basic_time_step_ms
+
+
+class LED(Device):
+    """An LED: ``set(0)`` off, any other value on (Webots' meaning for the e-puck's LEDs)."""
+
+    def set(self, value: int) -> None:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise TypeError(f"LED value must be an int, not {type(value).__name__}")
+        self._core.leds.set(self._name, 1 if value else 0)
+
+    def get(self) -> int:
+        return self._core.leds.get(self._name)
+
+
+class Camera(_SampledDevice):
+    """The camera, BGRA images as Webots gives them."""
+
+    def enable(self, samplingPeriod: int) -> None:
+        self._core.camera.enable(samplingPeriod)
+
+    def disable(self) -> None:
+        self._core.camera.disable()
+
+    def getSamplingPeriod(self) -> int:
+        return self._core.camera.sampling_period or 0
+
+    def getWidth(self) -> int:
+        return int(self._core.camera.width)
+
+    def getHeight(self) -> int:
+        return int(self._core.camera.height)
+
+    def getFov(self) -> float:
+        return float(self._core.camera.fov_rad)
+
+    def getImage(self) -> bytes:
+        """BGRA bytes, row by row, as Webots' ``getImage``."""
+        return bytes(self._core.camera.image_bgra())
+
+    def getImageArray(self) -> list[list[list[int]]]:
+        """``image[x][y] = [r, g, b]`` as Webots' ``getImageArray``."""
+        rgb = self._core.camera.image
+        return [[[int(c) for c in px] for px in column] for column in rgb.transpose(1, 0, 2)]
+
+    def saveImage(self, filename: str, quality: int) -> int:
+        """PNG or JPEG by extension; 0 on success, -1 on failure (Webots' convention)."""
+        try:
+            self._core.camera.save_image(filename, quality)
+        except (DeviceError, OSError, ValueError):
+            return -1
+        return 0
+
+    @staticmethod
+    def imageGetRed(image: bytes, width: int, x: int, y: int) -> int:
+        return image[4 * (y * width + x) + 2]
+
+    @staticmethod
+    def imageGetGreen(image: bytes, width: int, x: int, y: int) -> int:
+        return image[4 * (y * width + x) + 1]
+
+    @staticmethod
+    def imageGetBlue(image: bytes, width: int, x: int, y: int) -> int:
+        return image[4 * (y * width + x)]
+
+    @staticmethod
+    def imageGetGray(image: bytes, width: int, x: int, y: int) -> int:
+        i = 4 * (y * width + x)
+        return (image[i] + image[i + 1] + image[i + 2]) // 3
+
+    imageGetGrey = imageGetGray

@@ -1,0 +1,192 @@
+"""Webots' ``Robot`` (and the old ``DifferentialWheels``) for the e-puck, over ego's core Robot."""
+
+from __future__ import annotations
+
+import logging
+from typing import ClassVar, TypeVar
+
+from ego import runtime
+from ego.controller.devices import (
+    LED,
+    Accelerometer,
+    Camera,
+    Device,
+    DistanceSensor,
+    LightSensor,
+    Motor,
+    PositionSensor,
+    encoder_steps,
+)
+from ego.errors import UnknownDeviceError
+from ego.ports import NETWORK_SCHEMES
+from ego.robot import Robot as CoreRobot
+
+__all__ = ["DifferentialWheels", "Robot"]
+
+log = logging.getLogger(__name__)
+
+_D = TypeVar("_D", bound=Device)
+
+
+def _device_class(name: str) -> type[Device]:
+    if name.startswith(("ps", "gs")):
+        return DistanceSensor
+    if name.startswith("ls"):
+        return LightSensor
+    if name.startswith("led"):
+        return LED
+    if name.endswith("wheel motor"):
+        return Motor
+    if name.endswith("wheel sensor"):
+        return PositionSensor
+    if name == "accelerometer":
+        return Accelerometer
+    if name == "camera":
+        return Camera
+    raise UnknownDeviceError(f"no device named {name!r}")
+
+
+class Robot:
+    """The e-puck as a Webots controller sees it.
+
+    >>> from controller import Robot                     # doctest: +SKIP
+    >>> robot = Robot()
+    >>> ps0 = robot.getDevice("ps0"); ps0.enable(32)
+    >>> while robot.step(32) != -1:
+    ...     print(ps0.getValue())
+    """
+
+    MODE_SIMULATION: ClassVar[int] = 0
+    MODE_CROSS_COMPILATION: ClassVar[int] = 1
+    MODE_REMOTE_CONTROL: ClassVar[int] = 2
+
+    def __init__(self) -> None:
+        options = runtime.current()
+        self._options = options
+        self._core = CoreRobot(options.port, firmware=options.firmware, seed=options.seed)
+        self._devices: dict[str, Device] = {}
+        self._motors: list[Motor] = []
+        for callback in options.on_robot:
+            callback(self._core)
+
+    @property
+    def core(self) -> CoreRobot:
+        """The ego Robot underneath, for what Webots' API does not cover."""
+        return self._core
+
+    def step(self, duration: int) -> int:
+        """One time step of ``duration`` ms; -1 when the run ends or the link is lost."""
+        limit = self._options.duration_s
+        if limit is not None and self._core.time_s >= limit - 1e-9:
+            self._core.close()
+            return -1
+        result = self._core.step(duration)
+        for motor in self._motors:
+            motor.step_update()
+        return result
+
+    def getDevice(self, name: str) -> Device:
+        """The device called ``name`` (``ps0``, ``left wheel motor``, ``camera``...)."""
+        device = self._devices.get(name)
+        if device is None:
+            if name != "camera":
+                self._core.device(name)  # raises UnknownDeviceError listing the valid names
+            try:
+                cls = _device_class(name)
+            except UnknownDeviceError:
+                raise UnknownDeviceError(
+                    f"no device named {name!r}; valid names: {', '.join(self._core.device_names)}"
+                ) from None
+            device = cls(self._core, name)
+            if isinstance(device, Motor):
+                self._motors.append(device)
+            self._devices[name] = device
+        return device
+
+    def _typed(self, name: str, cls: type[_D]) -> _D:
+        device = self.getDevice(name)
+        if not isinstance(device, cls):
+            raise UnknownDeviceError(f"{name!r} is a {type(device).__name__}, not a {cls.__name__}")
+        return device
+
+    # Deprecated getters of older Webots versions, still found in e-puck controllers.
+    def getDistanceSensor(self, name: str) -> DistanceSensor:
+        return self._typed(name, DistanceSensor)
+
+    def getLightSensor(self, name: str) -> LightSensor:
+        return self._typed(name, LightSensor)
+
+    def getMotor(self, name: str) -> Motor:
+        return self._typed(name, Motor)
+
+    def getLED(self, name: str) -> LED:
+        return self._typed(name, LED)
+
+    def getCamera(self, name: str) -> Camera:
+        return self._typed(name, Camera)
+
+    def getAccelerometer(self, name: str) -> Accelerometer:
+        return self._typed(name, Accelerometer)
+
+    def getPositionSensor(self, name: str) -> PositionSensor:
+        return self._typed(name, PositionSensor)
+
+    def getBasicTimeStep(self) -> float:
+        return float(self._options.basic_time_step_ms)
+
+    def getTime(self) -> float:
+        """Controller time in seconds."""
+        return self._core.time_s
+
+    def getName(self) -> str:
+        return "e-puck"
+
+    def getMode(self) -> int:
+        """Cross-compilation on the robot; remote control over tcp:// or udp://."""
+        if self._core.port.startswith(NETWORK_SCHEMES):
+            return self.MODE_REMOTE_CONTROL
+        return self.MODE_CROSS_COMPILATION
+
+    def cleanup(self) -> None:
+        """Stop the robot and close the link (also done at exit)."""
+        self._core.close()
+
+
+class DifferentialWheels(Robot):
+    """Webots' old e-puck base class: wheel speeds in steps/s (1 step = 0.00628 rad)."""
+
+    def setSpeed(self, left: float, right: float) -> None:
+        self._core.motors.set_speed(left, right)
+
+    def getLeftSpeed(self) -> float:
+        return float(self._core.motors.speed[0])
+
+    def getRightSpeed(self) -> float:
+        return float(self._core.motors.speed[1])
+
+    def getMaxSpeed(self) -> float:
+        return 1000.0
+
+    def getSpeedUnit(self) -> float:
+        return 0.00628
+
+    def enableEncoders(self, ms: int) -> None:
+        self._core.encoders.enable(ms)
+
+    def disableEncoders(self) -> None:
+        self._core.encoders.disable()
+
+    def getEncodersSamplingPeriod(self) -> int:
+        return self._core.encoders.sampling_period() or 0
+
+    def getLeftEncoder(self) -> float:
+        return self._encoder(0)
+
+    def getRightEncoder(self) -> float:
+        return self._encoder(1)
+
+    def _encoder(self, side: int) -> float:
+        return encoder_steps(self._core, side)
+
+    def setEncoders(self, left: float, right: float) -> None:
+        self._core.encoders.set(round(left), round(right))

@@ -1,0 +1,1 @@
+"""Example controllers written for Webots, which ``ego run`` runs unchanged."""

@@ -1,0 +1,42 @@
+"""Run a controller written for Webots, unchanged: ``from controller import Robot`` gets ego."""
+
+from __future__ import annotations
+
+import runpy
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+import ego.controller
+from ego import default_robot, runtime
+from ego.robot import close_all_robots
+
+__all__ = ["run_controller"]
+
+
+def run_controller(path: str | Path, options: runtime.RunOptions, argv: Sequence[str] = ()) -> None:
+    """Execute the controller file at ``path`` as ``__main__`` with ego as its ``controller``.
+
+    As Webots does, the controller's own folder is on ``sys.path`` and ``sys.argv`` holds
+    its arguments. Whatever way it ends, every robot it opened is stopped and closed.
+    """
+    script = Path(path)
+    if not script.is_file():
+        raise FileNotFoundError(f"controller file {str(script)!r} does not exist")
+    runtime.set_options(options)
+    saved_module = sys.modules.get("controller")
+    saved_argv, saved_path = sys.argv[:], sys.path[:]
+    sys.modules["controller"] = ego.controller
+    sys.argv = [str(script), *argv]
+    sys.path.insert(0, str(script.resolve().parent))
+    try:
+        runpy.run_path(str(script), run_name="__main__")
+    finally:
+        default_robot.close()
+        close_all_robots()
+        sys.argv, sys.path[:] = saved_argv, saved_path
+        if saved_module is None:
+            sys.modules.pop("controller", None)
+        else:
+            sys.modules["controller"] = saved_module
+        runtime.set_options(runtime.RunOptions())

@@ -1,0 +1,279 @@
+"""The Webots C API names of the thesis' appendix B, and the remote-control entry points of C.12.2.
+
+Each function is a one-line delegation to the device views of :mod:`ego.controller`
+acting on one default robot; tags are the integers ``wb_robot_get_device`` returns (or
+device names). As in the thesis' appendix B, ``wb_camera_get_image`` returns RGB888
+bytes (3 a pixel) and the ``wb_camera_image_get_*`` helpers read that layout.
+"""
+
+from __future__ import annotations
+
+from ego import default_robot, runtime
+from ego.controller.devices import (
+    LED,
+    Accelerometer,
+    Camera,
+    DistanceSensor,
+    LightSensor,
+    encoder_steps,
+)
+from ego.errors import EgoError
+from ego.tags import name_of, tag_of
+
+__all__ = [
+    "wb_accelerometer_disable",
+    "wb_accelerometer_enable",
+    "wb_accelerometer_get_values",
+    "wb_camera_disable",
+    "wb_camera_enable",
+    "wb_camera_get_fov",
+    "wb_camera_get_height",
+    "wb_camera_get_image",
+    "wb_camera_get_width",
+    "wb_camera_image_get_blue",
+    "wb_camera_image_get_green",
+    "wb_camera_image_get_grey",
+    "wb_camera_image_get_red",
+    "wb_camera_save_image",
+    "wb_camera_set_fov",
+    "wb_differential_wheel_enable_encoders",
+    "wb_differential_wheels_disable_encoders",
+    "wb_differential_wheels_enable_encoders",
+    "wb_differential_wheels_get_left_encoder",
+    "wb_differential_wheels_get_right_encoder",
+    "wb_differential_wheels_set_encoders",
+    "wb_differential_wheels_set_speed",
+    "wb_distance_sensor_disable",
+    "wb_distance_sensor_enable",
+    "wb_distance_sensor_get_value",
+    "wb_led_set",
+    "wb_light_sensor_disable",
+    "wb_light_sensor_enable",
+    "wb_light_sensor_get_value",
+    "wb_robot_cleanup",
+    "wb_robot_get_device",
+    "wb_robot_init",
+    "wb_robot_step",
+    "wbr_has_failed",
+    "wbr_init",
+    "wbr_robot_cleanup",
+    "wbr_robot_step",
+    "wbr_stop_actuators",
+]
+
+Tag = int | str
+
+
+def _distance(tag: Tag) -> DistanceSensor:
+    return DistanceSensor(default_robot.get(), name_of(tag))
+
+
+def _light(tag: Tag) -> LightSensor:
+    return LightSensor(default_robot.get(), name_of(tag))
+
+
+def _camera(tag: Tag) -> Camera:
+    return Camera(default_robot.get(), name_of(tag))
+
+
+# -- robot -------------------------------------------------------------------------------
+
+
+def wb_robot_init() -> int:
+    default_robot.open_robot()
+    return 1
+
+
+def wb_robot_step(ms: int) -> int:
+    robot = default_robot.get()
+    limit = runtime.current().duration_s
+    if limit is not None and robot.time_s >= limit - 1e-9:
+        default_robot.close()
+        return -1
+    return robot.step(ms)
+
+
+def wb_robot_get_device(name: str) -> int:
+    robot = default_robot.get()
+    if name not in robot.device_names:
+        robot.device(name)  # raises UnknownDeviceError listing the valid names
+    return tag_of(name)
+
+
+def wb_robot_cleanup() -> None:
+    default_robot.close()
+
+
+# -- accelerometer -----------------------------------------------------------------------
+
+
+def wb_accelerometer_enable(tag: Tag, ms: int) -> None:
+    Accelerometer(default_robot.get(), name_of(tag)).enable(ms)
+
+
+def wb_accelerometer_disable(tag: Tag) -> None:
+    Accelerometer(default_robot.get(), name_of(tag)).disable()
+
+
+def wb_accelerometer_get_values(tag: Tag) -> list[float]:
+    return Accelerometer(default_robot.get(), name_of(tag)).getValues()
+
+
+# -- camera ------------------------------------------------------------------------------
+
+
+def wb_camera_enable(tag: Tag, ms: int) -> None:
+    _camera(tag).enable(ms)
+
+
+def wb_camera_disable(tag: Tag) -> None:
+    _camera(tag).disable()
+
+
+def wb_camera_get_fov(tag: Tag) -> float:
+    return _camera(tag).getFov()
+
+
+def wb_camera_set_fov(tag: Tag, fov: float) -> None:
+    _camera(tag)  # checks the tag
+    default_robot.get().camera.fov_rad = fov
+
+
+def wb_camera_get_width(tag: Tag) -> int:
+    return _camera(tag).getWidth()
+
+
+def wb_camera_get_height(tag: Tag) -> int:
+    return _camera(tag).getHeight()
+
+
+def wb_camera_get_image(tag: Tag) -> bytes:
+    """RGB888, 3 bytes a pixel, row by row (thesis appendix B)."""
+    _camera(tag)
+    return default_robot.get().camera.image.tobytes()
+
+
+def wb_camera_save_image(tag: Tag, filename: str, quality: int) -> int:
+    return _camera(tag).saveImage(filename, quality)
+
+
+def _rgb(image: bytes, width: int, x: int, y: int, channel: int) -> int:
+    if not 0 <= x < width or y < 0 or 3 * (y * width + x) + 2 >= len(image):
+        raise EgoError(f"pixel ({x}, {y}) is outside the image")
+    return image[3 * (y * width + x) + channel]
+
+
+def wb_camera_image_get_red(image: bytes, width: int, x: int, y: int) -> int:
+    return _rgb(image, width, x, y, 0)
+
+
+def wb_camera_image_get_green(image: bytes, width: int, x: int, y: int) -> int:
+    return _rgb(image, width, x, y, 1)
+
+
+def wb_camera_image_get_blue(image: bytes, width: int, x: int, y: int) -> int:
+    return _rgb(image, width, x, y, 2)
+
+
+def wb_camera_image_get_grey(image: bytes, width: int, x: int, y: int) -> int:
+    return sum(_rgb(image, width, x, y, c) for c in range(3)) // 3
+
+
+# -- differential wheels -----------------------------------------------------------------
+
+
+def wb_differential_wheels_set_speed(left: float, right: float) -> None:
+    """Wheel speeds in steps/s, +-1000."""
+    default_robot.get().motors.set_speed(left, right)
+
+
+def wb_differential_wheels_enable_encoders(ms: int) -> None:
+    default_robot.get().encoders.enable(ms)
+
+
+#: The thesis' appendix B spells it so.
+wb_differential_wheel_enable_encoders = wb_differential_wheels_enable_encoders
+
+
+def wb_differential_wheels_disable_encoders() -> None:
+    default_robot.get().encoders.disable()
+
+
+def wb_differential_wheels_get_left_encoder() -> float:
+    """Steps (NaN until the encoders are enabled and sampled)."""
+    return encoder_steps(default_robot.get(), 0)
+
+
+def wb_differential_wheels_get_right_encoder() -> float:
+    return encoder_steps(default_robot.get(), 1)
+
+
+def wb_differential_wheels_set_encoders(left: float, right: float) -> None:
+    default_robot.get().encoders.set(round(left), round(right))
+
+
+# -- distance and light sensors, LEDs ------------------------------------------------------
+
+
+def wb_distance_sensor_enable(tag: Tag, ms: int) -> None:
+    _distance(tag).enable(ms)
+
+
+def wb_distance_sensor_disable(tag: Tag) -> None:
+    _distance(tag).disable()
+
+
+def wb_distance_sensor_get_value(tag: Tag) -> float:
+    return _distance(tag).getValue()
+
+
+def wb_led_set(tag: Tag, value: int) -> None:
+    LED(default_robot.get(), name_of(tag)).set(value)
+
+
+def wb_light_sensor_enable(tag: Tag, ms: int) -> None:
+    _light(tag).enable(ms)
+
+
+def wb_light_sensor_disable(tag: Tag) -> None:
+    _light(tag).disable()
+
+
+def wb_light_sensor_get_value(tag: Tag) -> float:
+    return _light(tag).getValue()
+
+
+# -- remote control (appendix C.12.2) ------------------------------------------------------
+
+_failed = False
+
+
+def wbr_init(args: str | None = None) -> int:
+    """Connect to the robot at ``args`` (a port or tcp://, udp:// URL); 1 on success, 0 not."""
+    global _failed
+    try:
+        default_robot.open_robot(args)
+    except EgoError:
+        _failed = True
+        return 0
+    _failed = False
+    return 1
+
+
+def wbr_robot_step(ms: int) -> int:
+    global _failed
+    result = wb_robot_step(ms)
+    _failed = _failed or result == -1
+    return result
+
+
+def wbr_robot_cleanup() -> None:
+    default_robot.close()
+
+
+def wbr_stop_actuators() -> None:
+    default_robot.get().stop_actuators()
+
+
+def wbr_has_failed() -> bool:
+    return _failed
