@@ -1,0 +1,75 @@
+"""``python -m benchmarks`` / ``ego bench``: reproduce the thesis' tables and write the report."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import platform
+import sys
+import time
+from datetime import datetime, timezone
+
+from benchmarks.common import RESULTS, Table
+
+#: Sections in report order: module name under benchmarks/, and what it reproduces.
+SECTIONS = {
+    "serial_link": "Command overhead and serial link rate (Tables 4.1-4.2, sections 4.1.1, 5.2)",
+    "step_precision": "Time-step precision (Tables 4.6-4.7)",
+    "camera_tables": "Camera: acquisition, rotation, encoding (Tables 5.1-5.8) and peers",
+    "memory": "Memory: peak resident set of a controller and of the emulator",
+    "remote_roundtrip": "Remote control: step round trip over TCP/UDP vs the pty link",
+}
+
+
+def machine_description() -> str:
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            names = [line.split(":", 1)[1].strip() for line in f if line.startswith("model name")]
+        if names:
+            cpu = f"{names[0]} x {len(names)}"
+    except OSError:
+        pass
+    return f"{cpu}; Linux {platform.release()}; Python {platform.python_version()}"
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__)
+    parser.add_argument("--quick", action="store_true",
+                        help="few repetitions and small sizes: a smoke test, asserts nothing")
+    parser.add_argument("--only", action="append", choices=sorted(SECTIONS),
+                        help="run only these sections (repeatable)")
+    parser.add_argument("--out", default=None, help="results folder (default benchmarks/results, "
+                        "or benchmarks/results/quick with --quick)")
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.ERROR)
+    out = RESULTS / "quick" if args.quick and args.out is None else (
+        RESULTS if args.out is None else __import__("pathlib").Path(args.out))
+    sections = args.only or list(SECTIONS)
+    done: list[tuple[str, list[Table], float]] = []
+    interrupted = False
+    started = time.time()
+    for name in sections:
+        t0 = time.perf_counter()
+        try:
+            module = importlib.import_module(f"benchmarks.{name}")
+            tables = module.run(quick=args.quick)
+        except KeyboardInterrupt:
+            print(f"\ninterrupted during {name}: keeping the sections that finished", file=sys.stderr)
+            interrupted = True
+            break
+        for table in tables:
+            table.print()
+            table.write_csv(out)
+        done.append((name, tables, time.perf_counter() - t0))
+    from benchmarks.report import write_report
+
+    path = write_report(out, done, machine_description(), datetime.fromtimestamp(
+        started, timezone.utc), quick=args.quick, interrupted=interrupted)
+    print(f"\nreport: {path}")
+    return 130 if interrupted else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

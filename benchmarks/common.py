@@ -1,0 +1,165 @@
+"""What every benchmark shares: the thesis' figures, interleaved timing, statistics, tables.
+
+Rules (../shared/spec/benchmarks.md): medians over repeated runs with min and max and
+the count; a speed claim is a ratio measured in one run with A and B interleaved; the
+thesis' figure printed beside ours with the ratio.
+"""
+
+from __future__ import annotations
+
+import csv
+import statistics
+import time
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "REPO",
+    "RESULTS",
+    "THESIS",
+    "Stats",
+    "Table",
+    "fmt",
+    "interleaved",
+    "progress",
+    "ratio",
+    "thesis_csv",
+]
+
+REPO = Path(__file__).resolve().parents[1]
+#: ../shared/thesis beside the repository (as in CI's checkout).
+THESIS = REPO.parent / "shared" / "thesis"
+RESULTS = REPO / "benchmarks" / "results"
+
+
+def thesis_csv(name: str) -> list[dict[str, str]]:
+    """Rows of one of the thesis' tables, or [] when ../shared is not beside the repo."""
+    path = THESIS / name
+    if not path.is_file():
+        return []
+    with path.open(newline="") as f:
+        return list(csv.DictReader(f))
+
+
+@dataclass(frozen=True)
+class Stats:
+    """Median, min and max of repeated measurements (seconds or any unit), and their count."""
+
+    median: float
+    low: float
+    high: float
+    n: int
+
+    @classmethod
+    def of(cls, values: Sequence[float]) -> Stats:
+        return cls(statistics.median(values), min(values), max(values), len(values))
+
+    def scaled(self, k: float) -> Stats:
+        return Stats(self.median * k, self.low * k, self.high * k, self.n)
+
+
+def interleaved(
+    contenders: dict[str, Callable[[], object]], repeats: int, inner: int = 1
+) -> dict[str, Stats]:
+    """Time each contender ``repeats`` times, A B C A B C..., each sample the mean of ``inner`` calls.
+
+    Interleaving makes the ratios fair on a shared machine: a slow moment hits everyone.
+    """
+    samples: dict[str, list[float]] = {name: [] for name in contenders}
+    for fn in contenders.values():  # warm-up: caches, lazy allocations, JIT-free but fair
+        fn()
+    for _ in range(repeats):
+        for name, fn in contenders.items():
+            t0 = time.perf_counter()
+            for _ in range(inner):
+                fn()
+            samples[name].append((time.perf_counter() - t0) / inner)
+    return {name: Stats.of(values) for name, values in samples.items()}
+
+
+def ratio(a: float, b: float) -> float:
+    return a / b if b else float("nan")
+
+
+def fmt(value: float | str | None, digits: int = 2) -> str:
+    if value is None:
+        return "-"
+    if isinstance(value, str):
+        return value
+    if value != value:  # NaN
+        return "-"
+    if isinstance(value, int):
+        return f"{value:,}".replace(",", "'")
+    return f"{value:,.{digits}f}".replace(",", "'")
+
+
+@dataclass
+class Table:
+    """One reproduced table: printed to the terminal, written as Markdown and CSV."""
+
+    key: str
+    title: str
+    columns: list[str]
+    rows: list[list[Any]] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    #: Free data for plots (lists of numbers keyed by series name).
+    series: dict[str, Any] = field(default_factory=dict)
+
+    def markdown(self) -> str:
+        lines = [f"### {self.title}", ""]
+        lines.append("| " + " | ".join(self.columns) + " |")
+        lines.append("| " + " | ".join("---" for _ in self.columns) + " |")
+        for row in self.rows:
+            lines.append("| " + " | ".join(fmt(c) if not isinstance(c, str) else c for c in row) + " |")
+        if self.notes:
+            lines.append("")
+            lines.extend(self.notes)
+        return "\n".join(lines) + "\n"
+
+    def write_csv(self, folder: Path) -> Path:
+        folder.mkdir(parents=True, exist_ok=True)
+        path = folder / f"{self.key}.csv"
+        with path.open("w", newline="") as f:
+            writer = csv.writer(f)
+            writer.writerow(self.columns)
+            for row in self.rows:
+                writer.writerow([c if isinstance(c, str) else f"{c:.6g}" for c in row])
+        return path
+
+    def print(self) -> None:
+        widths = [max(len(str(c)), *(len(_cell(r[i])) for r in self.rows)) if self.rows
+                  else len(str(c)) for i, c in enumerate(self.columns)]
+        print(f"\n{self.title}")
+        print("  ".join(str(c).rjust(w) for c, w in zip(self.columns, widths, strict=True)))
+        for row in self.rows:
+            print("  ".join(_cell(c).rjust(w) for c, w in zip(row, widths, strict=True)))
+        for note in self.notes:
+            print(note)
+
+
+def _cell(value: Any) -> str:
+    return value if isinstance(value, str) else fmt(value)
+
+
+def progress(items: Iterable[Any], desc: str, total: int | None = None) -> Iterator[Any]:
+    """A progress bar on stderr (tqdm when installed, a plain counter otherwise)."""
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        yield from _plain_progress(items, desc, total)
+        return
+    yield from tqdm(items, desc=desc, total=total, leave=False, dynamic_ncols=True)
+
+
+def _plain_progress(items: Iterable[Any], desc: str, total: int | None) -> Iterator[Any]:
+    import sys
+
+    for i, item in enumerate(items, 1):
+        if total:
+            sys.stderr.write(f"\r{desc}: {i}/{total}")
+            sys.stderr.flush()
+        yield item
+    if total:
+        sys.stderr.write("\r" + " " * (len(desc) + 20) + "\r")
