@@ -63,7 +63,7 @@ class Stats:
 def interleaved(
     contenders: dict[str, Callable[[], object]], repeats: int, inner: int = 1
 ) -> dict[str, Stats]:
-    """Time each contender ``repeats`` times, A B C A B C..., each sample the mean of ``inner`` calls.
+    """Time each contender ``repeats`` times, A B C A B C..., a sample the mean of ``inner`` calls.
 
     Interleaving makes the ratios fair on a shared machine: a slow moment hits everyone.
     """
@@ -112,7 +112,9 @@ class Table:
         lines.append("| " + " | ".join(self.columns) + " |")
         lines.append("| " + " | ".join("---" for _ in self.columns) + " |")
         for row in self.rows:
-            lines.append("| " + " | ".join(fmt(c) if not isinstance(c, str) else c for c in row) + " |")
+            lines.append(
+                "| " + " | ".join(fmt(c) if not isinstance(c, str) else c for c in row) + " |"
+            )
         if self.notes:
             lines.append("")
             lines.extend(self.notes)
@@ -129,8 +131,10 @@ class Table:
         return path
 
     def print(self) -> None:
-        widths = [max(len(str(c)), *(len(_cell(r[i])) for r in self.rows)) if self.rows
-                  else len(str(c)) for i, c in enumerate(self.columns)]
+        widths = [
+            max(len(str(c)), *(len(_cell(r[i])) for r in self.rows)) if self.rows else len(str(c))
+            for i, c in enumerate(self.columns)
+        ]
         print(f"\n{self.title}")
         print("  ".join(str(c).rjust(w) for c, w in zip(self.columns, widths, strict=True)))
         for row in self.rows:

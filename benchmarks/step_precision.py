@@ -1,4 +1,4 @@
-"""Time-step precision (thesis Tables 4.6 and 4.7): share of steps within 1/5/10/20 % of the asked time.
+"""Time-step precision (thesis Tables 4.6, 4.7): share of steps within 1/5/10/20 % of the step.
 
 A robot on the built-in emulator with nothing enabled, so each step is the scheduler
 alone (as the thesis' test of its time-step function). A step's measured length is the
@@ -67,8 +67,9 @@ def measure(condition: str, lo_ms: int, hi_ms: int, samples: int, seed: int = 1)
 
     rng = random.Random(seed)
     errors: list[float] = []
-    with ego.Robot("sim", seed=seed, handle_signals=False) as robot, _background(
-        CONDITIONS[condition]
+    with (
+        ego.Robot("sim", seed=seed, handle_signals=False) as robot,
+        _background(CONDITIONS[condition]),
     ):
         robot.step(lo_ms)  # anchors the clock
         last = time.perf_counter()
@@ -82,8 +83,11 @@ def measure(condition: str, lo_ms: int, hi_ms: int, samples: int, seed: int = 1)
 
 
 def run(quick: bool = False) -> list[Table]:
-    counts = {(1, 10): 20, (10, 100): 10, (100, 500): 3} if quick else {
-        (1, 10): 400, (10, 100): 200, (100, 500): 200}
+    counts = (
+        {(1, 10): 20, (10, 100): 10, (100, 500): 3}
+        if quick
+        else {(1, 10): 400, (10, 100): 200, (100, 500): 200}
+    )
     thesis = {
         "single thread": thesis_csv("table_4_6_step_precision_single_thread.csv"),
         "busy": thesis_csv("table_4_7_step_precision_multi_thread.csv"),
@@ -100,16 +104,22 @@ def run(quick: bool = False) -> list[Table]:
             key=f"step_precision_{condition.replace(' ', '_')}",
             title=f"Step precision, {condition} (thesis Table "
             f"{'4.6' if condition == 'single thread' else '4.7'}): % of steps within each band",
-            columns=["time step [ms]", "steps", *[f"ego {int(b*100)}%" for b in BANDS],
-                     *[f"thesis {int(b*100)}%" for b in BANDS]],
+            columns=[
+                "time step [ms]",
+                "steps",
+                *[f"ego {int(b * 100)}%" for b in BANDS],
+                *[f"thesis {int(b * 100)}%" for b in BANDS],
+            ],
         )
         for rng in RANGES_MS:
             errors = results[(condition, rng)]
             label = f"{rng[0]}-{rng[1]}"
             ours = [100.0 * sum(e <= b for e in errors) / len(errors) for b in BANDS]
             theirs = ref_by_range.get(label)
-            ref_values = [float(theirs[f"within_{int(b*100)}pct"]) if theirs else float("nan")
-                          for b in BANDS]
+            ref_values = [
+                float(theirs[f"within_{int(b * 100)}pct"]) if theirs else float("nan")
+                for b in BANDS
+            ]
             table.rows.append([label, len(errors), *ours, *ref_values])
             table.series[label] = ours
         table.notes.append(
