@@ -36,16 +36,30 @@ def machine_description() -> str:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__)
-    parser.add_argument("--quick", action="store_true",
-                        help="few repetitions and small sizes: a smoke test, asserts nothing")
-    parser.add_argument("--only", action="append", choices=sorted(SECTIONS),
-                        help="run only these sections (repeatable)")
-    parser.add_argument("--out", default=None, help="results folder (default benchmarks/results, "
-                        "or benchmarks/results/quick with --quick)")
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="few repetitions and small sizes: a smoke test, asserts nothing",
+    )
+    parser.add_argument(
+        "--only",
+        action="append",
+        choices=sorted(SECTIONS),
+        help="run only these sections (repeatable)",
+    )
+    parser.add_argument(
+        "--out",
+        default=None,
+        help="results folder (default benchmarks/results, "
+        "or benchmarks/results/quick with --quick)",
+    )
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.ERROR)
-    out = RESULTS / "quick" if args.quick and args.out is None else (
-        RESULTS if args.out is None else __import__("pathlib").Path(args.out))
+    out = (
+        RESULTS / "quick"
+        if args.quick and args.out is None
+        else (RESULTS if args.out is None else __import__("pathlib").Path(args.out))
+    )
     sections = args.only or list(SECTIONS)
     done: list[tuple[str, list[Table], float]] = []
     interrupted = False
@@ -56,7 +70,9 @@ def main(argv: list[str] | None = None) -> int:
             module = importlib.import_module(f"benchmarks.{name}")
             tables = module.run(quick=args.quick)
         except KeyboardInterrupt:
-            print(f"\ninterrupted during {name}: keeping the sections that finished", file=sys.stderr)
+            print(
+                f"\ninterrupted during {name}: keeping the sections that finished", file=sys.stderr
+            )
             interrupted = True
             break
         for table in tables:
@@ -65,8 +81,14 @@ def main(argv: list[str] | None = None) -> int:
         done.append((name, tables, time.perf_counter() - t0))
     from benchmarks.report import write_report
 
-    path = write_report(out, done, machine_description(), datetime.fromtimestamp(
-        started, timezone.utc), quick=args.quick, interrupted=interrupted)
+    path = write_report(
+        out,
+        done,
+        machine_description(),
+        datetime.fromtimestamp(started, timezone.utc),
+        quick=args.quick,
+        interrupted=interrupted,
+    )
     print(f"\nreport: {path}")
     return 130 if interrupted else 0
 

@@ -41,26 +41,54 @@ def worst_case_requests(firmware: Firmware = Firmware.THESIS) -> list[Request]:
 
 
 def overhead_tables() -> list[Table]:
-    thesis_pct = {"a": 14.3, "D": 20.0, "E": 20.0, "L": 33.3, "M": 14.3, "N": 5.9,
-                  "O": 5.9, "P": 20.0, "Q": 20.0, "u": 14.3}
+    thesis_pct = {
+        "a": 14.3,
+        "D": 20.0,
+        "E": 20.0,
+        "L": 33.3,
+        "M": 14.3,
+        "N": 5.9,
+        "O": 5.9,
+        "P": 20.0,
+        "Q": 20.0,
+        "u": 14.3,
+    }
     tables = []
     for firmware in Firmware:
         profile = PROFILES[firmware]
         table = Table(
             key=f"command_overhead_{firmware.value}",
             title=f"Command overhead, {firmware.value} firmware (thesis Tables 4.1, 4.2)",
-            columns=["command", "sent bytes", "reply bytes", "useful", "overhead",
-                     "overhead %", "thesis %"],
+            columns=[
+                "command",
+                "sent bytes",
+                "reply bytes",
+                "useful",
+                "overhead",
+                "overhead %",
+                "thesis %",
+            ],
         )
         for letter in _THESIS_ORDER.split():
             command = Command((-ord(letter)) & 0xFF)
             if not profile.supports(command):
-                table.rows.append([letter, "-", "-", "-", "-", "not served", fmt(thesis_pct[letter], 1)])
+                table.rows.append(
+                    [letter, "-", "-", "-", "-", "not served", fmt(thesis_pct[letter], 1)]
+                )
                 continue
             fmt_ = profile.wire_format(command)
             useful = fmt_.arguments.size + fmt_.reply.size + fmt_.prefix.size
-            table.rows.append([letter, 1 + fmt_.arguments.size, fmt_.reply.size, useful, 1,
-                               100.0 / (1 + useful), thesis_pct[letter]])
+            table.rows.append(
+                [
+                    letter,
+                    1 + fmt_.arguments.size,
+                    fmt_.reply.size,
+                    useful,
+                    1,
+                    100.0 / (1 + useful),
+                    thesis_pct[letter],
+                ]
+            )
         batch = encode_batch(worst_case_requests(firmware), profile)
         sent_useful = sum(profile.wire_format(r.command).arguments.size for r in batch.requests)
         overhead = len(batch.requests) + 1
@@ -97,20 +125,43 @@ def run(quick: bool = False) -> list[Table]:
     tables = overhead_tables()
     steps = 300 if quick else 10_000
     thesis = {row["figure"]: row for row in thesis_csv("serial_link.csv")}
-    thesis_us = float(thesis["effective_time_per_byte"]["value"]) if (
-        "effective_time_per_byte" in thesis) else 84.03
+    thesis_us = (
+        float(thesis["effective_time_per_byte"]["value"])
+        if ("effective_time_per_byte" in thesis)
+        else 84.03
+    )
     wire_us = wire_time_s(1) * 1e6
     table = Table(
         key="serial_link_rate",
         title=f"Serial link rate over the emulated 230400-baud pty, worst-case step, {steps} steps "
         "(thesis sections 4.1.1, 5.2)",
-        columns=["emulator dsPIC delay", "bytes/step", "median step [ms]", "min", "max",
-                 "us/byte", "ratio to wire 43.4 us/byte", "thesis us/byte", "thesis worst step [ms]"],
+        columns=[
+            "emulator dsPIC delay",
+            "bytes/step",
+            "median step [ms]",
+            "min",
+            "max",
+            "us/byte",
+            "ratio to wire 43.4 us/byte",
+            "thesis us/byte",
+            "thesis worst step [ms]",
+        ],
     )
     for delay in (0.0, 40.0):
         stats, us_per_byte, per_step = _link_rate(steps, delay)
-        table.rows.append([f"{delay:g} us/command", per_step, stats.median * 1e3, stats.low * 1e3,
-                           stats.high * 1e3, us_per_byte, us_per_byte / wire_us, thesis_us, 53.5])
+        table.rows.append(
+            [
+                f"{delay:g} us/command",
+                per_step,
+                stats.median * 1e3,
+                stats.low * 1e3,
+                stats.high * 1e3,
+                us_per_byte,
+                us_per_byte / wire_us,
+                thesis_us,
+                53.5,
+            ]
+        )
     table.notes.append(
         "With no dsPIC delay the emulator answers at the wire's pace, so us/byte shows ego's own "
         "cost on top of the wire; 40 us per command models a dsPIC's parsing time."
