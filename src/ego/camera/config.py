@@ -1,0 +1,173 @@
+"""The camera configuration file (thesis C.2: the camera parameters read at start).
+
+The thesis' ``overo_camera_extract_parameters_from_configuration_file`` loads the
+camera's resolution, brightness, contrast, saturation and auto white balance from a
+file. ego's format is one ``key = value`` per line::
+
+    # e-puck camera, as E-GO starts it
+    width = 640                # pixels of the image you get (32..640, or 32..480 at 90/270)
+    height = 480               # (32..480, or 32..640 when rotated by 90 or 270)
+    rotation = 180             # degrees counter-clockwise applied to the sensor's frame
+    fov_rad = 0.84             # horizontal field of view, 0 < fov < pi
+    brightness = 1             # 0..255
+    contrast = 64              # 0..255
+    saturation = 64            # 0..255
+    auto_white_balance = off   # on/off, true/false, yes/no, 1/0
+
+- ``#`` starts a comment, anywhere on a line; blank lines are ignored.
+- Keys are lower case, each at most once; every key is optional (absent keys leave the
+  camera as it is).
+- Integers are decimal; ``fov_rad`` is a decimal number.
+- ``width``/``height`` are the image's size after rotation, so they are checked against
+  the ranges of the file's ``rotation`` (or, when the file has none, the camera's).
+
+Each problem raises a typed error carrying ``path`` and ``line_number`` and a message
+that starts ``path:line:``: :class:`ConfigSyntaxError` (no ``=``, no key or value, a
+value of the wrong type, a repeated key), :class:`UnknownSettingError` (listing the
+keys), :class:`SettingOutOfRangeError` (naming the range). Nothing is applied unless the
+whole file is valid.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, fields
+from pathlib import Path
+from typing import Final
+
+from ego.camera.convert import ROTATIONS
+from ego.camera.errors import ConfigSyntaxError, SettingOutOfRangeError, UnknownSettingError
+from ego.camera.source import CONTROLS
+
+__all__ = [
+    "MAX_SIZE",
+    "MIN_SIZE",
+    "CameraConfiguration",
+    "parse_configuration",
+    "read_configuration",
+    "size_range",
+]
+
+#: The sensor's smallest and largest frame, (width, height) as it is mounted (thesis C.2).
+MIN_SIZE: Final = (32, 32)
+MAX_SIZE: Final = (640, 480)
+
+_TRUE = {"1", "on", "true", "yes"}
+_FALSE = {"0", "off", "false", "no"}
+
+
+def size_range(rotation: int) -> tuple[tuple[int, int], tuple[int, int]]:
+    """The smallest and largest image (width, height) at ``rotation``."""
+    if rotation in (90, 270):
+        return (MIN_SIZE[1], MIN_SIZE[0]), (MAX_SIZE[1], MAX_SIZE[0])
+    return MIN_SIZE, MAX_SIZE
+
+
+@dataclass(frozen=True, slots=True)
+class CameraConfiguration:
+    """The settings a configuration file gives; ``None`` where the file says nothing."""
+
+    width: int | None = None
+    height: int | None = None
+    rotation: int | None = None
+    fov_rad: float | None = None
+    brightness: int | None = None
+    contrast: int | None = None
+    saturation: int | None = None
+    auto_white_balance: bool | None = None
+
+    def controls(self) -> dict[str, int]:
+        """The device controls the file sets, by name, booleans as 0/1."""
+        return {name: int(value) for name in CONTROLS if (value := getattr(self, name)) is not None}
+
+
+KEYS: Final = tuple(f.name for f in fields(CameraConfiguration))
+
+
+def _parse_int(path: str, number: int, key: str, text: str) -> int:
+    try:
+        return int(text, 10)
+    except ValueError:
+        raise ConfigSyntaxError(path, number, f"{key} must be an integer, not {text!r}") from None
+
+
+def parse_configuration(
+    text: str, path: str = "<string>", *, current_rotation: int = 180
+) -> CameraConfiguration:
+    """Parse a configuration file's text (format in the module docstring)."""
+    values: dict[str, object] = {}
+    lines: dict[str, int] = {}
+    for number, raw in enumerate(text.splitlines(), start=1):
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        key, equals, value = (part.strip() for part in line.partition("="))
+        if not equals:
+            raise ConfigSyntaxError(path, number, f"expected 'key = value', got {line!r}")
+        if not key:
+            raise ConfigSyntaxError(path, number, f"missing key before '=' in {line!r}")
+        if key not in KEYS:
+            raise UnknownSettingError(
+                path, number, f"unknown setting {key!r}; the settings are {', '.join(KEYS)}"
+            )
+        if not value:
+            raise ConfigSyntaxError(path, number, f"missing value for {key}")
+        if key in lines:
+            raise ConfigSyntaxError(
+                path, number, f"{key} is set twice (first on line {lines[key]})"
+            )
+        lines[key] = number
+        parsed: object
+        if key == "auto_white_balance":
+            lowered = value.lower()
+            if lowered not in _TRUE | _FALSE:
+                raise ConfigSyntaxError(
+                    path, number, f"auto_white_balance must be on or off, not {value!r}"
+                )
+            parsed = lowered in _TRUE
+        elif key == "fov_rad":
+            try:
+                parsed = float(value)
+            except ValueError:
+                raise ConfigSyntaxError(
+                    path, number, f"fov_rad must be a number, not {value!r}"
+                ) from None
+            if not 0.0 < parsed < math.pi:
+                raise SettingOutOfRangeError(path, number, f"fov_rad {value} is outside (0, pi)")
+        else:
+            parsed = _parse_int(path, number, key, value)
+            if key == "rotation" and parsed not in ROTATIONS:
+                raise SettingOutOfRangeError(
+                    path, number, f"rotation {parsed} is not one of 0, 90, 180, 270"
+                )
+            if key in CONTROLS:
+                spec = CONTROLS[key]
+                if not spec.minimum <= parsed <= spec.maximum:
+                    raise SettingOutOfRangeError(
+                        path, number, f"{key} {parsed} is outside {spec.minimum}..{spec.maximum}"
+                    )
+        values[key] = parsed
+
+    rotation = values.get("rotation", current_rotation)
+    assert isinstance(rotation, int)
+    low, high = size_range(rotation)
+    for axis, key in enumerate(("width", "height")):
+        size = values.get(key)
+        if size is not None and not low[axis] <= size <= high[axis]:  # type: ignore[operator]
+            raise SettingOutOfRangeError(
+                path,
+                lines[key],
+                f"{key} {size} is outside {low[axis]}..{high[axis]} at rotation {rotation}",
+            )
+    return CameraConfiguration(**values)  # type: ignore[arg-type]
+
+
+def read_configuration(
+    path: str | os.PathLike[str], *, current_rotation: int = 180
+) -> CameraConfiguration:
+    """Read and parse a configuration file (``OSError`` if it cannot be read)."""
+    file = Path(path)
+    return parse_configuration(
+        file.read_text(encoding="utf-8"), str(file), current_rotation=current_rotation
+    )

@@ -1,0 +1,473 @@
+"""The e-puck camera as a device: sampling, conversion, controls, configuration, pixels."""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+from types import TracebackType
+from typing import Final
+
+import numpy as np
+import numpy.typing as npt
+
+from ego.camera.config import read_configuration, size_range
+from ego.camera.convert import (
+    ROTATIONS,
+    ByteOrder,
+    YuvFormula,
+    rgb565_to_rgb888,
+    rgb888_to_bgra,
+    yuyv_to_rgb888,
+)
+from ego.camera.encode import save_image
+from ego.camera.source import (
+    CONTROLS,
+    FieldOfViewControl,
+    FrameSource,
+    GrantedFormat,
+    PixelFormat,
+    check_control_name,
+)
+from ego.errors import CameraError, OutOfRangeError
+
+__all__ = ["DEFAULT_FOV_RAD", "Camera"]
+
+log = logging.getLogger(__name__)
+
+#: The e-puck camera's horizontal field of view (Webots' e-puck model), radians.
+DEFAULT_FOV_RAD: Final = 0.84
+
+Image = npt.NDArray[np.uint8]
+
+
+def _check_int(name: str, value: object) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer, not {value!r}")
+    return int(value)
+
+
+class Camera:
+    """The camera: a frame source, converted to RGB888 and rotated each time it is due.
+
+    The image is delivered upright by default (``rotation=180`` undoes the upside-down
+    mounting). Sizes are the image's (after rotation); the sensor takes 32x32..640x480.
+    Controls outside their documented range are refused (:class:`OutOfRangeError`);
+    inside it, the device may still clamp to its own range, and the property then
+    reports the value it took. Controls set before the source opens are applied when it
+    does; those never set keep the device's own defaults (and read ``None``).
+
+    ``image`` is refreshed in place by each capture (no allocation per frame, as the
+    thesis' pointer and Webots' getImage): copy it to keep a frame.
+
+    >>> from firmware_sim.camera import SimulatedSource
+    >>> source = SimulatedSource(world)  # or V4L2Source("/dev/video0")  # doctest: +SKIP
+    >>> with Camera(source=source, width=160, height=120) as camera:  # doctest: +SKIP
+    ...     camera.enable(64)
+    ...     camera.update(now_ms=0)  # the scheduler does this every step
+    ...     red = camera.get_red(80, 60)
+    """
+
+    def __init__(
+        self,
+        source: FrameSource | None = None,
+        *,
+        width: int = 640,
+        height: int = 480,
+        rotation: int = 180,
+        pixel_format: PixelFormat = PixelFormat.RGB565,
+        yuv_formula: YuvFormula = YuvFormula.ITU_R_INTEGER,
+        fov_rad: float = DEFAULT_FOV_RAD,
+        name: str = "camera",
+    ) -> None:
+        if source is None:
+            from ego.camera.v4l2 import V4L2Source
+
+            source = V4L2Source()
+        self.name = name
+        self._source: FrameSource = source
+        self._pixel_format = PixelFormat(pixel_format)
+        self.yuv_formula = YuvFormula(yuv_formula)
+        self._rotation = self._check_rotation(rotation)
+        self._sensor = self._sensor_size(width, height, self._rotation)
+        self._fov_rad = self._check_fov(fov_rad)
+        self._granted: GrantedFormat | None = None
+        self._controls: dict[str, int] = {}  # requested, or granted once applied
+        self._period_ms: int | None = None
+        self._next_due_ms: float | None = None
+        self._rgb: Image | None = None
+        self._bgra: Image | None = None
+        self._bgra_frame = -1
+        self._frames = 0
+        self._closed = False
+
+    # -- validation ----------------------------------------------------------------------
+
+    @staticmethod
+    def _check_rotation(rotation: int) -> int:
+        if isinstance(rotation, bool) or rotation not in ROTATIONS:
+            raise OutOfRangeError(f"rotation {rotation!r} is not one of 0, 90, 180, 270 degrees")
+        return int(rotation)
+
+    @staticmethod
+    def _check_fov(fov_rad: float) -> float:
+        if isinstance(fov_rad, bool) or not isinstance(fov_rad, (int, float)):
+            raise TypeError(f"fov_rad must be a number, not {fov_rad!r}")
+        if not 0.0 < fov_rad < math.pi:
+            raise OutOfRangeError(f"field of view {fov_rad} rad is outside (0, pi)")
+        return float(fov_rad)
+
+    @staticmethod
+    def _sensor_size(width: int, height: int, rotation: int) -> tuple[int, int]:
+        """The sensor's (width, height) for an image of ``width`` x ``height``."""
+        width, height = _check_int("width", width), _check_int("height", height)
+        low, high = size_range(rotation)
+        if not (low[0] <= width <= high[0] and low[1] <= height <= high[1]):
+            turned = f" at rotation {rotation}" if rotation in (90, 270) else ""
+            raise OutOfRangeError(
+                f"camera size {width}x{height} is outside "
+                f"{low[0]}x{low[1]}..{high[0]}x{high[1]}{turned}"
+            )
+        return (height, width) if rotation in (90, 270) else (width, height)
+
+    def _check_open(self) -> None:
+        if self._closed:
+            raise CameraError(f"{self.name} is closed")
+
+    # -- the source ------------------------------------------------------------------------
+
+    def _open_source(self) -> None:
+        """(Re)open the source at the sensor size, then apply the controls set so far."""
+        self._check_open()
+        asked_w, asked_h = self._sensor
+        granted = self._source.open(asked_w, asked_h, self._pixel_format)
+        if (granted.width, granted.height) != (asked_w, asked_h):
+            log.info(
+                "%s: asked %dx%d, the source granted %dx%d",
+                self.name,
+                asked_w,
+                asked_h,
+                granted.width,
+                granted.height,
+            )
+        self._granted = granted
+        self._sensor = (granted.width, granted.height)
+        self._rgb = None
+        for control, value in list(self._controls.items()):
+            self._controls[control] = self._source.set_control(control, value)
+
+    @property
+    def source(self) -> FrameSource:
+        """Where the frames come from."""
+        return self._source
+
+    @property
+    def pixel_format(self) -> PixelFormat:
+        """The raw frame format asked of the source."""
+        return self._pixel_format
+
+    # -- sampling (the scheduler's interface) ------------------------------------------------
+
+    def enable(self, period_ms: int) -> None:
+        """Capture a frame every ``period_ms`` ms (> 0); opens the source on first use."""
+        period_ms = _check_int("period_ms", period_ms)
+        if period_ms <= 0:
+            raise OutOfRangeError(f"sampling period {period_ms} ms must be positive")
+        if self._granted is None:
+            self._open_source()
+        self._check_open()
+        self._period_ms = period_ms
+        self._next_due_ms = None  # due at the next update
+
+    def disable(self) -> None:
+        """Stop sampling (the source stays open: enabling again is quick)."""
+        self._period_ms = None
+        self._next_due_ms = None
+
+    @property
+    def sampling_period(self) -> int | None:
+        """The sampling period in ms, or ``None`` when disabled."""
+        return self._period_ms
+
+    def is_due(self, now_ms: float) -> bool:
+        """Whether ``update(now_ms)`` would capture a frame."""
+        if self._period_ms is None or self._closed:
+            return False
+        return self._next_due_ms is None or now_ms >= self._next_due_ms
+
+    def update(self, now_ms: float) -> bool:
+        """Capture and convert a frame if one is due at ``now_ms``; True if it did.
+
+        Deadlines are absolute (``period_ms`` apart, no drift); after a stall longer
+        than a period the next one is a period from now rather than a burst.
+        """
+        if not self.is_due(now_ms):
+            return False
+        assert self._period_ms is not None
+        self.capture()
+        due = now_ms if self._next_due_ms is None else self._next_due_ms
+        due += self._period_ms
+        self._next_due_ms = due if due > now_ms else now_ms + self._period_ms
+        return True
+
+    def capture(self) -> Image:
+        """Read one frame from the source now (schedule aside) and convert it."""
+        self._check_open()
+        if self._granted is None:
+            self._open_source()
+        granted = self._granted
+        assert granted is not None
+        raw = self._source.read_frame()
+        ih, iw = self._image_shape()
+        if self._rgb is None or self._rgb.shape != (ih, iw, 3):
+            self._rgb = np.empty((ih, iw, 3), dtype=np.uint8)
+        if self._pixel_format is PixelFormat.YUYV:
+            yuyv_to_rgb888(
+                raw,
+                granted.width,
+                granted.height,
+                self._rotation,
+                self.yuv_formula,
+                stride_bytes=granted.stride_bytes,
+                out=self._rgb,
+            )
+        else:
+            order: ByteOrder = "big" if self._pixel_format is PixelFormat.RGB565_BE else "little"
+            rgb565_to_rgb888(
+                raw,
+                granted.width,
+                granted.height,
+                self._rotation,
+                order,
+                stride_bytes=granted.stride_bytes,
+                out=self._rgb,
+            )
+        del raw  # the source may reuse the buffer once we let go
+        self._frames += 1
+        return self.image
+
+    # -- the image -----------------------------------------------------------------------------
+
+    def _image_shape(self) -> tuple[int, int]:
+        w, h = self._sensor
+        return (w, h) if self._rotation in (90, 270) else (h, w)
+
+    @property
+    def image(self) -> Image:
+        """The last frame, RGB888 ``(height, width, 3)`` uint8, read-only, refreshed in place."""
+        if self._rgb is None or self._frames == 0:
+            state = "is not enabled" if self._period_ms is None else "has no frame yet"
+            raise CameraError(f"{self.name} {state}: enable(period_ms) it, then step")
+        view = self._rgb.view()
+        view.flags.writeable = False
+        return view
+
+    @property
+    def frame_count(self) -> int:
+        """How many frames have been captured."""
+        return self._frames
+
+    def image_bgra(self) -> bytes:
+        """The last frame as BGRA bytes (alpha 255), as Webots' ``getImage`` returns it."""
+        image = self.image
+        if self._bgra is None or self._bgra.shape[:2] != image.shape[:2]:
+            self._bgra = np.empty((image.shape[0], image.shape[1], 4), dtype=np.uint8)
+            self._bgra_frame = -1
+        if self._bgra_frame != self._frames:
+            rgb888_to_bgra(image, out=self._bgra)
+            self._bgra_frame = self._frames
+        return self._bgra.tobytes()
+
+    @property
+    def width(self) -> int:
+        """Width of the image in pixels (after rotation; as granted by the source)."""
+        return self._image_shape()[1]
+
+    @property
+    def height(self) -> int:
+        """Height of the image in pixels (after rotation; as granted by the source)."""
+        return self._image_shape()[0]
+
+    @property
+    def sensor_size(self) -> tuple[int, int]:
+        """(width, height) of the sensor's frames, before rotation."""
+        return self._sensor
+
+    def set_size(self, width: int, height: int) -> tuple[int, int]:
+        """Ask for an image of ``width`` x ``height``; return the (width, height) granted.
+
+        Ranges: 32x32..640x480, or 32x32..480x640 at rotation 90/270 (OutOfRangeError).
+        The source (the driver) may adjust it: the granted size is returned and becomes
+        ``width``/``height``.
+        """
+        sensor = self._sensor_size(width, height, self._rotation)
+        self._check_open()
+        self._sensor = sensor
+        if self._granted is not None:
+            self._open_source()
+        return self.width, self.height
+
+    @property
+    def rotation(self) -> int:
+        """Degrees counter-clockwise applied to the sensor's frames: 0, 90, 180 (default), 270.
+
+        180 undoes the upside-down mounting; 0 shows the frame as the sensor delivers
+        it. 90 and 270 swap ``width`` and ``height`` (the sensor keeps its size).
+        """
+        return self._rotation
+
+    @rotation.setter
+    def rotation(self, rotation: int) -> None:
+        self._rotation = self._check_rotation(rotation)
+
+    @property
+    def fov_rad(self) -> float:
+        """Horizontal field of view in radians (0 < fov < pi)."""
+        return self._fov_rad
+
+    @fov_rad.setter
+    def fov_rad(self, fov_rad: float) -> None:
+        fov_rad = self._check_fov(fov_rad)
+        if isinstance(self._source, FieldOfViewControl):  # a renderer can zoom
+            fov_rad = self._source.set_fov_rad(fov_rad)
+        self._fov_rad = fov_rad
+
+    # -- controls ------------------------------------------------------------------------------
+
+    def _set_control(self, name: str, value: int) -> None:
+        check_control_name(name)
+        spec = CONTROLS[name]
+        if not spec.minimum <= value <= spec.maximum:
+            raise OutOfRangeError(f"{name} {value} is outside {spec.minimum}..{spec.maximum}")
+        self._check_open()
+        if self._granted is not None:
+            value = self._source.set_control(name, value)
+        self._controls[name] = value
+
+    def get_control(self, name: str) -> int | None:
+        """A control's value (as granted once applied), or None if never set."""
+        return self._controls.get(check_control_name(name))
+
+    def set_control(self, name: str, value: int) -> int:
+        """Set a control of :data:`~ego.camera.source.CONTROLS` by name; return its value."""
+        self._set_control(name, _check_int(name, value))
+        return self._controls[name]
+
+    @property
+    def brightness(self) -> int | None:
+        """Brightness, 0..255 (thesis default 1); None until set."""
+        return self._controls.get("brightness")
+
+    @brightness.setter
+    def brightness(self, value: int) -> None:
+        self._set_control("brightness", _check_int("brightness", value))
+
+    @property
+    def contrast(self) -> int | None:
+        """Contrast, 0..255 (thesis default 64); None until set."""
+        return self._controls.get("contrast")
+
+    @contrast.setter
+    def contrast(self, value: int) -> None:
+        self._set_control("contrast", _check_int("contrast", value))
+
+    @property
+    def saturation(self) -> int | None:
+        """Saturation, 0..255 (thesis default 64); None until set."""
+        return self._controls.get("saturation")
+
+    @saturation.setter
+    def saturation(self, value: int) -> None:
+        self._set_control("saturation", _check_int("saturation", value))
+
+    @property
+    def auto_white_balance(self) -> bool | None:
+        """Automatic white balance on or off (thesis default off); None until set."""
+        value = self._controls.get("auto_white_balance")
+        return None if value is None else bool(value)
+
+    @auto_white_balance.setter
+    def auto_white_balance(self, value: bool) -> None:
+        if value not in (True, False, 0, 1) or not isinstance(value, (bool, int)):
+            raise TypeError(f"auto_white_balance must be True or False, not {value!r}")
+        self._set_control("auto_white_balance", int(value))
+
+    def load_configuration(self, path: str | os.PathLike[str]) -> None:
+        """Apply a camera configuration file (format: :mod:`ego.camera.config`).
+
+        The file is checked whole before anything changes; its typed errors give the
+        line. A device that lacks a control the file sets raises UnsupportedControlError
+        after the settings before it were applied.
+        """
+        config = read_configuration(path, current_rotation=self._rotation)
+        if config.rotation is not None:
+            self.rotation = config.rotation
+        if config.fov_rad is not None:
+            self.fov_rad = config.fov_rad
+        if config.width is not None or config.height is not None:
+            self.set_size(config.width or self.width, config.height or self.height)
+        for name, value in config.controls().items():
+            self._set_control(name, value)
+
+    # -- pixels and files -----------------------------------------------------------------------
+
+    def save_image(self, filename: str | os.PathLike[str], quality: int = 90) -> None:
+        """Save the last frame as JPEG (``quality`` 1..100) or PNG, by the file's extension."""
+        save_image(self.image, filename, quality)
+
+    def _pixel(self, x: int, y: int) -> tuple[int, int, int]:
+        image = self.image
+        height, width = image.shape[:2]
+        x, y = _check_int("x", x), _check_int("y", y)
+        if not 0 <= x < width:
+            raise OutOfRangeError(f"x {x} is outside 0..{width - 1}")
+        if not 0 <= y < height:
+            raise OutOfRangeError(f"y {y} is outside 0..{height - 1}")
+        red, green, blue = image[y, x].tolist()
+        return red, green, blue
+
+    def get_red(self, x: int, y: int) -> int:
+        """Red of pixel (x, y) of the last frame, 0..255 (x to the right, y down)."""
+        return self._pixel(x, y)[0]
+
+    def get_green(self, x: int, y: int) -> int:
+        """Green of pixel (x, y), 0..255."""
+        return self._pixel(x, y)[1]
+
+    def get_blue(self, x: int, y: int) -> int:
+        """Blue of pixel (x, y), 0..255."""
+        return self._pixel(x, y)[2]
+
+    def get_grey(self, x: int, y: int) -> int:
+        """Grey of pixel (x, y): (red + green + blue) // 3, as Webots' imageGetGray."""
+        red, green, blue = self._pixel(x, y)
+        return (red + green + blue) // 3
+
+    # -- lifetime --------------------------------------------------------------------------------
+
+    def close(self) -> None:
+        """Stop sampling and close the source; safe to call twice."""
+        if self._closed:
+            return
+        self._closed = True
+        self._period_ms = None
+        self._source.close()
+
+    def __enter__(self) -> Camera:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        period = "disabled" if self._period_ms is None else f"every {self._period_ms} ms"
+        state = "closed" if self._closed else period
+        return (
+            f"<Camera {self.name!r} {self.width}x{self.height} rotation {self._rotation} "
+            f"{self._pixel_format.value}, {state}, {self._frames} frames>"
+        )
