@@ -19,8 +19,15 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     │   ├── RobotResetError                      the dsPIC restarted (its banner arrived)
     │   └── FirmwareMismatchError                the firmware is not the one we were told
     ├── CameraError
-    │   ├── CameraConfigError (ValueError)       a malformed camera configuration file
-    │   └── CameraCaptureError (OSError)         the V4L2 device refused or failed
+    │   ├── CameraConfigError (ValueError)       a camera configuration file line (path:line:)
+    │   │   ├── ConfigSyntaxError                not ``key = value``, or a bad value
+    │   │   ├── UnknownSettingError              a key the camera does not have
+    │   │   └── SettingOutOfRangeError (OutOfRangeError)  a value outside the key's range
+    │   ├── CameraCaptureError (OSError)         the V4L2 device refused or failed
+    │   │   └── CameraTimeoutError (TimeoutError) no frame arrived within the timeout
+    │   ├── UnsupportedControlError (KeyError)   an unknown control, or one the device lacks
+    │   ├── FrameSizeError (ValueError)          a raw buffer too short for the frame geometry
+    │   └── ImageFormatError (ValueError)        a file extension neither JPEG nor PNG
     └── RemoteError (ConnectionError)
         ├── AuthenticationError                  wrong or missing shared secret
         ├── RobotBusyError                       another client already controls the robot
@@ -36,12 +43,16 @@ __all__ = [
     "CameraCaptureError",
     "CameraConfigError",
     "CameraError",
+    "CameraTimeoutError",
+    "ConfigSyntaxError",
     "DeviceError",
     "EgoError",
     "EgoWarning",
     "ExtraBytesError",
     "FirmwareMismatchError",
     "FrameError",
+    "FrameSizeError",
+    "ImageFormatError",
     "LinkError",
     "LinkLostError",
     "LinkTimeoutError",
@@ -52,9 +63,12 @@ __all__ = [
     "RemoteError",
     "RobotBusyError",
     "RobotResetError",
+    "SettingOutOfRangeError",
     "ShortReplyError",
     "StepOverrunWarning",
     "UnknownDeviceError",
+    "UnknownSettingError",
+    "UnsupportedControlError",
     "UnsupportedDeviceError",
 ]
 
@@ -130,8 +144,48 @@ class CameraConfigError(CameraError, ValueError):
     """A camera configuration file line that cannot be used (its line number is given)."""
 
 
+class _LocatedConfigError(CameraConfigError):
+    """A configuration error tied to one line of one file (``path:line:`` leads the message)."""
+
+    def __init__(self, path: str, line_number: int, message: str) -> None:
+        super().__init__(f"{path}:{line_number}: {message}")
+        self.path = path
+        self.line_number = line_number
+
+
+class ConfigSyntaxError(_LocatedConfigError):
+    """A line that is not ``key = value``, a repeated key, or a value of the wrong type."""
+
+
+class UnknownSettingError(_LocatedConfigError):
+    """A key the camera does not have; the message lists the keys that exist."""
+
+
+class SettingOutOfRangeError(_LocatedConfigError, OutOfRangeError):
+    """A value outside the range of its key; the message names the range."""
+
+
 class CameraCaptureError(CameraError, OSError):
     """The video device refused a request or failed during capture."""
+
+
+class CameraTimeoutError(CameraCaptureError, TimeoutError):
+    """No frame arrived from the video device within the timeout."""
+
+
+class UnsupportedControlError(CameraError, KeyError):
+    """A control (brightness, contrast...) that is unknown or that the device does not offer."""
+
+    def __str__(self) -> str:  # KeyError would quote the whole message
+        return str(self.args[0]) if self.args else ""
+
+
+class FrameSizeError(CameraError, ValueError):
+    """A raw frame buffer too short for its width, height and row stride."""
+
+
+class ImageFormatError(CameraError, ValueError):
+    """A file name whose extension names no supported image format (.jpg, .jpeg, .png)."""
 
 
 class RemoteError(EgoError, ConnectionError):

@@ -17,15 +17,6 @@ from ego.camera.convert import (
 )
 from ego.camera.device import DEFAULT_FOV_RAD, Camera
 from ego.camera.encode import encode_jpeg, encode_png, save_image
-from ego.camera.errors import (
-    CameraTimeoutError,
-    ConfigSyntaxError,
-    FrameSizeError,
-    ImageFormatError,
-    SettingOutOfRangeError,
-    UnknownSettingError,
-    UnsupportedControlError,
-)
 from ego.camera.source import (
     CONTROLS,
     FileReplaySource,
@@ -34,6 +25,15 @@ from ego.camera.source import (
     PixelFormat,
 )
 from ego.camera.v4l2 import LinuxSyscalls, V4L2Source, V4L2Syscalls
+from ego.errors import (
+    CameraTimeoutError,
+    ConfigSyntaxError,
+    FrameSizeError,
+    ImageFormatError,
+    SettingOutOfRangeError,
+    UnknownSettingError,
+    UnsupportedControlError,
+)
 
 __all__ = [
     "CONTROLS",

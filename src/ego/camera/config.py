@@ -37,8 +37,8 @@ from pathlib import Path
 from typing import Final
 
 from ego.camera.convert import ROTATIONS
-from ego.camera.errors import ConfigSyntaxError, SettingOutOfRangeError, UnknownSettingError
 from ego.camera.source import CONTROLS
+from ego.errors import ConfigSyntaxError, SettingOutOfRangeError, UnknownSettingError
 
 __all__ = [
     "MAX_SIZE",

@@ -47,8 +47,7 @@ from typing import Any, Final, Literal
 import numpy as np
 import numpy.typing as npt
 
-from ego.camera.errors import FrameSizeError
-from ego.errors import OutOfRangeError
+from ego.errors import FrameSizeError, OutOfRangeError
 
 try:
     import cv2

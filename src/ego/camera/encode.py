@@ -29,8 +29,7 @@ from typing import Final
 import numpy as np
 import numpy.typing as npt
 
-from ego.camera.errors import ImageFormatError
-from ego.errors import OutOfRangeError
+from ego.errors import ImageFormatError, OutOfRangeError
 
 try:
     import cv2

@@ -17,8 +17,7 @@ from enum import Enum
 from pathlib import Path
 from typing import BinaryIO, Final, NamedTuple, Protocol, runtime_checkable
 
-from ego.camera.errors import UnsupportedControlError
-from ego.errors import CameraCaptureError, CameraError
+from ego.errors import CameraCaptureError, CameraError, UnsupportedControlError
 
 __all__ = [
     "CONTROLS",

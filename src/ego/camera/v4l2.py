@@ -36,9 +36,8 @@ import select
 import time
 from typing import Final, Protocol
 
-from ego.camera.errors import CameraTimeoutError, UnsupportedControlError
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
-from ego.errors import CameraCaptureError, CameraError
+from ego.errors import CameraCaptureError, CameraError, CameraTimeoutError, UnsupportedControlError
 
 __all__ = [
     "CONTROL_IDS",
