@@ -1,0 +1,231 @@
+"""Remote control: a full sensor step over TCP and UDP against the same step on the pty link.
+
+Round trip: one step's batch ``a E M N O Q u`` (8 bytes out, 58 back), timed on three
+links interleaved step by step (pty, TCP, UDP, pty, TCP, UDP...): the direct pty link to
+an emulator in this process, and ``ego serve --port sim`` in two child processes (one
+client controls a server at a time), reached over loopback TCP and UDP. The remote
+step is the direct step plus the network hop and the server's own work, so the ratio
+says what driving a robot from a PC costs on top of the serial line, which dominates.
+
+CPU overhead: what ego's remote protocol costs the processor for one full step without
+any I/O, timed with ``time.process_time`` over many iterations: the client encodes the
+batch and frames it, the server unframes it, checks it (``parse_batch``) and frames the
+reply, the client unframes the reply and decodes the values.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+import threading
+import time
+
+from benchmarks.common import REPO, Table, interleaved
+from ego.remote.client import RemoteTransport
+from ego.remote.wire import MessageType, SequenceGuard, decode_frame, encode_frame
+from ego.serial.link import Link
+from ego.serial.protocol import (
+    PROFILES,
+    Command,
+    Firmware,
+    Request,
+    encode_batch,
+    parse_batch,
+    wire_time_s,
+)
+from ego.serial.transport import SerialTransport
+from firmware_sim import Emulator
+
+__all__ = ["main", "run"]
+
+#: The thesis' full sensor batch.
+SENSORS = [
+    Request(Command(c))
+    for c in (
+        Command.ACCELEROMETER_RAW,
+        Command.GET_SPEED,
+        Command.FLOOR,
+        Command.PROXIMITY,
+        Command.LIGHT,
+        Command.GET_STEPS,
+        Command.MIC_AMPLITUDE,
+    )
+]
+_SERVE = (
+    "import argparse, sys\n"
+    "from ego.remote import cli\n"
+    "parser = argparse.ArgumentParser()\n"
+    "cli.add_arguments(parser)\n"
+    "sys.exit(cli.run(parser.parse_args(sys.argv[1:])))\n"
+)
+
+
+class _ServeProcess:
+    """``ego serve --port sim`` in a child process, on one loopback URL."""
+
+    def __init__(self, scheme: str) -> None:
+        self.process = subprocess.Popen(
+            [
+                sys.executable,
+                "-c",
+                _SERVE,
+                "--port",
+                "sim",
+                "--camera",
+                "none",
+                "--listen",
+                f"{scheme}://127.0.0.1:0",
+            ],
+            cwd=REPO,
+            stderr=subprocess.PIPE,
+            text=True,
+            env={**os.environ, "EGO_CAMERA": "none"},
+        )
+        assert self.process.stderr is not None
+        self.url = ""
+        for line in self.process.stderr:
+            match = re.search(r"ego serve: .* on (\S+)$", line)
+            if match:
+                self.url = match.group(1)
+                break
+        if not self.url:
+            raise RuntimeError(f"ego serve exited with {self.process.wait()} before serving")
+        # Keep its log flowing so that the pipe never fills and stalls it.
+        threading.Thread(target=self.process.stderr.read, daemon=True).start()
+
+    def stop(self) -> None:
+        self.process.terminate()
+        try:
+            self.process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+
+
+def roundtrip_table(steps: int) -> Table:
+    profile = PROFILES[Firmware.THESIS]
+    batch = encode_batch(SENSORS, profile)
+    servers = [_ServeProcess("tcp"), _ServeProcess("udp")]
+    emu = Emulator("thesis", seed=1).start()
+    links: dict[str, Link] = {}
+    try:
+        links["pty (direct)"] = Link(SerialTransport(emu.path), Firmware.THESIS)
+        for server in servers:
+            name = server.url.split(":")[0].upper()
+            links[name] = Link(RemoteTransport.from_url(server.url), Firmware.THESIS)
+        stats = interleaved(
+            {name: (lambda link=link: link.exchange(batch)) for name, link in links.items()},
+            repeats=steps,
+        )
+    finally:
+        for link in links.values():
+            link.close()
+        emu.stop()
+        for server in servers:
+            server.stop()
+    direct = stats["pty (direct)"].median
+    wire_ms = wire_time_s(len(batch.tx) + batch.reply_size) * 1e3
+    table = Table(
+        key="remote_roundtrip",
+        title=(
+            f"Remote step round trip, full sensor batch a E M N O Q u "
+            f"({len(batch.tx)} + {batch.reply_size} bytes), {steps} steps each, interleaved"
+        ),
+        columns=["link", "median [ms]", "min", "max", "ratio to pty", "added [ms]", "n"],
+    )
+    for name, s in stats.items():
+        table.rows.append(
+            [
+                name,
+                s.median * 1e3,
+                s.low * 1e3,
+                s.high * 1e3,
+                s.median / direct,
+                (s.median - direct) * 1e3,
+                str(s.n),
+            ]
+        )
+    table.notes.append(
+        f"Wire time of the batch at 230400 baud: {wire_ms:.2f} ms. Loopback network; the "
+        "servers run ego serve --port sim in child processes, the pty emulator in this one."
+    )
+    return table
+
+
+def _step_without_io(batch_reply: bytes, guard: SequenceGuard, seq: int) -> None:
+    profile = PROFILES[Firmware.THESIS]
+    # client: the batch, framed
+    batch = encode_batch(SENSORS, profile)
+    request = encode_frame(MessageType.STEP, seq, batch.tx, 0x1234)
+    # server: unframed, checked against the firmware, the reply framed
+    frame = decode_frame(request)
+    guard.check(frame.seq)
+    guard.begin(frame.seq)
+    parse_batch(frame.payload, profile)
+    reply = encode_frame(MessageType.OK, frame.seq, batch_reply, frame.session)
+    guard.done(frame.seq, reply)
+    # client: unframed, values decoded
+    batch.decode(decode_frame(reply).payload)
+
+
+def cpu_table(iterations: int) -> Table:
+    profile = PROFILES[Firmware.THESIS]
+    batch = encode_batch(SENSORS, profile)
+    reply = bytes(range(batch.reply_size))
+    guard = SequenceGuard()
+    samples = []
+    for _ in range(5):
+        start = time.process_time()
+        for seq in range(1, iterations + 1):
+            _step_without_io(reply, guard, seq)
+        samples.append((time.process_time() - start) / iterations * 1e6)
+        guard = SequenceGuard()
+    samples.sort()
+    median = samples[len(samples) // 2]
+
+    # The same step's local part alone (what a direct link also does), for the share.
+    start = time.process_time()
+    for _ in range(iterations):
+        encode_batch(SENSORS, profile).decode(reply)
+    local = (time.process_time() - start) / iterations * 1e6
+    table = Table(
+        key="remote_cpu_overhead",
+        title=f"CPU per full remote step without I/O (process_time, {iterations} steps x 5 runs)",
+        columns=["work", "median [us]", "min", "max", "target [us]"],
+    )
+    table.rows.append(
+        [
+            "encode + frame + unframe + check + frame + unframe + decode",
+            median,
+            samples[0],
+            samples[-1],
+            100.0,
+        ]
+    )
+    table.rows.append(
+        ["of which encode_batch + decode (a direct link's share too)", local, local, local, "-"]
+    )
+    return table
+
+
+def run(quick: bool = False) -> list[Table]:
+    return [
+        roundtrip_table(100 if quick else 2000),
+        cpu_table(2000 if quick else 20000),
+    ]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="a smoke run: few steps")
+    args = parser.parse_args(argv)
+    for table in run(quick=args.quick):
+        table.print()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,185 @@
+"""``ego serve``: its command-line options, and the loop that serves until a signal.
+
+The ``ego`` command wires it as a subcommand::
+
+    serve = sub.add_parser("serve", help="let another machine drive this robot")
+    ego.remote.cli.add_arguments(serve)
+    serve.set_defaults(func=ego.remote.cli.run)     # then: sys.exit(args.func(args))
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import logging
+import os
+import signal
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from ego.errors import EgoError
+from ego.remote.auth import load_secret
+from ego.remote.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, RemoteServer, check_listen
+from ego.serial.link import Link
+from ego.serial.transport import SerialTransport
+
+if TYPE_CHECKING:
+    from ego.camera.source import FrameSource
+
+__all__ = ["ServedRobot", "add_arguments", "open_robot", "run"]
+
+log = logging.getLogger(__name__)
+
+#: The Overo's camera.
+DEFAULT_CAMERA = "/dev/video0"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of ``ego serve``."""
+    parser.add_argument(
+        "--port",
+        default=None,
+        help="serial port of the dsPIC, or 'sim' for the built-in emulator "
+        "(default: $EGO_PORT, else /dev/ttyS0)",
+    )
+    parser.add_argument(
+        "--listen",
+        action="append",
+        metavar="URL",
+        help=f"tcp://HOST:PORT or udp://HOST:PORT to serve on, repeatable "
+        f"(default: {DEFAULT_LISTEN}); off 127.0.0.1 a --secret-file is required",
+    )
+    parser.add_argument(
+        "--secret-file",
+        metavar="FILE",
+        help="file holding the shared secret clients must prove they know (chmod 600)",
+    )
+    parser.add_argument(
+        "--firmware",
+        choices=("auto", "thesis", "gctronic-overo"),
+        default="auto",
+        help="dsPIC firmware (default: ask the robot); with --port sim, the one emulated",
+    )
+    parser.add_argument(
+        "--deadline-ms",
+        type=int,
+        default=round(DEFAULT_DEADLINE_S * 1000),
+        help="stop the motors when the client is silent this long (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--camera",
+        metavar="DEVICE",
+        default=None,
+        help=f"video device to serve (default: $EGO_CAMERA, else {DEFAULT_CAMERA} if it "
+        "exists; the emulator's camera with --port sim); 'none' serves no camera",
+    )
+
+
+@dataclass
+class ServedRobot:
+    """What ``ego serve`` opened: the link, the camera, and how to close them all."""
+
+    link: Link
+    camera: FrameSource | None = None
+    closers: list[Callable[[], None]] = field(default_factory=list)
+
+    def close(self) -> None:
+        for close in self.closers:
+            with contextlib.suppress(Exception):
+                close()
+
+
+def open_robot(port: str | None, firmware: str = "auto", camera: str | None = None) -> ServedRobot:
+    """The robot on ``port`` ("sim" starts an emulator) and its camera, ready to serve."""
+    from ego.ports import resolve_port
+
+    where = resolve_port(port)
+    closers: list[Callable[[], None]] = []
+    emulator = None
+    try:
+        if where == "sim":
+            from firmware_sim import Emulator
+
+            emulator = Emulator("thesis" if firmware == "auto" else firmware).start()
+            closers.append(emulator.stop)
+            where = emulator.path
+        transport = SerialTransport(where)
+        closers.insert(0, transport.close)
+        link = Link(transport, None if firmware == "auto" else firmware)
+    except BaseException:
+        for close in closers:
+            close()
+        raise
+    robot = ServedRobot(link, closers=closers)
+    device = camera or os.environ.get("EGO_CAMERA")
+    if device == "none":
+        return robot
+    if emulator is not None and device is None:
+        from firmware_sim.camera import SimulatedSource
+
+        robot.camera = SimulatedSource(emulator.world)
+    elif device is not None or os.path.exists(DEFAULT_CAMERA):
+        from ego.camera import V4L2Source
+
+        robot.camera = V4L2Source(device or DEFAULT_CAMERA)
+    if robot.camera is not None:
+        robot.closers.insert(0, robot.camera.close)
+    return robot
+
+
+def run(args: argparse.Namespace) -> int:
+    """Serve until SIGINT or SIGTERM, then stop the robot; the exit status."""
+    if not logging.getLogger().handlers:
+        logging.basicConfig(level=logging.INFO, format="%(asctime)s %(levelname)s %(message)s")
+    listen = args.listen or [DEFAULT_LISTEN]
+    try:
+        secret = load_secret(args.secret_file) if args.secret_file else None
+        check_listen(listen, secret)  # before the robot is touched
+    except (OSError, ValueError) as exc:
+        print(f"ego serve: {exc}", file=sys.stderr)
+        return 2
+    try:
+        robot = open_robot(args.port, args.firmware, args.camera)
+    except EgoError as exc:
+        print(f"ego serve: {exc}", file=sys.stderr)
+        return 1
+    try:
+        server = RemoteServer(
+            robot.link,
+            listen=listen,
+            secret=secret,
+            deadline_s=args.deadline_ms / 1000,
+            frame_source=robot.camera,
+        )
+        asyncio.run(_serve(server))
+    except ValueError as exc:  # a deadline out of range
+        print(f"ego serve: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # the address is in use, or not ours
+        print(f"ego serve: cannot listen: {exc}", file=sys.stderr)
+        return 1
+    finally:
+        robot.close()
+    return 0
+
+
+async def _serve(server: RemoteServer) -> None:
+    loop = asyncio.get_running_loop()
+    stop = asyncio.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        with contextlib.suppress(NotImplementedError, RuntimeError):
+            loop.add_signal_handler(sig, stop.set)
+    try:
+        await server.start()
+        print(
+            f"ego serve: {server.link.transport.name} ({server.link.profile.firmware} firmware) "
+            f"on {', '.join(server.urls)}",
+            file=sys.stderr,
+            flush=True,
+        )
+        await stop.wait()
+    finally:
+        await server.aclose()

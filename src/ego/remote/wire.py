@@ -1,0 +1,409 @@
+"""ego's remote protocol on the wire: framed, checksummed, sequenced messages (no I/O).
+
+Every message, over TCP or UDP, is one frame::
+
+    offset  size  field
+    0       2     magic  b"EG"
+    2       1     protocol version (PROTOCOL_VERSION)
+    3       1     message type (MessageType)
+    4       4     session id, u32 little-endian (0 before the handshake)
+    8       4     sequence number, u32 (1, 2, ... per session; 0 = unsolicited)
+    12      4     payload length, u32 (at most MAX_PAYLOAD)
+    16      n     payload
+    16+n    4     CRC32 of bytes 0 .. 16+n
+
+The header layout is frozen across protocol versions, so that a peer speaking another
+version is told so in a frame it can still read. The client is stop-and-wait: it sends
+request ``n+1`` only once request ``n`` was answered, so over UDP a lost request or reply
+is retransmitted with the *same* sequence number, and the server's
+:class:`SequenceGuard` answers a duplicate from its cache instead of running the batch
+twice. A reply is matched to its request by session and sequence number alone: a late,
+duplicated or reordered datagram can never be taken for another step's reply.
+
+A reply too big for one datagram (a camera frame over UDP) comes as a first
+:data:`MessageType.PART`; the client fetches the rest with :data:`MessageType.FETCH`
+requests, each an ordinary sequenced request.
+"""
+
+from __future__ import annotations
+
+import enum
+import json
+import re
+import struct
+import zlib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from ego.errors import FrameError
+
+__all__ = [
+    "ASCII_REPLY_LINES",
+    "DEFAULT_CHUNK_SIZE",
+    "DEFAULT_PORT",
+    "FETCH",
+    "HEADER",
+    "MAGIC",
+    "MAX_DATAGRAM",
+    "MAX_PAYLOAD",
+    "OVERHEAD",
+    "PART",
+    "PROTOCOL_VERSION",
+    "REQUEST_TYPES",
+    "RESPONSE_TYPES",
+    "Frame",
+    "FrameReader",
+    "MessageType",
+    "SequenceGuard",
+    "Verdict",
+    "VersionMismatchError",
+    "decode_frame",
+    "encode_frame",
+    "next_seq",
+    "pack_ascii",
+    "pack_error",
+    "pack_fetch",
+    "pack_json",
+    "pack_part",
+    "parse_url",
+    "seq_after",
+    "split_reply",
+    "unpack_ascii",
+    "unpack_error",
+    "unpack_fetch",
+    "unpack_json",
+    "unpack_part",
+]
+
+MAGIC = b"EG"
+PROTOCOL_VERSION = 1
+#: magic, version, type, session, sequence number, payload length.
+HEADER = struct.Struct("<2sBBIII")
+_CRC = struct.Struct("<I")
+#: Bytes a frame adds to its payload.
+OVERHEAD = HEADER.size + _CRC.size
+#: Largest payload accepted: 1 MiB holds a 640x480 RGB888 camera frame (921,600 bytes).
+MAX_PAYLOAD = 1 << 20
+#: Largest UDP payload over IPv4.
+MAX_DATAGRAM = 65507
+#: Datagram size the server splits big replies into (camera frames over UDP).
+DEFAULT_CHUNK_SIZE = 16 * 1024
+#: The TCP/UDP port ``ego serve`` listens on unless told otherwise.
+DEFAULT_PORT = 4242
+_U32 = 0xFFFFFFFF
+
+
+class MessageType(enum.IntEnum):
+    """What a frame carries. Requests go client to server, responses come back."""
+
+    HELLO = 1  # JSON {client, nonce}; OK: JSON {nonce, auth, deadline_s}
+    AUTH = 2  # JSON {proof}; OK: JSON {proof, firmware, ...}
+    STEP = 3  # one binary batch; OK: exactly its reply bytes (maybe none)
+    ASCII = 4  # pack_ascii(letter, lines); OK: the reply lines, each ending \r\n
+    PING = 5  # heartbeat; OK: empty
+    BYE = 6  # goodbye; OK: empty
+    CAMERA_OPEN = 7  # JSON {width, height, pixel_format}; OK: JSON {width, height, stride}
+    CAMERA_FRAME = 8  # JSON {kind: raw|jpeg|png, quality}; OK: the frame's bytes
+    CAMERA_CONTROL = 9  # JSON {name, value}; OK: JSON {value}
+    CAMERA_CLOSE = 10  # OK: empty
+    FETCH = 11  # pack_fetch(seq, offset); answered by a PART
+    OK = 64
+    ERROR = 65  # pack_error(class name, message)
+    PART = 66  # pack_part(type, total, offset, data): a slice of a big reply
+    WORKING = 67  # the request is still running: wait, do not give up
+
+
+REQUEST_TYPES = frozenset(t for t in MessageType if t < MessageType.OK)
+RESPONSE_TYPES = frozenset(t for t in MessageType if t >= MessageType.OK)
+
+
+class VersionMismatchError(FrameError):
+    """A well-formed frame of another protocol version (the peer runs another ego)."""
+
+    def __init__(self, message: str, peer_version: int, seq: int, session: int) -> None:
+        super().__init__(message)
+        self.peer_version = peer_version
+        self.seq = seq
+        self.session = session
+
+
+@dataclass(frozen=True, slots=True)
+class Frame:
+    """One decoded message."""
+
+    type: MessageType
+    seq: int
+    payload: bytes = b""
+    session: int = 0
+
+
+def encode_frame(type_: MessageType, seq: int, payload: bytes = b"", session: int = 0) -> bytes:
+    """The bytes of one frame; ValueError for a payload over :data:`MAX_PAYLOAD`."""
+    if len(payload) > MAX_PAYLOAD:
+        raise ValueError(f"payload of {len(payload)} bytes exceeds the {MAX_PAYLOAD}-byte limit")
+    head = HEADER.pack(MAGIC, PROTOCOL_VERSION, type_, session, seq, len(payload))
+    crc = zlib.crc32(payload, zlib.crc32(head))
+    return b"".join((head, payload, _CRC.pack(crc)))
+
+
+def _check_header(data: bytes | bytearray | memoryview) -> tuple[int, int, int, int, int]:
+    magic, version, type_, session, seq, length = HEADER.unpack_from(data)
+    if magic != MAGIC:
+        raise FrameError(f"not an ego frame: magic {bytes(magic)!r}, expected {MAGIC!r}")
+    if length > MAX_PAYLOAD:
+        raise FrameError(f"frame of {length} payload bytes exceeds the {MAX_PAYLOAD}-byte limit")
+    return version, type_, session, seq, length
+
+
+def decode_frame(data: bytes | bytearray | memoryview) -> Frame:
+    """Exactly one frame (a datagram, or a frame cut out of a stream).
+
+    Raises FrameError for anything else: too short, wrong magic, oversized, a length
+    that disagrees with the data, a CRC mismatch, an unknown type; and its subclass
+    VersionMismatchError for an intact frame of another protocol version.
+    """
+    view = memoryview(data).cast("B")
+    if len(view) < OVERHEAD:
+        raise FrameError(f"frame of {len(view)} bytes is shorter than the {OVERHEAD}-byte minimum")
+    version, type_, session, seq, length = _check_header(view)
+    if len(view) != OVERHEAD + length:
+        raise FrameError(f"frame of {len(view)} bytes, its header announces {OVERHEAD + length}")
+    end = HEADER.size + length
+    (crc,) = _CRC.unpack_from(view, end)
+    if zlib.crc32(view[:end]) != crc:
+        raise FrameError("frame CRC mismatch: corrupted in transit")
+    if version != PROTOCOL_VERSION:
+        raise VersionMismatchError(
+            f"peer speaks ego remote protocol version {version}, this side speaks "
+            f"{PROTOCOL_VERSION}: install the same ego version on both ends",
+            version,
+            seq,
+            session,
+        )
+    try:
+        mtype = MessageType(type_)
+    except ValueError:
+        raise FrameError(f"unknown message type {type_}") from None
+    return Frame(mtype, seq, bytes(view[HEADER.size : end]), session)
+
+
+class FrameReader:
+    """Frames cut out of a byte stream (TCP), fed in pieces of any size.
+
+    A bad header leaves no way to find the next frame, so after the first FrameError the
+    reader stays broken and raises it again: the connection must be closed.
+    """
+
+    def __init__(self) -> None:
+        self._buf = bytearray()
+        self._error: FrameError | None = None
+
+    def feed(self, data: bytes) -> list[Frame]:
+        """The frames completed by ``data``, in order (raises FrameError as above)."""
+        if self._error is not None:
+            raise self._error
+        self._buf += data
+        frames: list[Frame] = []
+        try:
+            while len(self._buf) >= HEADER.size:
+                # Checked before the payload arrives: an oversized length is refused
+                # without buffering it.
+                length = _check_header(self._buf)[4]
+                total = OVERHEAD + length
+                if len(self._buf) < total:
+                    break
+                chunk = bytes(self._buf[:total])
+                del self._buf[:total]
+                frames.append(decode_frame(chunk))
+        except FrameError as exc:
+            self._error = exc
+            self._buf.clear()
+            raise
+        return frames
+
+    @property
+    def buffered(self) -> int:
+        """Bytes of an incomplete frame held back."""
+        return len(self._buf)
+
+
+# -- sequence numbers ----------------------------------------------------------------------
+
+
+def seq_after(a: int, b: int) -> bool:
+    """Whether sequence number ``a`` comes after ``b`` (serial arithmetic, RFC 1982)."""
+    return 0 < ((a - b) & _U32) < 0x80000000
+
+
+def next_seq(seq: int) -> int:
+    """The sequence number after ``seq``: 1, 2, ... 2**32-1, 1 (0 means unsolicited)."""
+    return seq % _U32 + 1
+
+
+class Verdict(enum.Enum):
+    """What the server should do with a request, given the sequence numbers it has seen."""
+
+    NEW = "new"  # run it
+    REPEAT = "repeat"  # the last request again (its reply was lost): resend the cached reply
+    WORKING = "working"  # the request being run right now: say so, run nothing
+    STALE = "stale"  # older than the last one: a late duplicate; ignore it
+
+
+class SequenceGuard:
+    """The server's memory of one session's last request, so nothing runs twice.
+
+    >>> guard = SequenceGuard()
+    >>> guard.check(1)
+    <Verdict.NEW: 'new'>
+    >>> guard.begin(1); guard.done(1, b"reply")
+    >>> guard.check(1), guard.cached
+    (<Verdict.REPEAT: 'repeat'>, b'reply')
+    """
+
+    __slots__ = ("_cached", "_last", "_running")
+
+    def __init__(self) -> None:
+        self._last: int | None = None
+        self._running: int | None = None
+        self._cached = b""
+
+    @property
+    def cached(self) -> bytes:
+        """The encoded reply to the last request that completed."""
+        return self._cached
+
+    def check(self, seq: int) -> Verdict:
+        if seq == self._running:
+            return Verdict.WORKING
+        if self._last is None:
+            return Verdict.NEW
+        if seq == self._last:
+            return Verdict.REPEAT
+        if seq_after(seq, self._last) and (self._running is None or seq_after(seq, self._running)):
+            return Verdict.NEW
+        return Verdict.STALE
+
+    def begin(self, seq: int) -> None:
+        self._running = seq
+
+    def done(self, seq: int, reply: bytes) -> None:
+        if self._running == seq:
+            self._running = None
+        if self._last is None or seq_after(seq, self._last):
+            self._last = seq
+            self._cached = reply
+
+
+# -- payloads ------------------------------------------------------------------------------
+
+
+def pack_json(obj: Mapping[str, Any]) -> bytes:
+    return json.dumps(obj, separators=(",", ":")).encode()
+
+
+def unpack_json(payload: bytes) -> dict[str, Any]:
+    """A JSON object, or FrameError."""
+    try:
+        obj = json.loads(payload.decode())
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise FrameError(f"payload is not JSON: {exc}") from exc
+    if not isinstance(obj, dict):
+        raise FrameError(f"payload is JSON {type(obj).__name__}, expected an object")
+    return obj
+
+
+def pack_error(name: str, message: str) -> bytes:
+    """An ERROR payload: the ego error class to raise on the client, and its message."""
+    return pack_json({"error": name, "message": message})
+
+
+def unpack_error(payload: bytes) -> tuple[str, str]:
+    try:
+        obj = unpack_json(payload)
+        name, message = obj["error"], obj["message"]
+    except (FrameError, KeyError):
+        return "RemoteError", f"malformed error reply {payload[:80]!r}"
+    return str(name), str(message)
+
+
+#: ASCII commands relayed to the dsPIC, and how many reply lines each has (protocol.md:
+#: V answers two lines, K two, S and C one). R (reset) is not relayed: its banner would
+#: leave the server's link to reset itself.
+ASCII_REPLY_LINES: Mapping[str, int] = {"V": 2, "C": 1, "S": 1, "K": 2}
+_ASCII = struct.Struct("<cB")
+
+
+def pack_ascii(letter: str, lines: int) -> bytes:
+    return _ASCII.pack(letter.encode("ascii"), lines)
+
+
+def unpack_ascii(payload: bytes) -> tuple[str, int]:
+    """The letter and line count of an ASCII request; FrameError if not relayable."""
+    if len(payload) != _ASCII.size:
+        raise FrameError(f"ASCII request of {len(payload)} bytes, expected {_ASCII.size}")
+    raw, lines = _ASCII.unpack(payload)
+    letter = raw.decode("latin-1")
+    if ASCII_REPLY_LINES.get(letter) != lines:
+        relayed = ", ".join(f"{k} ({n} lines)" for k, n in ASCII_REPLY_LINES.items())
+        raise FrameError(f"ASCII command {letter!r} with {lines} lines is not relayed: {relayed}")
+    return letter, lines
+
+
+#: A PART payload starts with the reply's type, its total size and this slice's offset.
+PART = struct.Struct("<BxxxII")
+#: A FETCH payload: the sequence number of the big reply and the offset wanted.
+FETCH = struct.Struct("<II")
+
+
+def pack_part(type_: MessageType, total: int, offset: int, data: bytes) -> bytes:
+    return PART.pack(type_, total, offset) + data
+
+
+def unpack_part(payload: bytes) -> tuple[MessageType, int, int, bytes]:
+    """The reply type, total size, offset and data of a PART; FrameError if inconsistent."""
+    if len(payload) < PART.size:
+        raise FrameError(f"PART of {len(payload)} bytes lacks its {PART.size}-byte header")
+    type_, total, offset = PART.unpack_from(payload)
+    data = payload[PART.size :]
+    if type_ not in (MessageType.OK, MessageType.ERROR):
+        raise FrameError(f"PART of a type {type_} reply")
+    if total > MAX_PAYLOAD or offset + len(data) > total or (not data and offset < total):
+        raise FrameError(f"PART slice {offset}+{len(data)} of {total} bytes is inconsistent")
+    return MessageType(type_), total, offset, data
+
+
+def pack_fetch(seq: int, offset: int) -> bytes:
+    return FETCH.pack(seq, offset)
+
+
+def unpack_fetch(payload: bytes) -> tuple[int, int]:
+    if len(payload) != FETCH.size:
+        raise FrameError(f"FETCH of {len(payload)} bytes, expected {FETCH.size}")
+    seq, offset = FETCH.unpack(payload)
+    return int(seq), int(offset)
+
+
+def split_reply(type_: MessageType, payload: bytes, offset: int, chunk_size: int) -> bytes:
+    """The PART payload carrying ``payload[offset:]`` that fits a ``chunk_size`` datagram."""
+    room = chunk_size - OVERHEAD - PART.size
+    if room <= 0:
+        raise ValueError(f"chunk size {chunk_size} leaves no room for data")
+    if not 0 <= offset < len(payload):
+        raise FrameError(f"offset {offset} is outside the {len(payload)}-byte reply")
+    return pack_part(type_, len(payload), offset, payload[offset : offset + room])
+
+
+_URL = re.compile(r"^(tcp|udp)://(\[[0-9a-fA-F:.]+\]|[^:/\[\]]+)(?::(\d{1,5}))?/?$")
+
+
+def parse_url(url: str, default_port: int = DEFAULT_PORT) -> tuple[str, str, int]:
+    """``tcp://host:port`` or ``udp://host:port`` as (scheme, host, port); ValueError else."""
+    match = _URL.match(url)
+    if match is None:
+        raise ValueError(f"{url!r} is not tcp://HOST:PORT or udp://HOST:PORT")
+    scheme, host, port_text = match.groups()
+    port = int(port_text) if port_text else default_port
+    if port > 65535:
+        raise ValueError(f"port {port} in {url!r} is outside 0..65535")
+    return scheme, host.strip("[]"), port

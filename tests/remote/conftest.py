@@ -1,0 +1,77 @@
+"""Fixtures of the remote tests: an emulator served by ``ego serve`` on loopback, and clients."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable, Iterator
+from typing import Any
+
+import pytest
+from fakes import FAST_LINK
+from remote_helpers import Served
+
+from ego.remote.client import RemoteTransport
+from ego.remote.server import RemoteServer, ServerThread
+from ego.serial.link import Link, LinkSettings
+from ego.serial.transport import SerialTransport
+from firmware_sim import Emulator
+from firmware_sim.camera import SimulatedSource
+
+#: Client links fail fast in tests: the server's link already retried the serial line.
+CLIENT_LINK = LinkSettings(retries=1, reconnect_timeout_s=2.0)
+
+ServeFactory = Callable[..., Served]
+ConnectFactory = Callable[..., Link]
+
+
+@pytest.fixture
+def serve() -> Iterator[ServeFactory]:
+    """``serve(kinds=("tcp",), firmware="thesis", **server_options)``: a served emulator.
+
+    ``sim_camera=True`` serves the emulator's camera.
+    """
+    with contextlib.ExitStack() as stack:
+
+        def factory(
+            kinds: tuple[str, ...] = ("tcp",),
+            firmware: str = "thesis",
+            emulator_options: dict[str, Any] | None = None,
+            link_settings: LinkSettings = FAST_LINK,
+            sim_camera: bool = False,
+            **options: Any,
+        ) -> Served:
+            emu = stack.enter_context(Emulator(firmware, seed=1, **(emulator_options or {})))
+            link = Link(SerialTransport(emu.path), settings=link_settings)
+            stack.callback(link.close)
+            listen = [f"{kind}://127.0.0.1:0" for kind in kinds]
+            if sim_camera:
+                options["frame_source"] = SimulatedSource(emu.world)
+            server = RemoteServer(link, listen=listen, **options)
+            thread = stack.enter_context(ServerThread(server))
+            return Served(emu, link, server, thread)
+
+        yield factory
+
+
+@pytest.fixture
+def connect() -> Iterator[ConnectFactory]:
+    """``connect(url, firmware=None, settings=CLIENT_LINK, **transport_options)``: a Link."""
+    with contextlib.ExitStack() as stack:
+
+        def factory(
+            url: str,
+            firmware: str | None = None,
+            settings: LinkSettings = CLIENT_LINK,
+            **options: Any,
+        ) -> Link:
+            transport = RemoteTransport.from_url(url, **options)
+            stack.callback(transport.close)
+            return Link(transport, firmware, settings)
+
+        yield factory
+
+
+@pytest.fixture(params=["tcp", "udp"])
+def kind(request: pytest.FixtureRequest) -> str:
+    """Each network test runs over TCP and over UDP."""
+    return str(request.param)

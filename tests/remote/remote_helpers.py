@@ -1,0 +1,253 @@
+"""Test doubles for the remote tests: a lossy UDP relay, a fake camera, a raw-socket client."""
+
+from __future__ import annotations
+
+import collections
+import contextlib
+import heapq
+import itertools
+import random
+import select
+import socket
+import threading
+import time
+from dataclasses import dataclass, field
+from types import TracebackType
+
+from ego.camera.source import GrantedFormat, PixelFormat
+from ego.remote.auth import new_nonce
+from ego.remote.server import RemoteServer, ServerThread
+from ego.remote.wire import (
+    MAX_DATAGRAM,
+    Frame,
+    FrameReader,
+    MessageType,
+    decode_frame,
+    encode_frame,
+    pack_json,
+    parse_url,
+)
+from ego.serial.link import Link
+from firmware_sim import Emulator
+
+
+class DatagramProxy:
+    """A UDP relay on loopback between one client and a server, with seeded mischief.
+
+    Each datagram, either way, is dropped with probability ``drop``; else sent once, or
+    twice with probability ``duplicate``; each copy has a bit flipped with probability
+    ``corrupt`` and is held back up to ``max_delay_s`` with probability ``reorder``, so
+    that later datagrams overtake it. The rates may change while it runs.
+    """
+
+    def __init__(
+        self,
+        target_url: str,
+        *,
+        seed: int = 0,
+        drop: float = 0.0,
+        duplicate: float = 0.0,
+        reorder: float = 0.0,
+        corrupt: float = 0.0,
+        max_delay_s: float = 0.03,
+    ) -> None:
+        _, host, port = parse_url(target_url)
+        self.drop, self.duplicate, self.reorder, self.corrupt = drop, duplicate, reorder, corrupt
+        self.max_delay_s = max_delay_s
+        self.rng = random.Random(seed)
+        self.counts: collections.Counter[str] = collections.Counter()
+        #: Every datagram received, either way, before any mischief.
+        self.seen: list[bytes] = []
+        self.front = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.front.bind(("127.0.0.1", 0))
+        self.back = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.back.connect((host, port))
+        self.client: tuple[str, int] | None = None
+        self._queue: list[tuple[float, int, str, bytes]] = []
+        self._order = itertools.count()
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="udp-proxy", daemon=True)
+
+    @property
+    def url(self) -> str:
+        host, port = self.front.getsockname()
+        return f"udp://{host}:{port}"
+
+    def __enter__(self) -> DatagramProxy:
+        self._thread.start()
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self._stop.set()
+        self._thread.join(timeout=5)
+        self.front.close()
+        self.back.close()
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            now = time.monotonic()
+            timeout = 0.02 if not self._queue else max(0.0, self._queue[0][0] - now)
+            readable, _, _ = select.select([self.front, self.back], [], [], min(timeout, 0.02))
+            for sock in readable:
+                try:
+                    data, addr = sock.recvfrom(MAX_DATAGRAM)
+                except OSError:
+                    continue
+                if sock is self.front:
+                    self.client = addr
+                    self._route(data, "up")
+                else:
+                    self._route(data, "down")
+            now = time.monotonic()
+            while self._queue and self._queue[0][0] <= now:
+                _, _, direction, data = heapq.heappop(self._queue)
+                self._send(direction, data)
+
+    def _route(self, data: bytes, direction: str) -> None:
+        self.seen.append(data)
+        rng = self.rng
+        if rng.random() < self.drop:
+            self.counts["dropped"] += 1
+            return
+        copies = 1
+        if rng.random() < self.duplicate:
+            copies = 2
+            self.counts["duplicated"] += 1
+        for _ in range(copies):
+            out = data
+            if rng.random() < self.corrupt:
+                flipped = bytearray(data)
+                bit = rng.randrange(len(flipped) * 8)
+                flipped[bit // 8] ^= 1 << (bit % 8)
+                out = bytes(flipped)
+                self.counts["corrupted"] += 1
+            delay = 0.0
+            if rng.random() < self.reorder:
+                delay = rng.uniform(0.001, self.max_delay_s)
+                self.counts["delayed"] += 1
+            when = time.monotonic() + delay
+            heapq.heappush(self._queue, (when, next(self._order), direction, out))
+
+    def _send(self, direction: str, data: bytes) -> None:
+        with contextlib.suppress(OSError):
+            if direction == "up":
+                self.back.send(data)
+            elif self.client is not None:
+                self.front.sendto(data, self.client)
+
+
+@dataclass
+class FakeCamera:
+    """A frame source whose every frame is distinct: its first 4 bytes count the frames."""
+
+    opened: tuple[int, int, str] | None = None
+    frames: int = 0
+    controls: dict[str, int] = field(default_factory=dict)
+    closed: int = 0
+    #: Frames this many bytes long instead of the open size's (to test the size limit).
+    frame_bytes: int | None = None
+
+    def open(self, width: int, height: int, pixel_format: str) -> GrantedFormat:
+        self.opened = (width, height, PixelFormat(pixel_format).value)
+        return GrantedFormat(width, height, 2 * width)
+
+    def expected(self, number: int) -> bytes:
+        """Frame ``number`` (1, 2, ...) of the open size: a counter, then a pattern."""
+        assert self.opened is not None
+        width, height, _ = self.opened
+        size = self.frame_bytes or width * height * 2
+        head = number.to_bytes(4, "little")
+        body = bytes((number * 7 + i) & 0xFF for i in range(251))
+        return (head + body * (size // len(body) + 1))[:size]
+
+    def read_frame(self) -> bytes:
+        self.frames += 1
+        return self.expected(self.frames)
+
+    def set_control(self, name: str, value: int) -> int:
+        granted = max(0, min(255, value))  # a camera clamps what it cannot do
+        self.controls[name] = granted
+        return granted
+
+    def close(self) -> None:
+        self.closed += 1
+        self.opened = None
+
+
+@dataclass
+class Served:
+    """An emulator, the server's link to it, and the server, on loopback."""
+
+    emu: Emulator
+    link: Link
+    server: RemoteServer
+    thread: ServerThread
+
+    @property
+    def url(self) -> str:
+        return self.thread.url
+
+    def url_of(self, kind: str) -> str:
+        return next(u for u in self.thread.urls if u.startswith(kind))
+
+
+class RawClient:
+    """A hand-driven client speaking frames directly (for handshakes and garbage)."""
+
+    def __init__(self, url: str, timeout_s: float = 2.0) -> None:
+        scheme, host, port = parse_url(url)
+        self.kind = scheme
+        kind = socket.SOCK_STREAM if scheme == "tcp" else socket.SOCK_DGRAM
+        self.sock = socket.socket(socket.AF_INET, kind)
+        self.sock.settimeout(timeout_s)
+        self.sock.connect((host, port))
+        self.reader = FrameReader()
+        self.session = 0
+        self.seq = 0
+
+    def send_raw(self, data: bytes) -> None:
+        self.sock.sendall(data)
+
+    def send(self, mtype: MessageType, payload: bytes = b"", seq: int | None = None) -> int:
+        self.seq = self.seq + 1 if seq is None else seq
+        self.send_raw(encode_frame(mtype, self.seq, payload, self.session))
+        return self.seq
+
+    def receive(self) -> Frame:
+        """The next frame from the server (socket.timeout if none)."""
+        while True:
+            if self.kind == "udp":
+                return decode_frame(self.sock.recv(MAX_DATAGRAM))
+            chunk = self.sock.recv(1 << 16)
+            if not chunk:
+                raise ConnectionResetError("server closed the connection")
+            frames = self.reader.feed(chunk)
+            if frames:
+                return frames[0]
+
+    def handshake(self) -> Frame:
+        """HELLO and an empty AUTH (a server without a secret); the welcome frame."""
+        self.send(MessageType.HELLO, pack_json({"client": "raw", "nonce": new_nonce().hex()}))
+        hello = self.receive()
+        self.session = hello.session
+        self.send(MessageType.AUTH, pack_json({"proof": ""}))
+        return self.receive()
+
+    def close(self) -> None:
+        self.sock.close()
+
+
+def wait_for(predicate: object, timeout_s: float, interval_s: float = 0.005) -> float:
+    """Seconds until ``predicate()`` held; AssertionError after ``timeout_s``."""
+    assert callable(predicate)
+    start = time.monotonic()
+    while not predicate():
+        if time.monotonic() - start > timeout_s:
+            raise AssertionError(f"condition not met within {timeout_s} s")
+        time.sleep(interval_s)
+    return time.monotonic() - start

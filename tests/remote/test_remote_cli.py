@@ -1,0 +1,89 @@
+"""``ego serve`` as a process: serves the emulator over TCP and UDP, stops on SIGTERM."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+from ego.remote.cli import add_arguments
+from ego.remote.client import RemoteTransport
+from ego.serial.link import Link
+from ego.serial.protocol import Command, Request, encode_batch
+
+#: ``ego serve`` through this module alone, whatever the ``ego`` command wires.
+SERVE = (
+    "import argparse, sys\n"
+    "from ego.remote import cli\n"
+    "parser = argparse.ArgumentParser()\n"
+    "cli.add_arguments(parser)\n"
+    "sys.exit(cli.run(parser.parse_args(sys.argv[1:])))\n"
+)
+
+
+def _serve(tmp_path: Path, *args: str) -> subprocess.Popen[str]:
+    return subprocess.Popen(
+        [sys.executable, "-c", SERVE, *args],
+        cwd=tmp_path,  # never inside src/ego, where ego/serial shadows pyserial
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "EGO_CAMERA": "none"},
+    )
+
+
+def _urls(process: subprocess.Popen[str]) -> list[str]:
+    assert process.stderr is not None
+    for line in process.stderr:
+        match = re.search(r"ego serve: .* on (.+)$", line)
+        if match:
+            return match.group(1).split(", ")
+    raise AssertionError(f"ego serve exited with {process.wait()} before serving")
+
+
+def test_defaults_are_loopback_tcp_and_half_a_second() -> None:
+    parser = argparse.ArgumentParser()
+    add_arguments(parser)
+    args = parser.parse_args([])
+    assert (args.port, args.listen, args.secret_file, args.deadline_ms) == (None, None, None, 500)
+
+
+def test_serve_sim_over_tcp_and_udp_then_stop_on_sigterm(tmp_path: Path) -> None:
+    process = _serve(
+        tmp_path, "--port", "sim", "--listen", "tcp://127.0.0.1:0", "--listen", "udp://127.0.0.1:0"
+    )
+    try:
+        urls = _urls(process)
+        assert [u.split(":")[0] for u in urls] == ["tcp", "udp"]
+        for url in urls:
+            link = Link(RemoteTransport.from_url(url))
+            batch = encode_batch([Request(Command.PROXIMITY)], link.profile)
+            assert len(batch.decode(link.exchange(batch))[0]) == 8
+            link.close()
+        process.send_signal(signal.SIGTERM)
+        assert process.wait(timeout=10) == 0
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+
+
+def test_serving_off_loopback_without_a_secret_is_refused_before_the_robot_opens(
+    tmp_path: Path,
+) -> None:
+    process = _serve(tmp_path, "--port", "/nonexistent/tty", "--listen", "tcp://0.0.0.0:0")
+    _, err = process.communicate(timeout=20)
+    assert process.returncode == 2
+    assert "shared secret" in err and "0.0.0.0" in err
+
+
+def test_empty_secret_file_is_refused(tmp_path: Path) -> None:
+    secret = tmp_path / "secret"
+    secret.write_text("\n")
+    process = _serve(tmp_path, "--port", "sim", "--secret-file", str(secret))
+    _, err = process.communicate(timeout=20)
+    assert process.returncode == 2
+    assert "empty" in err

@@ -1,0 +1,167 @@
+"""A Link over the network: the emulator served by ``ego serve``, driven over TCP and UDP."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+from conftest import ConnectFactory, ServeFactory
+from remote_helpers import wait_for
+
+from ego.errors import (
+    LinkTimeoutError,
+    PortNotFoundError,
+    ProtocolError,
+    RobotResetError,
+    UnsupportedDeviceError,
+)
+from ego.ports import open_transport
+from ego.remote.client import RemoteTransport
+from ego.serial.protocol import Command, Firmware, Request, encode_batch
+from firmware_sim import FaultTimings
+
+#: The thesis' full sensor batch: a E M N O Q u.
+SENSORS = (
+    Command.ACCELEROMETER_RAW,
+    Command.GET_SPEED,
+    Command.FLOOR,
+    Command.PROXIMITY,
+    Command.LIGHT,
+    Command.GET_STEPS,
+    Command.MIC_AMPLITUDE,
+)
+
+
+def test_full_sensor_batch_reply_is_the_dspics_reply(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,))
+    link = connect(served.url)
+    batch = encode_batch([Request(c) for c in SENSORS], link.profile)
+    for _ in range(5):
+        reply = link.exchange(batch)
+        assert reply == served.emu.history[-1].reply  # byte for byte what the dsPIC sent
+        assert served.emu.history[-1].commands == "aEMNOQu"
+    assert len(batch.decode(reply)) == len(SENSORS)
+
+
+def test_actuator_batch_moves_the_emulated_wheels_and_leds(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,))
+    link = connect(served.url)
+    requests = [Request(Command.SET_SPEED, (300, -200)), Request(Command.SET_LED, (3, 1))]
+    assert link.exchange(encode_batch(requests, link.profile)) == b""
+    # The dsPIC hears the batch once its bytes crossed the emulated wire.
+    wait_for(lambda: served.emu.world.speeds == (300, -200), 1.0)
+    wait_for(lambda: served.emu.world.leds[3] == 1, 1.0)
+
+
+def test_firmware_is_detected_through_the_relay(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,), firmware="gctronic-overo")
+    link = connect(served.url)
+    assert link.profile.firmware is Firmware.GCTRONIC_OVERO  # from the relayed V and C
+    assert link.transport.firmware == "gctronic-overo"  # type: ignore[attr-defined]
+    batch = encode_batch([Request(Command.PROXIMITY)], link.profile)
+    assert len(batch.decode(link.exchange(batch))[0]) == 10  # ps0..ps7 + IR8, IR9
+
+
+def test_ascii_command_is_relayed(serve: ServeFactory, connect: ConnectFactory, kind: str) -> None:
+    served = serve(kinds=(kind,), firmware="gctronic-overo")
+    link = connect(served.url)
+    assert link.ascii_command("C") == ["c,10"]
+    assert link.ascii_command("V", lines=2)[0].startswith("v,Version 1.2.2")
+    link.exchange(encode_batch([Request(Command.SET_SPEED, (500, 500))], link.profile))
+    assert link.ascii_command("S") == ["s"]
+    assert served.emu.world.speeds == (0, 0)  # S stopped it before answering
+
+
+def test_unrelayed_ascii_command_is_refused(serve: ServeFactory, connect: ConnectFactory) -> None:
+    link = connect(serve().url)
+    with pytest.raises(ProtocolError, match="'R' is not relayed"):
+        link.ascii_command("R")
+
+
+def test_batch_the_server_firmware_cannot_serve_is_refused(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,), firmware="gctronic-overo")
+    link = connect(served.url, firmware="thesis")  # wrongly told: M exists there
+    before = len(served.emu.history)
+    with pytest.raises(UnsupportedDeviceError, match="floor"):
+        link.exchange(encode_batch([Request(Command.FLOOR)], link.profile))
+    assert len(served.emu.history) == before  # nothing reached the robot
+    batch = encode_batch([Request(Command.GET_SPEED)], link.profile)
+    assert link.exchange(batch) == bytes(4)  # and the session goes on
+
+
+@pytest.mark.parametrize(
+    "garbage",
+    [b"\xb2", b"\xbc\x01\x00", b"\xff\x00", b"\xb2\x00\x00", b"\x9f\x00\x9f\x00"],
+    ids=["no end", "arguments cut", "unknown command", "bytes after end", "two batches"],
+)
+def test_malformed_batch_is_refused_before_the_robot(
+    serve: ServeFactory, connect: ConnectFactory, garbage: bytes
+) -> None:
+    served = serve()
+    link = connect(served.url)
+    before = len(served.emu.history)
+    with pytest.raises(ProtocolError, match="batch refused"):
+        link.transport.write(garbage)
+    assert len(served.emu.history) == before
+    batch = encode_batch([Request(Command.GET_STEPS)], link.profile)
+    assert len(link.exchange(batch)) == 4
+
+
+def test_serial_timeout_on_the_robot_comes_back_as_link_timeout(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,), emulator_options={"timings": FaultTimings(stall_s=3.0)})
+    link = connect(served.url)
+    served.emu.inject("stall")
+    with pytest.raises(LinkTimeoutError, match="reply bytes"):
+        link.exchange(encode_batch([Request(Command.PROXIMITY)], link.profile))
+
+
+def test_robot_restart_comes_back_as_robot_reset(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,))
+    link = connect(served.url)
+    batch = encode_batch([Request(Command.PROXIMITY)], link.profile)
+    link.exchange(batch)
+    served.emu.inject("reset")
+    with pytest.raises(RobotResetError, match="restarted"):
+        link.exchange(batch)
+    assert len(batch.decode(link.exchange(batch))[0]) == 8  # the next step works
+
+
+def test_open_transport_dispatches_network_urls(serve: ServeFactory, kind: str) -> None:
+    served = serve(kinds=(kind,))
+    transport = open_transport(served.url)
+    try:
+        assert isinstance(transport, RemoteTransport)
+        assert transport.name == served.url
+    finally:
+        transport.close()
+
+
+def test_no_server_is_port_not_found(kind: str) -> None:
+    start = time.monotonic()
+    with pytest.raises(PortNotFoundError, match=r"127\.0\.0\.1:9"):
+        RemoteTransport.from_url(f"{kind}://127.0.0.1:9", connect_timeout_s=0.3)
+    assert time.monotonic() - start < 2.0
+
+
+def test_client_close_is_idempotent_and_stops_the_robot(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,))
+    link = connect(served.url)
+    link.exchange(encode_batch([Request(Command.SET_SPEED, (200, 200))], link.profile))
+    link.close()
+    link.close()
+    assert served.emu.world.speeds == (0, 0)  # the goodbye stopped it at once
+    assert served.server.controller is None

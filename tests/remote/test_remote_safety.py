@@ -1,0 +1,316 @@
+"""Safety and access: the deadman, one controller at a time, the shared secret, garbage input."""
+
+from __future__ import annotations
+
+import gc
+import random
+import socket
+import struct
+import threading
+import time
+import zlib
+
+import pytest
+from conftest import ConnectFactory, ServeFactory
+from remote_helpers import DatagramProxy, RawClient, wait_for
+
+from ego.errors import AuthenticationError, RobotBusyError, RobotResetError
+from ego.remote.client import RemoteTransport
+from ego.remote.server import RemoteServer
+from ego.remote.wire import (
+    HEADER,
+    MAGIC,
+    MAX_DATAGRAM,
+    MAX_PAYLOAD,
+    MessageType,
+    decode_frame,
+    encode_frame,
+    pack_json,
+    unpack_error,
+    unpack_json,
+)
+from ego.serial.link import Link
+from ego.serial.protocol import Command, Request, encode_batch
+
+DEADLINE_S = 0.3
+
+
+def _drive(link: Link, left: int, right: int, led: int) -> None:
+    """Wheels at (left, right), every LED at ``led``, confirmed by an E in the same batch."""
+    requests = [Request(Command.SET_SPEED, (left, right))]
+    requests += [Request(Command.SET_LED, (k, led)) for k in link.profile.leds]
+    requests.append(Request(Command.GET_SPEED))
+    batch = encode_batch(requests, link.profile)
+    assert batch.decode(link.exchange(batch))[-1] == (left, right)
+
+
+# -- the deadman -----------------------------------------------------------------------
+
+
+def test_silent_client_gets_motors_stopped_and_leds_off_after_the_deadline(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,), deadline_s=DEADLINE_S)
+    link = connect(served.url, heartbeat=False)
+    _drive(link, 400, -400, 1)
+    world = served.emu.world
+    assert world.speeds == (400, -400) and all(world.leds)
+    silent_since = time.monotonic()
+    elapsed = wait_for(lambda: world.speeds == (0, 0) and not any(world.leds), 2.0)
+    elapsed = time.monotonic() - silent_since
+    assert DEADLINE_S * 0.9 <= elapsed <= DEADLINE_S + 0.25, elapsed
+    assert served.server.stats.deadman_stops == 1
+    assert served.server.controller is None
+
+
+def test_heartbeat_keeps_an_idle_controller_in_control(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,), deadline_s=DEADLINE_S)
+    link = connect(served.url)  # heartbeat on: a controller with a 1 s step
+    _drive(link, 250, 250, 1)
+    time.sleep(1.0)
+    assert served.emu.world.speeds == (250, 250)
+    assert served.server.stats.deadman_stops == 0
+    assert link.transport.stats.heartbeats >= 3  # type: ignore[attr-defined]
+    _drive(link, 0, 0, 0)
+
+
+def test_timed_out_client_reconnects_and_is_told_to_reapply_its_state(
+    serve: ServeFactory, connect: ConnectFactory, kind: str
+) -> None:
+    served = serve(kinds=(kind,), deadline_s=0.2)
+    link = connect(served.url, heartbeat=False)
+    _drive(link, 300, 300, 0)
+    wait_for(lambda: served.server.stats.deadman_stops == 1, 1.0)
+    batch = encode_batch([Request(Command.GET_SPEED)], link.profile)
+    with pytest.raises(RobotResetError):
+        link.exchange(batch)  # the robot was stopped behind its back: say so
+    assert link.exchange(batch) == bytes(4)  # stopped, and the new session serves
+    assert served.server.stats.sessions == 2
+
+
+@pytest.mark.filterwarnings("ignore::ResourceWarning")
+def test_transport_dropped_without_close_lets_the_deadman_stop_the_robot(
+    serve: ServeFactory,
+) -> None:
+    served = serve(kinds=("udp",), deadline_s=DEADLINE_S)
+    link = Link(RemoteTransport.from_url(served.url))  # heartbeat on, never closed
+    _drive(link, 300, 300, 1)
+    del link
+    gc.collect()
+    elapsed = wait_for(lambda: served.emu.world.speeds == (0, 0), 2.0)
+    assert elapsed <= DEADLINE_S + 0.25
+    assert served.server.stats.deadman_stops == 1
+
+
+def test_disconnect_without_goodbye_stops_the_robot_at_once(serve: ServeFactory) -> None:
+    served = serve(kinds=("tcp",), deadline_s=5.0)
+    raw = RawClient(served.url)
+    assert raw.handshake().type is MessageType.OK
+    batch = encode_batch(
+        [Request(Command.SET_SPEED, (300, 300)), Request(Command.GET_SPEED)],
+        served.link.profile,
+    )
+    raw.send(MessageType.STEP, batch.tx)
+    assert raw.receive().type is MessageType.OK
+    assert served.emu.world.speeds == (300, 300)
+    raw.close()
+    elapsed = wait_for(lambda: served.emu.world.speeds == (0, 0), 1.0)
+    assert elapsed < 1.0  # long before the 5 s deadline
+    assert served.server.controller is None
+
+
+# -- one controller --------------------------------------------------------------------
+
+
+def test_second_client_is_refused_while_the_first_controls(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    served = serve(kinds=("tcp", "udp"))
+    first = connect(served.url_of("tcp"))
+    for url in served.thread.urls:
+        with pytest.raises(RobotBusyError, match=r"already controlled by tcp 127\.0\.0\.1"):
+            RemoteTransport.from_url(url)
+    _drive(first, 100, 100, 0)  # the first client is untouched
+    first.close()
+    second = connect(served.url_of("udp"))
+    _drive(second, 0, 0, 0)
+    assert served.server.stats.refused == 2
+
+
+# -- the shared secret -----------------------------------------------------------------
+
+
+def test_wrong_secret_is_refused(serve: ServeFactory, connect: ConnectFactory, kind: str) -> None:
+    served = serve(kinds=(kind,), secret="s3cret", require_secret=True, auth_failure_delay_s=0.0)
+    with pytest.raises(AuthenticationError, match="wrong shared secret"):
+        RemoteTransport.from_url(served.url, secret="guess")
+    with pytest.raises(AuthenticationError, match="requires a shared secret"):
+        RemoteTransport.from_url(served.url, secret="")
+    assert served.server.controller is None
+    link = connect(served.url, secret="s3cret")
+    _drive(link, 0, 0, 0)
+    assert served.server.stats.refused == 1
+
+
+def test_busy_robot_with_a_secret_does_not_name_its_controller(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    served = serve(kinds=("tcp",), secret="s3cret")
+    connect(served.url, secret="s3cret")
+    with pytest.raises(RobotBusyError, match="another client") as info:
+        RemoteTransport.from_url(served.url, secret="s3cret")
+    assert "127.0.0.1" not in str(info.value).split(": ", 1)[1]
+
+
+def test_server_off_loopback_without_a_secret_refuses_to_start(link: Link) -> None:
+    with pytest.raises(ValueError, match="shared secret"):
+        RemoteServer(link, listen="tcp://0.0.0.0:0")  # checked before anything binds
+    with pytest.raises(ValueError, match="shared secret"):
+        RemoteServer(link, listen="udp://127.0.0.1:0", require_secret=True)
+
+
+def test_secret_never_crosses_the_wire(serve: ServeFactory, connect: ConnectFactory) -> None:
+    secret = b"correct horse battery staple"
+    served = serve(kinds=("udp",), secret=secret, require_secret=True)
+    with DatagramProxy(served.url) as proxy:
+        link = connect(proxy.url, secret=secret)
+        _drive(link, 0, 0, 0)
+        link.close()
+    wire = b"".join(proxy.seen)
+    assert len(proxy.seen) > 4
+    assert secret not in wire and secret.hex().encode() not in wire
+
+
+def test_client_refuses_a_server_that_cannot_prove_the_secret() -> None:
+    """An impostor that accepts any proof is caught by the server proof it cannot make."""
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    sock.bind(("127.0.0.1", 0))
+    sock.settimeout(2.0)
+
+    def impostor() -> None:
+        for reply in (
+            {"nonce": bytes(32).hex(), "auth": True, "deadline_s": 0.5},
+            {"proof": bytes(32).hex(), "firmware": "thesis"},
+        ):
+            data, addr = sock.recvfrom(MAX_DATAGRAM)
+            frame = decode_frame(data)
+            sock.sendto(encode_frame(MessageType.OK, frame.seq, pack_json(reply), 77), addr)
+
+    thread = threading.Thread(target=impostor, daemon=True)
+    thread.start()
+    try:
+        with pytest.raises(AuthenticationError, match="could not prove"):
+            RemoteTransport.from_url(
+                f"udp://127.0.0.1:{sock.getsockname()[1]}", secret="s3cret", heartbeat=False
+            )
+    finally:
+        thread.join(timeout=3)
+        sock.close()
+
+
+# -- garbage ---------------------------------------------------------------------------
+
+
+def _garbage(rng: random.Random, session: int) -> bytes:
+    """One malformed or unwelcome frame of a random kind."""
+    good = encode_frame(
+        rng.choice(list(MessageType)),
+        rng.randrange(2**32),
+        rng.randbytes(rng.randrange(64)),
+        rng.choice((0, session, rng.randrange(2**32))),
+    )
+    choice = rng.randrange(7)
+    if choice == 0:
+        return rng.randbytes(rng.randrange(200))
+    if choice == 1:  # one bit flipped
+        flipped = bytearray(good)
+        bit = rng.randrange(len(flipped) * 8)
+        flipped[bit // 8] ^= 1 << (bit % 8)
+        return bytes(flipped)
+    if choice == 2:  # cut short
+        return good[: rng.randrange(len(good))]
+    if choice == 3:  # a length beyond the limit
+        head = HEADER.pack(MAGIC, 1, MessageType.STEP, session, 1, MAX_PAYLOAD + rng.randrange(9))
+        return head + zlib.crc32(head).to_bytes(4, "little")
+    if choice == 4:  # an unknown type or another version, with a valid CRC
+        head = HEADER.pack(MAGIC, rng.choice((1, 2, 255)), rng.randrange(256), session, 1, 0)
+        return head + zlib.crc32(head).to_bytes(4, "little")
+    return good  # intact, but from a stranger: random type, payload, session
+
+
+def test_a_thousand_malformed_frames_leave_the_server_serving(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    served = serve(kinds=("tcp", "udp"))
+    link = connect(served.url_of("udp"))
+    _drive(link, 200, 200, 1)
+    session = link.transport._session  # type: ignore[attr-defined]
+    executed = len(served.emu.history)
+    rng = random.Random(20240521)
+    fuzz = RawClient(served.url_of("udp"))
+    for _ in range(1000):
+        fuzz.send_raw(_garbage(rng, session))
+    fuzz.close()
+    for _ in range(20):  # a stream breaks at its first bad frame: one connection each
+        raw = RawClient(served.url_of("tcp"), timeout_s=0.5)
+        raw.send_raw(b"".join(_garbage(rng, session) for _ in range(5)))
+        raw.close()
+    time.sleep(0.1)
+    assert len(served.emu.history) == executed  # not one reached the robot
+    assert served.server.stats.malformed >= 300
+    assert served.server.controller is not None and "udp" in served.server.controller
+    assert served.emu.world.speeds == (200, 200)  # the controller was not disturbed
+    _drive(link, 0, 0, 0)  # and it still steps
+
+
+def test_oversized_frame_is_refused_and_the_connection_closed(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    served = serve(kinds=("tcp",))
+    raw = RawClient(served.url)
+    raw.send_raw(HEADER.pack(MAGIC, 1, MessageType.STEP, 0, 1, 2 * MAX_PAYLOAD))
+    reply = raw.receive()
+    assert reply.type is MessageType.ERROR
+    assert unpack_error(reply.payload)[0] == "FrameError"
+    assert "exceeds" in unpack_error(reply.payload)[1]
+    with pytest.raises((ConnectionError, socket.timeout)):
+        raw.receive()
+    raw.close()
+    _drive(connect(served.url), 0, 0, 0)
+
+
+def test_other_protocol_version_is_told_both_versions(serve: ServeFactory, kind: str) -> None:
+    served = serve(kinds=(kind,))
+    raw = RawClient(served.url)
+    payload = pack_json({"nonce": bytes(32).hex()})
+    head = HEADER.pack(MAGIC, 9, MessageType.HELLO, 0, 1, len(payload))
+    raw.send_raw(head + payload + struct.pack("<I", zlib.crc32(head + payload)))
+    reply = raw.receive()
+    raw.close()
+    assert reply.type is MessageType.ERROR and reply.seq == 1
+    message = unpack_error(reply.payload)[1]
+    assert "version 1" in message and "client 9" in message
+
+
+def test_request_outside_a_session_is_refused(serve: ServeFactory) -> None:
+    served = serve(kinds=("udp",))
+    raw = RawClient(served.url)
+    raw.session = 1234
+    raw.send(MessageType.STEP, b"\xbb\x00")
+    reply = raw.receive()
+    raw.close()
+    assert reply.type is MessageType.ERROR
+    assert "no such session" in unpack_error(reply.payload)[1]
+    assert len(served.emu.history) == 0
+
+
+def test_welcome_names_the_firmware_and_deadline(serve: ServeFactory) -> None:
+    served = serve(kinds=("udp",), deadline_s=0.4)
+    raw = RawClient(served.url)
+    welcome = unpack_json(raw.handshake().payload)
+    raw.send(MessageType.BYE)
+    raw.close()
+    assert welcome["firmware"] == "thesis"
+    assert welcome["deadline_s"] == 0.4

@@ -1,0 +1,111 @@
+"""UDP through a lossy relay: lost, duplicated, corrupted and reordered datagrams.
+
+Whatever the network does, each step gets its own reply and runs on the robot once.
+"""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+from conftest import ConnectFactory, ServeFactory
+from remote_helpers import DatagramProxy, FakeCamera
+
+from ego.errors import LinkTimeoutError
+from ego.remote.client import RemoteTransport
+from ego.serial.link import Link, LinkSettings
+from ego.serial.protocol import Command, Request, encode_batch
+
+#: The client link must not retry on its own here: a retry runs the batch again,
+#: legitimately, and the test counts batches run.
+NO_LINK_RETRY = LinkSettings(retries=0)
+LOSSY = {"drop": 0.15, "duplicate": 0.15, "reorder": 0.25, "corrupt": 0.05}
+
+
+def test_no_step_gets_another_steps_reply_and_none_runs_twice(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    served = serve(kinds=("udp",))
+    with DatagramProxy(served.url, seed=7, **LOSSY) as proxy:
+        link = connect(
+            proxy.url, settings=NO_LINK_RETRY, retransmit_s=0.01, retries=30, heartbeat=False
+        )
+        before = len(served.emu.history)
+        steps = 100
+        for i in range(steps):
+            # Each step sets speeds of its own and reads them back in the same batch:
+            # another step's reply would show another step's speeds.
+            speed = i * 7 % 1000 - 500
+            batch = encode_batch(
+                [Request(Command.SET_SPEED, (speed, -speed)), Request(Command.GET_SPEED)],
+                link.profile,
+            )
+            assert batch.decode(link.exchange(batch))[-1] == (speed, -speed), i
+        ran = len(served.emu.history) - before
+    stats = link.transport.stats  # type: ignore[attr-defined]
+    assert served.server.stats.steps == steps  # each step's request ran once...
+    # ... and its batch went to the robot once, but for the serial link's own retries
+    # (a reply timeout on a loaded machine), which are not the network's doing.
+    assert ran == steps + served.link.stats.retries
+    # The relay did its worst, and both ends coped with it.
+    assert proxy.counts["dropped"] and proxy.counts["duplicated"] and proxy.counts["delayed"]
+    assert proxy.counts["corrupted"]
+    assert stats.retransmits > 0
+    assert stats.stale > 0  # late or doubled replies arrived, and were not taken
+    assert served.server.stats.repeats > 0  # retransmissions answered from the cache
+
+
+def test_big_replies_come_whole_and_in_order_over_a_lossy_network(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    camera = FakeCamera()
+    served = serve(kinds=("udp",), frame_source=camera, chunk_size=4096)
+    with DatagramProxy(served.url, seed=11, **LOSSY) as proxy:
+        link = connect(proxy.url, retransmit_s=0.01, retries=30)
+        source = link.transport.frame_source()  # type: ignore[attr-defined]
+        assert source.open(160, 120, "RGB565") == (160, 120, 320)
+        for number in range(1, 6):
+            assert source.read_frame() == camera.expected(number)  # 38,400 bytes, 10 slices
+        source.close()
+    assert camera.frames == 5  # a retransmitted request never grabbed another frame
+    assert proxy.counts["dropped"]
+
+
+def test_unanswered_step_fails_with_link_timeout_after_bounded_retransmissions(
+    serve: ServeFactory,
+) -> None:
+    served = serve(kinds=("udp",))
+    with DatagramProxy(served.url) as proxy:
+        transport = RemoteTransport.from_url(
+            proxy.url, retransmit_s=0.01, retries=3, heartbeat=False
+        )
+        try:
+            link = Link(transport, settings=NO_LINK_RETRY)
+            proxy.drop = 1.0  # the network dies
+            before = transport.stats.retransmits
+            start = time.monotonic()
+            with pytest.raises(LinkTimeoutError, match="after 3 retransmissions"):
+                link.exchange(encode_batch([Request(Command.PROXIMITY)], link.profile))
+            elapsed = time.monotonic() - start
+            assert transport.stats.retransmits - before == 3
+            assert elapsed < 0.5  # 10 + 20 + 40 + 80 ms, not the 5 s request timeout
+        finally:
+            proxy.drop = 0.0
+            transport.close()
+
+
+def test_slow_step_is_waited_for_not_run_again(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    """A request still running when its retransmission comes is acknowledged, not repeated."""
+    served = serve(
+        kinds=("udp",),
+        emulator_options={"processing_delay_s": 0.03},
+        link_settings=LinkSettings(reply_timeout_s=0.5),
+    )
+    link = connect(served.url, settings=NO_LINK_RETRY, retransmit_s=0.005, retries=2)
+    before = len(served.emu.history)
+    batch = encode_batch([Request(Command.PROXIMITY)] * 4, link.profile)
+    link.exchange(batch)  # 150 ms of processing: far beyond 5 + 10 + 20 ms of retries
+    assert len(served.emu.history) - before == 1
+    assert link.transport.stats.retransmits >= 2  # type: ignore[attr-defined]
