@@ -32,6 +32,7 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
         ├── AuthenticationError                  wrong or missing shared secret
         ├── RobotBusyError                       another client already controls the robot
         └── FrameError (ValueError)              a malformed or oversized network frame
+            └── VersionMismatchError             a frame of another ego protocol version
     EgoWarning (UserWarning)
     └── StepOverrunWarning                       a step's work took longer than the step
 """
@@ -70,6 +71,7 @@ __all__ = [
     "UnknownSettingError",
     "UnsupportedControlError",
     "UnsupportedDeviceError",
+    "VersionMismatchError",
 ]
 
 
@@ -202,6 +204,16 @@ class RobotBusyError(RemoteError):
 
 class FrameError(RemoteError, ValueError):
     """A network frame that is malformed, oversized or out of sequence."""
+
+
+class VersionMismatchError(FrameError):
+    """A well-formed frame of another protocol version (the peer runs another ego)."""
+
+    def __init__(self, message: str, peer_version: int, seq: int, session: int) -> None:
+        super().__init__(message)
+        self.peer_version = peer_version
+        self.seq = seq
+        self.session = session
 
 
 class EgoWarning(UserWarning):

@@ -48,6 +48,7 @@ from ego.errors import (
     RemoteError,
     RobotBusyError,
     UnsupportedDeviceError,
+    VersionMismatchError,
 )
 from ego.remote.auth import (
     NONCE_SIZE,
@@ -70,7 +71,6 @@ from ego.remote.wire import (
     MessageType,
     SequenceGuard,
     Verdict,
-    VersionMismatchError,
     decode_frame,
     encode_frame,
     pack_error,

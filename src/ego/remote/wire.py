@@ -36,7 +36,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from ego.errors import FrameError
+from ego.errors import FrameError, VersionMismatchError
 
 __all__ = [
     "ASCII_REPLY_LINES",
@@ -57,7 +57,6 @@ __all__ = [
     "MessageType",
     "SequenceGuard",
     "Verdict",
-    "VersionMismatchError",
     "decode_frame",
     "encode_frame",
     "next_seq",
@@ -116,16 +115,6 @@ class MessageType(enum.IntEnum):
 
 REQUEST_TYPES = frozenset(t for t in MessageType if t < MessageType.OK)
 RESPONSE_TYPES = frozenset(t for t in MessageType if t >= MessageType.OK)
-
-
-class VersionMismatchError(FrameError):
-    """A well-formed frame of another protocol version (the peer runs another ego)."""
-
-    def __init__(self, message: str, peer_version: int, seq: int, session: int) -> None:
-        super().__init__(message)
-        self.peer_version = peer_version
-        self.seq = seq
-        self.session = session
 
 
 @dataclass(frozen=True, slots=True)
