@@ -76,9 +76,11 @@ def run(args: argparse.Namespace) -> int:
     def stop(signum: int, frame: FrameType | None) -> None:
         raise KeyboardInterrupt
 
-    signal.signal(signal.SIGTERM, stop)
-    print(emulator.path, flush=True)
     try:
+        # Inside the try: a SIGTERM sent as soon as the path is read must still remove
+        # the pty and its directory, and exit 0.
+        signal.signal(signal.SIGTERM, stop)
+        print(emulator.path, flush=True)
         emulator.serve_forever()
     except KeyboardInterrupt:
         pass

@@ -48,6 +48,12 @@ log = logging.getLogger(__name__)
 #: protocol.md: "sending a few zeros is the way to resynchronise". Eight complete any
 #: pending D/P arguments (4 bytes) and still end a batch.
 RESYNC_ZEROS = b"\x00" * 8
+#: Zeros cannot end an ASCII line: a desynchronised stream (a D misread as L, say) can
+#: leave a positive byte outside a batch, and asercom then reads a line until ``\n`` or
+#: ``\r``, swallowing every later batch. A newline ends such a line; a dsPIC that was idle
+#: instead skips it and takes the next byte as a line's first, so a harmless ``V`` line
+#: follows. Either way the dsPIC ends up idle, and the drain discards what it answered.
+RESYNC = RESYNC_ZEROS + b"\nV\n"
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,6 +112,9 @@ class Link:
         self.settings = settings or LinkSettings()
         self.stats = LinkStats()
         self._forced = Firmware(firmware) if firmware not in (None, "auto") else None
+        #: The last bytes seen, for a banner split across two reads.
+        self._tail = b""
+        self._closed = False
         self.info: FirmwareInfo = self._identify()
 
     @property
@@ -118,6 +127,7 @@ class Link:
     def _identify(self) -> FirmwareInfo:
         """Drain the welcome banner, then ask ``V`` (and ``C``) unless told the firmware."""
         self.transport.drain(self.settings.resync_quiet_s, self.settings.resync_max_s)
+        self._tail = b""
         if self._forced is not None:
             return FirmwareInfo(PROFILES[self._forced], detected=False)
         version = self.ascii_command("V", lines=2)
@@ -151,8 +161,12 @@ class Link:
             text = raw.decode("ascii", errors="replace").strip()
             if text:
                 replies.append(text)
-        if replies:
-            line_payload(replies[0], letter)  # raises on a reply to something else
+        # protocol.md: the reply "starts with the command's lower-case letter" (S answers
+        # a bare "s", so no comma is required here).
+        if replies and not replies[0].startswith(letter.lower()):
+            raise ProtocolError(
+                f"reply {replies[0]!r} to {letter!r} does not start with {letter.lower()!r}"
+            )
         return replies
 
     # -- binary batches ----------------------------------------------------------------
@@ -161,8 +175,10 @@ class Link:
         """Reply timeout of a batch: wire time of its bytes both ways, scaled, plus slack."""
         baud = self.transport.baudrate or DEFAULT_BAUD
         wire = wire_time_s(len(batch.tx) + batch.reply_size, baud)
-        return self.settings.reply_timeout_s + self.settings.wire_factor * wire + (
-            self.transport.latency_s
+        return (
+            self.settings.reply_timeout_s
+            + self.settings.wire_factor * wire
+            + (self.transport.latency_s)
         )
 
     def exchange(self, batch: Batch) -> bytes:
@@ -173,6 +189,8 @@ class Link:
         (the caller re-applies its state and rebuilds the batch), LinkLostError when
         the port is gone for good.
         """
+        if self._closed:  # a closed link must not reopen its port behind its owner's back
+            raise LinkLostError(f"{self.transport.name}: the link is closed")
         last: Exception | None = None
         for attempt in range(self.settings.retries + 1):
             if attempt:
@@ -182,8 +200,9 @@ class Link:
             except (ShortReplyError, ExtraBytesError, LinkTimeoutError) as exc:
                 last = exc
                 self.stats.faults[type(exc).__name__] += 1
-                log.warning("%s: %s; resynchronising (attempt %d)", self.transport.name,
-                            exc, attempt + 1)
+                log.warning(
+                    "%s: %s; resynchronising (attempt %d)", self.transport.name, exc, attempt + 1
+                )
                 self._resync()
             except LinkLostError as exc:
                 self.stats.faults["LinkLostError"] += 1
@@ -217,21 +236,27 @@ class Link:
         stale = self.transport.pending()
         if stale:
             self.stats.faults["stale"] += 1
-            log.warning("%s: %d stale bytes before a batch; draining", self.transport.name,
-                        len(stale))
+            log.warning(
+                "%s: %d stale bytes before a batch; draining", self.transport.name, len(stale)
+            )
             self._check_banner(stale + self._drain())
 
     def _drain(self) -> bytes:
         return self.transport.drain(self.settings.resync_quiet_s, self.settings.resync_max_s)
 
     def _resync(self) -> None:
-        """Zeros end whatever the dsPIC was parsing; then drain until the line is quiet."""
+        """End whatever the dsPIC was parsing (a batch, an ASCII line); drain until quiet."""
         self.stats.resyncs += 1
-        self.transport.write(RESYNC_ZEROS)
+        self.transport.write(RESYNC)
         self._check_banner(self._drain())
 
     def _check_banner(self, data: bytes) -> None:
-        if BANNER_MARKER in data:
+        # The banner can straddle two reads: a short reply holds its first bytes, the
+        # resync's drain the rest. So look at the tail of what came before, too.
+        seen = self._tail + data
+        self._tail = seen[-(len(BANNER_MARKER) - 1) :]
+        if BANNER_MARKER in seen:
+            self._tail = b""
             self._drain()  # the rest of the banner
             self._restarted("the dsPIC restarted (welcome banner mid-stream)")
 
@@ -262,4 +287,6 @@ class Link:
         raise RobotResetError(f"{self.transport.name}: {why}; robot state must be re-applied")
 
     def close(self) -> None:
+        """Close the transport; later exchanges raise LinkLostError instead of reopening it."""
+        self._closed = True
         self.transport.close()

@@ -1,0 +1,35 @@
+"""Where to connect: the argument, else EGO_PORT, else /dev/ttyS0 (api.md)."""
+
+from __future__ import annotations
+
+import pytest
+
+from ego.errors import PortNotFoundError
+from ego.ports import DEFAULT_PORT, open_transport, resolve_port
+from ego.serial.transport import SerialTransport
+
+
+def test_explicit_port_wins(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("EGO_PORT", "/dev/ttyUSB0")
+    assert resolve_port("loop://") == "loop://"
+
+
+def test_environment_names_the_port_when_none_is_given(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("EGO_PORT", "/dev/ttyUSB0")
+    assert resolve_port(None) == "/dev/ttyUSB0"
+
+
+def test_overo_uart_is_the_default(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv("EGO_PORT", raising=False)
+    assert resolve_port(None) == DEFAULT_PORT == "/dev/ttyS0"
+
+
+def test_pyserial_urls_open_a_serial_transport() -> None:
+    with open_transport("loop://", baudrate=115200) as transport:
+        assert isinstance(transport, SerialTransport)
+        assert transport.baudrate == 115200
+
+
+def test_missing_port_is_port_not_found() -> None:
+    with pytest.raises(PortNotFoundError, match="/dev/does-not-exist"):
+        open_transport("/dev/does-not-exist")
