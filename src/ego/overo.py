@@ -3,7 +3,8 @@
 They act on one default robot, opened by ``overo_serial_init(baudrate, dev_name)``.
 Device tags (``dt``) are Webots device names or the integer tags that
 ``wb_robot_get_device`` returns. Units are E-GO's own: raw counts, steps, steps/s,
-RGB888 images. Each function is a thin delegation to the core devices.
+RGB888 images. Each function is a thin delegation to the core devices. As in the Webots
+faces, a sensor read before it is enabled and sampled gives NaN.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ego import default_robot
-from ego.controller.devices import Camera, DistanceSensor, LightSensor
+from ego.controller.devices import Camera, DistanceSensor, LightSensor, encoder_steps
 from ego.devices.accelerometer import AccelerometerMode
 from ego.errors import UnknownDeviceError
 from ego.tags import name_of
@@ -72,6 +73,8 @@ __all__ = [
 
 Tag = int | str
 
+_NAN = float("nan")
+
 
 def _expect(dt: Tag, *names: str) -> str:
     name = name_of(dt)
@@ -94,7 +97,8 @@ def overo_serial_close(port_fd: object = None) -> None:
 
 
 def overo_scheduler_robot_step(ms: int) -> int:
-    return default_robot.get().step(ms)
+    """One time step of ``ms``; -1 once the link is lost or ``ego run --duration`` is used up."""
+    return default_robot.step(ms)
 
 
 def overo_scheduler_local_get_time() -> float:
@@ -116,8 +120,10 @@ def overo_accelerometer_enable_spherical(dt: Tag, ms: int) -> None:
 
 
 def overo_accelerometer_get_value() -> list[float]:
-    """Raw x, y, z counts, or magnitude, orientation, inclination: as enabled."""
+    """Raw x, y, z counts, or magnitude, orientation, inclination: as enabled (NaN before)."""
     acc = default_robot.get().accelerometer
+    if not (acc.enabled and acc.has_values):
+        return [_NAN, _NAN, _NAN]
     if acc.mode is AccelerometerMode.SPHERICAL:
         return list(acc.spherical)
     return [float(v) for v in acc.values]
@@ -263,11 +269,12 @@ def overo_encoders_enable(dt: Tag, ms: int) -> None:
 
 
 def overo_encoders_get_left() -> float:
-    return float(default_robot.get().encoders.values[0])
+    """Steps (NaN until the encoders are enabled and sampled)."""
+    return encoder_steps(default_robot.get(), 0)
 
 
 def overo_encoders_get_right() -> float:
-    return float(default_robot.get().encoders.values[1])
+    return encoder_steps(default_robot.get(), 1)
 
 
 def overo_encoders_set(left: float, right: float) -> None:
@@ -311,7 +318,12 @@ def overo_microphone_enable(dt: Tag, ms: int) -> None:
 
 
 def overo_microphone_get_volume(dt: Tag) -> float:
-    return float(default_robot.get().microphones.value(_expect(dt, "mic0", "mic1", "mic2")))
+    """Amplitude 0..4095 (NaN until the microphone is enabled and sampled)."""
+    name = _expect(dt, "mic0", "mic1", "mic2")
+    mics = default_robot.get().microphones
+    if mics.sampling_period(name) is None or not mics.has_values:
+        return _NAN
+    return float(mics.value(name))
 
 
 def overo_microphone_disable(dt: Tag) -> None:

@@ -8,7 +8,7 @@ bytes (3 a pixel) and the ``wb_camera_image_get_*`` helpers read that layout.
 
 from __future__ import annotations
 
-from ego import default_robot, runtime
+from ego import default_robot
 from ego.controller.devices import (
     LED,
     Accelerometer,
@@ -85,12 +85,7 @@ def wb_robot_init() -> int:
 
 
 def wb_robot_step(ms: int) -> int:
-    robot = default_robot.get()
-    limit = runtime.current().duration_s
-    if limit is not None and robot.time_s >= limit - 1e-9:
-        default_robot.close()
-        return -1
-    return robot.step(ms)
+    return default_robot.step(ms)
 
 
 def wb_robot_get_device(name: str) -> int:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 from typing import TYPE_CHECKING
 
 from ego.devices.base import Sensor
@@ -25,6 +26,15 @@ __all__ = [
 ]
 
 _NAN = float("nan")
+
+
+def _is_real(value: object) -> bool:
+    """A real number (numpy's too), neither a bool nor NaN."""
+    return (
+        not isinstance(value, bool)
+        and isinstance(value, numbers.Real)
+        and not math.isnan(float(value))
+    )
 
 
 class Device:
@@ -96,9 +106,9 @@ class Accelerometer(_SampledDevice):
 
 
 def encoder_steps(core: CoreRobot, side: int) -> float:
-    """A wheel's step count, NaN until the encoders are enabled and sampled."""
+    """A wheel's step count, NaN unless the encoders are enabled and sampled."""
     encoders = core.encoders
-    return float(encoders.values[side]) if encoders.has_values else _NAN
+    return float(encoders.values[side]) if encoders.enabled and encoders.has_values else _NAN
 
 
 class PositionSensor(_SampledDevice):
@@ -135,18 +145,19 @@ class Motor(Device):
 
     def setVelocity(self, velocity: float) -> None:
         """Wheel speed in rad/s within +-getMaxVelocity(); refused beyond (OutOfRangeError)."""
-        if not isinstance(velocity, (int, float)) or math.isnan(velocity):
+        if not _is_real(velocity):
             raise TypeError(f"velocity must be a number of rad/s, not {velocity!r}")
         if abs(velocity) > MAX_SPEED_RAD_S + 1e-9:
             raise OutOfRangeError(
-                f"velocity {velocity} rad/s is outside +-{MAX_SPEED_RAD_S:.2f} rad/s"
+                f"velocity {velocity} rad/s is outside +-{MAX_SPEED_RAD_S:.2f} rad/s: "
+                "refused, not clamped"
             )
         self._velocity = float(velocity)
         self._apply()
 
     def setPosition(self, position: float) -> None:
         """``inf`` for velocity control; a finite angle (rad) to drive the wheel there."""
-        if not isinstance(position, (int, float)) or math.isnan(position):
+        if not _is_real(position):
             raise TypeError(f"position must be a number of rad or inf, not {position!r}")
         self._target = float(position)
         if not math.isinf(self._target) and not self._core.encoders.enabled:
@@ -156,11 +167,9 @@ class Motor(Device):
     def _apply(self) -> None:
         speeds = list(self._core.motors.speed)
         if math.isinf(self._target):
-            speeds[self._side] = round(
-                rad_s_to_steps(
-                    math.copysign(self._velocity, self._target) if self._velocity else 0.0
-                )
-            )
+            # Webots' velocity control: the velocity's own sign gives the direction, whichever
+            # infinity the position is (WbMotor ignores the target once it is infinite).
+            speeds[self._side] = round(rad_s_to_steps(self._velocity))
         else:
             speeds[self._side] = self._position_speed()
         self._core.motors.set_speed(speeds[0], speeds[1])
@@ -192,7 +201,7 @@ class LED(Device):
     """An LED: ``set(0)`` off, any other value on (Webots' meaning for the e-puck's LEDs)."""
 
     def set(self, value: int) -> None:
-        if isinstance(value, bool) or not isinstance(value, int):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
             raise TypeError(f"LED value must be an int, not {type(value).__name__}")
         self._core.leds.set(self._name, 1 if value else 0)
 

@@ -28,7 +28,8 @@ log = logging.getLogger(__name__)
 _D = TypeVar("_D", bound=Device)
 
 
-def _device_class(name: str) -> type[Device]:
+def _device_class(name: str) -> type[Device] | None:
+    """The Webots class of a device name; None for ego's names Webots has no device for (mics)."""
     if name.startswith(("ps", "gs")):
         return DistanceSensor
     if name.startswith("ls"):
@@ -43,7 +44,7 @@ def _device_class(name: str) -> type[Device]:
         return Accelerometer
     if name == "camera":
         return Camera
-    raise UnknownDeviceError(f"no device named {name!r}")
+    return None
 
 
 class Robot:
@@ -89,24 +90,32 @@ class Robot:
         """The device called ``name`` (``ps0``, ``left wheel motor``, ``camera``...)."""
         device = self._devices.get(name)
         if device is None:
-            if name != "camera":
-                self._core.device(name)  # raises UnknownDeviceError listing the valid names
-            try:
-                cls = _device_class(name)
-            except UnknownDeviceError:
+            cls = _device_class(name) if name in self._core.device_names else None
+            if cls is None:
                 raise UnknownDeviceError(
-                    f"no device named {name!r}; valid names: {', '.join(self._core.device_names)}"
-                ) from None
+                    f"no device named {name!r}; valid names: {', '.join(self._device_names())}"
+                )
             device = cls(self._core, name)
             if isinstance(device, Motor):
                 self._motors.append(device)
             self._devices[name] = device
         return device
 
+    def _device_names(self, cls: type[Device] = Device) -> list[str]:
+        """The names ``getDevice`` serves under the connected firmware, of class ``cls``."""
+        return [
+            name
+            for name in self._core.device_names
+            if (found := _device_class(name)) is not None and issubclass(found, cls)
+        ]
+
     def _typed(self, name: str, cls: type[_D]) -> _D:
         device = self.getDevice(name)
         if not isinstance(device, cls):
-            raise UnknownDeviceError(f"{name!r} is a {type(device).__name__}, not a {cls.__name__}")
+            raise UnknownDeviceError(
+                f"{name!r} is a {type(device).__name__}, not a {cls.__name__}; valid names: "
+                f"{', '.join(self._device_names(cls))}"
+            )
         return device
 
     # Deprecated getters of older Webots versions, still found in e-puck controllers.

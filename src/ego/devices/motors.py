@@ -46,11 +46,7 @@ class Motors(Sensor):
         """Both wheel speeds in steps/s, each within +-1000."""
         speeds = tuple(
             check_int(
-                f"{side} speed",
-                round(v) if isinstance(v, float) else v,
-                -MAX_SPEED_STEPS,
-                MAX_SPEED_STEPS,
-                " steps/s",
+                f"{side} speed", v, -MAX_SPEED_STEPS, MAX_SPEED_STEPS, " steps/s", rounding=True
             )
             for side, v in (("left", left), ("right", right))
         )

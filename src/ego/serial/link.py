@@ -200,9 +200,7 @@ class Link:
             except (ShortReplyError, ExtraBytesError, LinkTimeoutError) as exc:
                 last = exc
                 self.stats.faults[type(exc).__name__] += 1
-                log.warning(
-                    "%s: %s; resynchronising (attempt %d)", self.transport.name, exc, attempt + 1
-                )
+                log.warning("%s; resynchronising (attempt %d)", exc, attempt + 1)
                 self._resync()
             except LinkLostError as exc:
                 self.stats.faults["LinkLostError"] += 1

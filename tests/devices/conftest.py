@@ -1,0 +1,100 @@
+"""Fixtures for the device, scheduler and Robot tests: the emulated dsPIC on a real pty, and
+robots on it that must have stopped their motors and switched their LEDs off by the end."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator
+
+import pytest
+
+import ego
+from firmware_sim import Emulator, World
+
+#: One seed for every emulator here, so that a failure replays with the same sensor noise.
+SEED = 7
+#: The emulator's banner is 4 ms of line time: 20 ms of quiet after it is plenty, where the
+#: default 100 ms suits a real robot. Robots on an external pty open 5x faster with it.
+FAST_OPEN = ego.LinkSettings(resync_quiet_s=0.02)
+
+
+def wait_until(condition: Callable[[], bool], timeout_s: float = 5.0) -> bool:
+    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held.
+
+    An actuator-only batch gets no reply (protocol.md), so the world hears it a moment
+    after ``step()`` returns: tests poll for it rather than sleep a fixed time.
+    """
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.005)
+    return True
+
+
+def is_stopped(world: World) -> bool:
+    return world.speeds == (0, 0) and not any(world.leds)
+
+
+def assert_stopped(world: World) -> None:
+    assert wait_until(lambda: is_stopped(world)), (
+        f"the robot was left running: speeds {world.speeds}, LEDs {world.leds}"
+    )
+
+
+@pytest.fixture(name="wait_until")
+def wait_until_fixture() -> Callable[..., bool]:
+    """:func:`wait_until` for the tests (a fixture, as conftest modules are not importable)."""
+    return wait_until
+
+
+@pytest.fixture
+def emulator() -> Iterator[Emulator]:
+    """The thesis firmware's dsPIC behind a pty, outliving the robot so the stop is seen."""
+    with Emulator("thesis", seed=SEED) as emu:
+        yield emu
+
+
+@pytest.fixture
+def world(emulator: Emulator) -> World:
+    return emulator.world
+
+
+@pytest.fixture
+def sim_robot(emulator: Emulator) -> Iterator[ego.Robot]:
+    """A robot on the emulator's pty (firmware detected); checks the safe stop afterwards."""
+    robot = ego.Robot(emulator.path, link_settings=FAST_OPEN)
+    try:
+        yield robot
+    finally:
+        robot.close()
+    assert_stopped(emulator.world)
+
+
+@pytest.fixture
+def builtin_sim_robot() -> Iterator[ego.Robot]:
+    """``Robot("sim")`` with the default settings: the built-in emulator, as ``robot.emulator``."""
+    robot = ego.Robot("sim", seed=SEED)
+    world = robot.emulator.world
+    try:
+        yield robot
+    finally:
+        robot.close()
+    assert_stopped(world)
+
+
+@pytest.fixture
+def overo_emulator() -> Iterator[Emulator]:
+    """The stock GCtronic firmware in Overo mode (selector 10)."""
+    with Emulator("gctronic-overo", seed=SEED) as emu:
+        yield emu
+
+
+@pytest.fixture
+def overo_robot(overo_emulator: Emulator) -> Iterator[ego.Robot]:
+    robot = ego.Robot(overo_emulator.path, link_settings=FAST_OPEN)
+    try:
+        yield robot
+    finally:
+        robot.close()
+    assert_stopped(overo_emulator.world)

@@ -1,0 +1,128 @@
+"""Fixtures for the face tests: the emulated dsPIC, the faces' default robot pointed at it,
+and ``ego`` run as a subprocess. Every robot must have stopped its motors and switched its
+LEDs off by the end of the test."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import pytest
+
+from ego import default_robot, runtime
+from ego.controller import Robot as WebotsRobot
+from firmware_sim import Emulator, World
+
+#: One seed for every emulator here, so that a failure replays with the same sensor noise.
+SEED = 11
+
+
+def wait_until(condition: Callable[[], bool], timeout_s: float = 5.0) -> bool:
+    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held.
+
+    An actuator-only batch gets no reply (protocol.md), and another process's robot acts on
+    its own time, so tests poll the world rather than sleep a fixed time.
+    """
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.005)
+    return True
+
+
+def is_stopped(world: World) -> bool:
+    return world.speeds == (0, 0) and not any(world.leds)
+
+
+def assert_stopped(world: World) -> None:
+    assert wait_until(lambda: is_stopped(world)), (
+        f"the robot was left running: speeds {world.speeds}, LEDs {world.leds}"
+    )
+
+
+def ego_command() -> list[str]:
+    """The installed ``ego`` script beside this Python, else ``python -m ego.cli``."""
+    script = Path(sys.executable).with_name("ego")
+    return [str(script)] if script.is_file() else [sys.executable, "-m", "ego.cli"]
+
+
+@pytest.fixture(name="ego_command")
+def ego_command_fixture() -> list[str]:
+    """:func:`ego_command` for the tests."""
+    return ego_command()
+
+
+@pytest.fixture(name="wait_until")
+def wait_until_fixture() -> Callable[..., bool]:
+    """:func:`wait_until` for the tests (a fixture, as conftest modules are not importable)."""
+    return wait_until
+
+
+@pytest.fixture
+def emulator() -> Iterator[Emulator]:
+    """The thesis firmware's dsPIC behind a pty, outliving the robots so their stop is seen."""
+    with Emulator("thesis", seed=SEED) as emu:
+        yield emu
+
+
+@pytest.fixture
+def world(emulator: Emulator) -> World:
+    return emulator.world
+
+
+@pytest.fixture
+def face_options(emulator: Emulator) -> Iterator[runtime.RunOptions]:
+    """Point ``Robot()``, ``wb_robot_init()`` and ``overo_serial_init()`` at the emulator.
+
+    ``ego run`` does the same through :func:`ego.runtime.set_options`; afterwards the
+    default robot is closed and must have stopped the robot.
+    """
+    options = runtime.RunOptions(port=emulator.path)
+    runtime.set_options(options)
+    try:
+        yield options
+    finally:
+        default_robot.close()
+        runtime.set_options(runtime.RunOptions())
+    assert_stopped(emulator.world)
+
+
+@pytest.fixture
+def webots_robot(face_options: runtime.RunOptions) -> Iterator[WebotsRobot]:
+    """A Webots-API ``Robot()`` on the emulator, as a controller constructs it."""
+    robot = WebotsRobot()
+    try:
+        yield robot
+    finally:
+        robot.cleanup()
+
+
+@pytest.fixture
+def check_stopped() -> Callable[[World], None]:
+    """:func:`assert_stopped` for the tests."""
+    return assert_stopped
+
+
+@pytest.fixture
+def run_ego(tmp_path: Path) -> Callable[..., subprocess.CompletedProcess[str]]:
+    """Run ``ego ARGS...`` in a scratch directory (never inside src/ego) and capture it."""
+
+    def run(
+        *args: str, env: dict[str, str] | None = None, timeout_s: float = 30.0
+    ) -> subprocess.CompletedProcess[str]:
+        return subprocess.run(
+            [*ego_command(), *args],
+            cwd=tmp_path,
+            env={**os.environ, **(env or {})},
+            capture_output=True,
+            text=True,
+            timeout=timeout_s,
+            check=False,
+        )
+
+    return run
