@@ -13,7 +13,13 @@ import numpy as np
 import numpy.typing as npt
 
 from ego import default_robot
-from ego.controller.devices import Camera, DistanceSensor, LightSensor, encoder_steps
+from ego.controller.devices import (
+    Camera,
+    DistanceSensor,
+    LightSensor,
+    encoder_steps,
+    whole_steps,
+)
 from ego.devices.accelerometer import AccelerometerMode
 from ego.errors import UnknownDeviceError
 from ego.tags import name_of
@@ -278,7 +284,7 @@ def overo_encoders_get_right() -> float:
 
 
 def overo_encoders_set(left: float, right: float) -> None:
-    default_robot.get().encoders.set(round(left), round(right))
+    default_robot.get().encoders.set(whole_steps(left), whole_steps(right))
 
 
 def overo_encoders_disable(dt: Tag) -> None:

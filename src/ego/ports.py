@@ -15,8 +15,15 @@ DEFAULT_PORT = "/dev/ttyS0"
 NETWORK_SCHEMES = ("tcp://", "udp://")
 
 
-def resolve_port(port: str | None) -> str:
+def resolve_port(port: str | os.PathLike[str] | None) -> str:
     """The argument, else ``EGO_PORT``, else ``/dev/ttyS0`` (api.md)."""
+    if isinstance(port, os.PathLike):
+        port = os.fspath(port)
+    if port is not None and not isinstance(port, str):
+        raise TypeError(
+            "port must be a string (a serial port, a pyserial URL, 'sim', tcp:// or udp://), "
+            f"not {type(port).__name__}"
+        )
     return port or os.environ.get("EGO_PORT") or DEFAULT_PORT
 
 

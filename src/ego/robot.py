@@ -8,6 +8,7 @@ import logging
 import os
 import signal
 import threading
+import time
 import weakref
 from collections.abc import Callable
 from types import FrameType, TracebackType
@@ -22,11 +23,18 @@ from ego.devices.light import LightSensors
 from ego.devices.microphones import Microphones
 from ego.devices.motors import Motors
 from ego.devices.proximity import ProximitySensors
-from ego.errors import EgoError, LinkLostError, RobotResetError, UnknownDeviceError
+from ego.errors import (
+    CameraError,
+    EgoError,
+    LinkLostError,
+    ProtocolError,
+    RobotResetError,
+    UnknownDeviceError,
+)
 from ego.ports import NETWORK_SCHEMES, open_transport, resolve_port
 from ego.scheduler import StepClock
 from ego.serial.link import Link, LinkSettings
-from ego.serial.protocol import DEFAULT_BAUD, Firmware, Request, encode_batch
+from ego.serial.protocol import DEFAULT_BAUD, Command, Firmware, Request, encode_batch
 from ego.serial.transport import SerialTransport, Transport
 
 if TYPE_CHECKING:
@@ -38,8 +46,8 @@ log = logging.getLogger(__name__)
 
 #: The port name that starts the built-in dsPIC emulator.
 SIM_PORT = "sim"
-#: A step whose robot restarts more often than this gives up.
-MAX_RESTARTS_PER_STEP = 3
+#: A step whose robot restarts, or answers implausibly, more often than this gives up.
+MAX_ATTEMPTS_PER_STEP = 3
 
 
 class Robot:
@@ -133,7 +141,7 @@ class Robot:
             return open_transport(port, baudrate, secret)
         from firmware_sim import Emulator  # only the emulator's users pay for it
 
-        fw = Firmware(firmware) if firmware not in (None, "auto") else Firmware.THESIS
+        fw = Firmware.choose(firmware) or Firmware.THESIS
         self._emulator = Emulator(fw.value, baud=baudrate, seed=seed).start()
         return SerialTransport(self._emulator.path, baudrate)
 
@@ -162,6 +170,8 @@ class Robot:
             from ego.remote.client import RemoteFrameSource
 
             return RemoteFrameSource(self.link.transport)
+        if self._camera_device == "none":  # as `ego serve` reads it
+            raise CameraError("this robot has no camera (EGO_CAMERA=none)")
         from ego.camera import V4L2Source
 
         return V4L2Source(self._camera_device)
@@ -222,7 +232,9 @@ class Robot:
         return 0
 
     def _exchange(self, now: int) -> None:
-        for _ in range(MAX_RESTARTS_PER_STEP):
+        """One batch of everything due; again after a restart or an implausible reply."""
+        why = ""
+        for _ in range(MAX_ATTEMPTS_PER_STEP):
             plan = [(f, r) for f in self.families for r in f.requests(now)]
             if not plan:
                 return
@@ -231,14 +243,24 @@ class Robot:
                 reply = self.link.exchange(batch)
             except RobotResetError as exc:
                 log.warning("%s; re-applying the robot's state", exc)
+                why = str(exc)
                 self._restarted()
                 continue
-            for (family, request), values in zip(plan, batch.decode(reply), strict=True):
+            decoded = list(zip(plan, batch.decode(reply), strict=True))
+            now_s = time.monotonic()
+            problems = [p for (f, r), v in decoded if (p := f.check(r, v, now_s)) is not None]
+            if problems:
+                # The reply had the right length, so the stream is in step: just ask again.
+                self.link.stats.faults["implausible"] += 1
+                why = f"implausible reply: {problems[0]}"
+                log.warning("%s; asking again", why)
+                continue
+            for (family, request), values in decoded:
                 family.decode(request, values, now)
             for family in self.families:
                 family.committed(now)
             return
-        raise RobotResetError(f"the robot restarted {MAX_RESTARTS_PER_STEP} times in one step")
+        raise ProtocolError(f"no usable reply after {MAX_ATTEMPTS_PER_STEP} attempts ({why})")
 
     def _restarted(self) -> None:
         profile = self.link.profile
@@ -249,9 +271,23 @@ class Robot:
     # -- safe stop -------------------------------------------------------------------
 
     def stop_actuators(self) -> None:
-        """Stop both wheels and switch every LED off now, whatever ego believes their state."""
-        requests: list[Request] = [self.motors.stop_request(), *self.leds.all_off()]
-        self.link.exchange(encode_batch(requests, self.link.profile))
+        """Stop both wheels and switch every LED off now, whatever ego believes their state.
+
+        The batch ends with ``E`` so that the dsPIC answers: the stop is confirmed heard,
+        and the speeds it reports must be zero.
+        """
+        requests: list[Request] = [
+            self.motors.stop_request(), *self.leds.all_off(), Request(Command.GET_SPEED)
+        ]
+        for _ in range(MAX_ATTEMPTS_PER_STEP):
+            batch = encode_batch(requests, self.link.profile)
+            try:
+                held = batch.decode(self.link.exchange(batch))[-1]
+            except RobotResetError:
+                continue  # a restarted dsPIC stands still with its LEDs off; confirm anyway
+            if tuple(held) == (0, 0):
+                return
+        raise ProtocolError("the robot did not confirm that its motors stopped")
 
     def close(self) -> None:
         """Stop the motors, LEDs off, then close the port; calling it again does nothing."""

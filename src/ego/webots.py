@@ -8,16 +8,21 @@ bytes (3 a pixel) and the ``wb_camera_image_get_*`` helpers read that layout.
 
 from __future__ import annotations
 
+from typing import TypeVar
+
 from ego import default_robot
 from ego.controller.devices import (
     LED,
     Accelerometer,
     Camera,
+    Device,
     DistanceSensor,
     LightSensor,
     encoder_steps,
+    view_class,
+    whole_steps,
 )
-from ego.errors import EgoError
+from ego.errors import EgoError, OutOfRangeError, UnknownDeviceError
 from ego.tags import name_of, tag_of
 
 __all__ = [
@@ -62,18 +67,36 @@ __all__ = [
 ]
 
 Tag = int | str
+_V = TypeVar("_V", bound=Device)
+
+
+def _view(tag: Tag, cls: type[_V]) -> _V:
+    """The device ``tag`` names, as a ``cls``; a device of another kind is refused, as
+    Webots refuses ``wb_distance_sensor_enable`` on a light sensor's tag."""
+    robot = default_robot.get()
+    name = name_of(tag)
+    if view_class(name) is not cls:
+        valid = [n for n in robot.device_names if view_class(n) is cls]
+        raise UnknownDeviceError(
+            f"device {name!r} is not a {cls.__name__}; valid names: {', '.join(valid)}"
+        )
+    return cls(robot, name)
 
 
 def _distance(tag: Tag) -> DistanceSensor:
-    return DistanceSensor(default_robot.get(), name_of(tag))
+    return _view(tag, DistanceSensor)
 
 
 def _light(tag: Tag) -> LightSensor:
-    return LightSensor(default_robot.get(), name_of(tag))
+    return _view(tag, LightSensor)
 
 
 def _camera(tag: Tag) -> Camera:
-    return Camera(default_robot.get(), name_of(tag))
+    return _view(tag, Camera)
+
+
+def _accelerometer(tag: Tag) -> Accelerometer:
+    return _view(tag, Accelerometer)
 
 
 # -- robot -------------------------------------------------------------------------------
@@ -103,15 +126,15 @@ def wb_robot_cleanup() -> None:
 
 
 def wb_accelerometer_enable(tag: Tag, ms: int) -> None:
-    Accelerometer(default_robot.get(), name_of(tag)).enable(ms)
+    _accelerometer(tag).enable(ms)
 
 
 def wb_accelerometer_disable(tag: Tag) -> None:
-    Accelerometer(default_robot.get(), name_of(tag)).disable()
+    _accelerometer(tag).disable()
 
 
 def wb_accelerometer_get_values(tag: Tag) -> list[float]:
-    return Accelerometer(default_robot.get(), name_of(tag)).getValues()
+    return _accelerometer(tag).getValues()
 
 
 # -- camera ------------------------------------------------------------------------------
@@ -153,8 +176,9 @@ def wb_camera_save_image(tag: Tag, filename: str, quality: int) -> int:
 
 
 def _rgb(image: bytes, width: int, x: int, y: int, channel: int) -> int:
-    if not 0 <= x < width or y < 0 or 3 * (y * width + x) + 2 >= len(image):
-        raise EgoError(f"pixel ({x}, {y}) is outside the image")
+    height = len(image) // (3 * width) if width > 0 else 0
+    if not (0 <= x < width and 0 <= y < height):
+        raise OutOfRangeError(f"pixel ({x}, {y}) is outside the {width}x{height} image")
     return image[3 * (y * width + x) + channel]
 
 
@@ -204,7 +228,7 @@ def wb_differential_wheels_get_right_encoder() -> float:
 
 
 def wb_differential_wheels_set_encoders(left: float, right: float) -> None:
-    default_robot.get().encoders.set(round(left), round(right))
+    default_robot.get().encoders.set(whole_steps(left), whole_steps(right))
 
 
 # -- distance and light sensors, LEDs ------------------------------------------------------
@@ -223,7 +247,7 @@ def wb_distance_sensor_get_value(tag: Tag) -> float:
 
 
 def wb_led_set(tag: Tag, value: int) -> None:
-    LED(default_robot.get(), name_of(tag)).set(value)
+    _view(tag, LED).set(value)
 
 
 def wb_light_sensor_enable(tag: Tag, ms: int) -> None:

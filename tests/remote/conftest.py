@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
 from fakes import FAST_LINK
-from remote_helpers import Served
+from remote_helpers import ConnectFactory, Served, ServeFactory
 
 from ego.remote.client import RemoteTransport
 from ego.remote.server import RemoteServer, ServerThread
@@ -20,8 +20,6 @@ from firmware_sim.camera import SimulatedSource
 #: Client links fail fast in tests: the server's link already retried the serial line.
 CLIENT_LINK = LinkSettings(retries=1, reconnect_timeout_s=2.0)
 
-ServeFactory = Callable[..., Served]
-ConnectFactory = Callable[..., Link]
 
 
 @pytest.fixture

@@ -11,6 +11,7 @@ import select
 import socket
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from types import TracebackType
 
@@ -251,3 +252,8 @@ def wait_for(predicate: object, timeout_s: float, interval_s: float = 0.005) -> 
             raise AssertionError(f"condition not met within {timeout_s} s")
         time.sleep(interval_s)
     return time.monotonic() - start
+
+
+#: The ``serve`` and ``connect`` fixtures' types (in conftest.py), importable by tests.
+ServeFactory = Callable[..., Served]
+ConnectFactory = Callable[..., Link]

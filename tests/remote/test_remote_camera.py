@@ -5,8 +5,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
-from conftest import ConnectFactory, ServeFactory
-from remote_helpers import FakeCamera, wait_for
+from remote_helpers import ConnectFactory, FakeCamera, ServeFactory, wait_for
 
 from ego.camera import Camera
 from ego.errors import CameraError, RemoteError

@@ -5,8 +5,7 @@ from __future__ import annotations
 import time
 
 import pytest
-from conftest import ConnectFactory, ServeFactory
-from remote_helpers import wait_for
+from remote_helpers import ConnectFactory, ServeFactory, wait_for
 
 from ego.errors import (
     LinkTimeoutError,

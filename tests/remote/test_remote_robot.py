@@ -7,8 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ServeFactory
-from remote_helpers import wait_for
+from remote_helpers import ServeFactory, wait_for
 
 import ego
 import ego.examples

@@ -11,8 +11,7 @@ import time
 import zlib
 
 import pytest
-from conftest import ConnectFactory, ServeFactory
-from remote_helpers import DatagramProxy, RawClient, wait_for
+from remote_helpers import ConnectFactory, DatagramProxy, RawClient, ServeFactory, wait_for
 
 from ego.errors import AuthenticationError, RobotBusyError, RobotResetError
 from ego.remote.client import RemoteTransport

@@ -8,8 +8,7 @@ from __future__ import annotations
 import time
 
 import pytest
-from conftest import ConnectFactory, ServeFactory
-from remote_helpers import DatagramProxy, FakeCamera
+from remote_helpers import ConnectFactory, DatagramProxy, FakeCamera, ServeFactory
 
 from ego.errors import LinkTimeoutError
 from ego.remote.client import RemoteTransport

@@ -17,7 +17,8 @@ file. ego's format is one ``key = value`` per line::
 - ``#`` starts a comment, anywhere on a line; blank lines are ignored.
 - Keys are lower case, each at most once; every key is optional (absent keys leave the
   camera as it is).
-- Integers are decimal; ``fov_rad`` is a decimal number.
+- Integers are decimal (ASCII digits, an optional sign); ``fov_rad`` is a decimal number
+  (``0.84``, ``8.4e-1``).
 - ``width``/``height`` are the image's size after rotation, so they are checked against
   the ranges of the file's ``rotation`` (or, when the file has none, the camera's).
 
@@ -32,6 +33,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Final
@@ -85,11 +87,16 @@ class CameraConfiguration:
 KEYS: Final = tuple(f.name for f in fields(CameraConfiguration))
 
 
+#: Plain ASCII decimals only: int() and float() also take "6_40", full-width digits,
+#: "nan" or "inf", which no camera file means.
+_INTEGER = re.compile(r"[+-]?[0-9]+")
+_DECIMAL = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
+
+
 def _parse_int(path: str, number: int, key: str, text: str) -> int:
-    try:
-        return int(text, 10)
-    except ValueError:
-        raise ConfigSyntaxError(path, number, f"{key} must be an integer, not {text!r}") from None
+    if not _INTEGER.fullmatch(text):
+        raise ConfigSyntaxError(path, number, f"{key} must be an integer, not {text!r}")
+    return int(text)
 
 
 def parse_configuration(
@@ -127,12 +134,9 @@ def parse_configuration(
                 )
             parsed = lowered in _TRUE
         elif key == "fov_rad":
-            try:
-                parsed = float(value)
-            except ValueError:
-                raise ConfigSyntaxError(
-                    path, number, f"fov_rad must be a number, not {value!r}"
-                ) from None
+            if not _DECIMAL.fullmatch(value):
+                raise ConfigSyntaxError(path, number, f"fov_rad must be a number, not {value!r}")
+            parsed = float(value)
             if not 0.0 < parsed < math.pi:
                 raise SettingOutOfRangeError(path, number, f"fov_rad {value} is outside (0, pi)")
         else:

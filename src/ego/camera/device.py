@@ -5,8 +5,9 @@ from __future__ import annotations
 import logging
 import math
 import os
+from enum import Enum
 from types import TracebackType
-from typing import Final
+from typing import Final, TypeVar
 
 import numpy as np
 import numpy.typing as npt
@@ -29,6 +30,7 @@ from ego.camera.source import (
     PixelFormat,
     check_control_name,
 )
+from ego.devices.base import MAX_PERIOD_MS
 from ego.errors import CameraError, OutOfRangeError
 
 __all__ = ["DEFAULT_FOV_RAD", "Camera"]
@@ -45,6 +47,18 @@ def _check_int(name: str, value: object) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise TypeError(f"{name} must be an integer, not {value!r}")
     return int(value)
+
+
+_E = TypeVar("_E", bound=Enum)
+
+
+def _choice(what: str, kind: type[_E], value: object) -> _E:
+    """``value`` as a member of ``kind``, else OutOfRangeError naming the choices."""
+    try:
+        return kind(value)
+    except ValueError:
+        choices = ", ".join(str(member.value) for member in kind)
+        raise OutOfRangeError(f"{what} {value!r} is not one of {choices}") from None
 
 
 class Camera:
@@ -86,8 +100,8 @@ class Camera:
             source = V4L2Source()
         self.name = name
         self._source: FrameSource = source
-        self._pixel_format = PixelFormat(pixel_format)
-        self.yuv_formula = YuvFormula(yuv_formula)
+        self._pixel_format = _choice("pixel format", PixelFormat, pixel_format)
+        self.yuv_formula = _choice("YUV formula", YuvFormula, yuv_formula)
         self._rotation = self._check_rotation(rotation)
         self._sensor = self._sensor_size(width, height, self._rotation)
         self._fov_rad = self._check_fov(fov_rad)
@@ -171,8 +185,11 @@ class Camera:
     def enable(self, period_ms: int) -> None:
         """Capture a frame every ``period_ms`` ms (> 0); opens the source on first use."""
         period_ms = _check_int("period_ms", period_ms)
-        if period_ms <= 0:
-            raise OutOfRangeError(f"sampling period {period_ms} ms must be positive")
+        if not 0 < period_ms <= MAX_PERIOD_MS:
+            # the same bound as every other sensor's: anything longer is a unit mistake
+            raise OutOfRangeError(
+                f"sampling period {period_ms} ms must be positive, at most {MAX_PERIOD_MS} ms"
+            )
         if self._granted is None:
             self._open_source()
         self._check_open()

@@ -36,7 +36,7 @@ try:
 except ImportError:  # pragma: no cover - opencv-python-headless is a dependency
     cv2 = None  # type: ignore[assignment]
 
-__all__ = ["IMAGE_EXTENSIONS", "encode_jpeg", "encode_png", "save_image"]
+__all__ = ["IMAGE_EXTENSIONS", "check_quality", "encode_jpeg", "encode_png", "save_image"]
 
 Image = npt.NDArray[np.uint8]
 
@@ -56,7 +56,8 @@ def _check_image(image: Image) -> Image:
     return image
 
 
-def _check_quality(quality: int) -> int:
+def check_quality(quality: int) -> int:
+    """``quality`` if it is a JPEG quality 1..100 (TypeError, OutOfRangeError else)."""
     if isinstance(quality, bool) or not isinstance(quality, (int, np.integer)):
         raise TypeError(f"JPEG quality must be an integer 1..100, not {quality!r}")
     if not 1 <= quality <= 100:
@@ -67,7 +68,7 @@ def _check_quality(quality: int) -> int:
 def encode_jpeg(image: Image, quality: int = 90) -> bytes:
     """JPEG bytes of an RGB888 ``(h, w, 3)`` uint8 image; ``quality`` 1 (smallest) .. 100."""
     image = _check_image(image)
-    quality = _check_quality(quality)
+    quality = check_quality(quality)
     if cv2 is not None:
         bgr = cv2.cvtColor(np.ascontiguousarray(image), cv2.COLOR_RGB2BGR)
         ok, data = cv2.imencode(".jpg", bgr, [cv2.IMWRITE_JPEG_QUALITY, quality])
@@ -112,6 +113,6 @@ def save_image(image: Image, filename: str | os.PathLike[str], quality: int = 90
         raise ImageFormatError(
             f"cannot tell the image format of {str(path)!r}: use .jpg, .jpeg or .png"
         )
-    quality = _check_quality(quality)
+    quality = check_quality(quality)
     data = encode_jpeg(image, quality) if kind == "jpeg" else encode_png(image)
     path.write_bytes(data)

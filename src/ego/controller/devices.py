@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import logging
 import math
 import numbers
 from typing import TYPE_CHECKING
 
 from ego.devices.base import Sensor
 from ego.devices.motors import MAX_SPEED_RAD_S, rad_s_to_steps
-from ego.errors import DeviceError, OutOfRangeError
+from ego.errors import EgoError, OutOfRangeError
 
 if TYPE_CHECKING:
     from ego.robot import Robot as CoreRobot
@@ -23,7 +24,11 @@ __all__ = [
     "Motor",
     "PositionSensor",
     "encoder_steps",
+    "view_class",
+    "whole_steps",
 ]
+
+log = logging.getLogger(__name__)
 
 _NAN = float("nan")
 
@@ -103,6 +108,14 @@ class Accelerometer(_SampledDevice):
         if not self._readable():
             return [_NAN, _NAN, _NAN]
         return list(self._core.accelerometer.acceleration_mps2)
+
+
+def whole_steps(value: float) -> int:
+    """A finite float rounded to whole steps (the C API passes doubles); anything else as
+    it is, so that the core refuses it with its own typed error (NaN, a string...)."""
+    if isinstance(value, float) and math.isfinite(value):
+        return round(value)
+    return value  # type: ignore[return-value]  # not an int: the core's check refuses it
 
 
 def encoder_steps(core: CoreRobot, side: int) -> float:
@@ -240,10 +253,14 @@ class Camera(_SampledDevice):
         return [[[int(c) for c in px] for px in column] for column in rgb.transpose(1, 0, 2)]
 
     def saveImage(self, filename: str, quality: int) -> int:
-        """PNG or JPEG by extension; 0 on success, -1 on failure (Webots' convention)."""
+        """PNG or JPEG by extension; 0 on success, -1 on failure (Webots' convention).
+
+        As Webots prints why, the reason of a failure is logged as a warning.
+        """
         try:
             self._core.camera.save_image(filename, quality)
-        except (DeviceError, OSError, ValueError):
+        except (EgoError, OSError, ValueError) as exc:
+            log.warning("saveImage(%r) failed: %s", filename, exc)
             return -1
         return 0
 
@@ -265,3 +282,22 @@ class Camera(_SampledDevice):
         return (image[i] + image[i + 1] + image[i + 2]) // 3
 
     imageGetGrey = imageGetGray
+
+
+def view_class(name: str) -> type[Device] | None:
+    """The Webots class of a device name; None for ego's names Webots has no device for (mics)."""
+    if name.startswith(("ps", "gs")):
+        return DistanceSensor
+    if name.startswith("ls"):
+        return LightSensor
+    if name.startswith("led"):
+        return LED
+    if name.endswith("wheel motor"):
+        return Motor
+    if name.endswith("wheel sensor"):
+        return PositionSensor
+    if name == "accelerometer":
+        return Accelerometer
+    if name == "camera":
+        return Camera
+    return None

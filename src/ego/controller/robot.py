@@ -16,6 +16,8 @@ from ego.controller.devices import (
     Motor,
     PositionSensor,
     encoder_steps,
+    view_class,
+    whole_steps,
 )
 from ego.errors import UnknownDeviceError
 from ego.ports import NETWORK_SCHEMES
@@ -26,25 +28,6 @@ __all__ = ["DifferentialWheels", "Robot"]
 log = logging.getLogger(__name__)
 
 _D = TypeVar("_D", bound=Device)
-
-
-def _device_class(name: str) -> type[Device] | None:
-    """The Webots class of a device name; None for ego's names Webots has no device for (mics)."""
-    if name.startswith(("ps", "gs")):
-        return DistanceSensor
-    if name.startswith("ls"):
-        return LightSensor
-    if name.startswith("led"):
-        return LED
-    if name.endswith("wheel motor"):
-        return Motor
-    if name.endswith("wheel sensor"):
-        return PositionSensor
-    if name == "accelerometer":
-        return Accelerometer
-    if name == "camera":
-        return Camera
-    return None
 
 
 class Robot:
@@ -90,7 +73,7 @@ class Robot:
         """The device called ``name`` (``ps0``, ``left wheel motor``, ``camera``...)."""
         device = self._devices.get(name)
         if device is None:
-            cls = _device_class(name) if name in self._core.device_names else None
+            cls = view_class(name) if name in self._core.device_names else None
             if cls is None:
                 raise UnknownDeviceError(
                     f"no device named {name!r}; valid names: {', '.join(self._device_names())}"
@@ -106,7 +89,7 @@ class Robot:
         return [
             name
             for name in self._core.device_names
-            if (found := _device_class(name)) is not None and issubclass(found, cls)
+            if (found := view_class(name)) is not None and issubclass(found, cls)
         ]
 
     def _typed(self, name: str, cls: type[_D]) -> _D:
@@ -198,4 +181,4 @@ class DifferentialWheels(Robot):
         return encoder_steps(self._core, side)
 
     def setEncoders(self, left: float, right: float) -> None:
-        self._core.encoders.set(round(left), round(right))
+        self._core.encoders.set(whole_steps(left), whole_steps(right))

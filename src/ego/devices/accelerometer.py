@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import enum
+import math
 from collections.abc import Iterable, Sequence
 from typing import ClassVar, NamedTuple
 
-from ego.devices.base import Sensor
-from ego.serial.protocol import Command, Profile
+from ego.devices.base import Sensor, out_of_range
+from ego.serial.protocol import Command, Profile, Request
 
 __all__ = ["ACC_COUNTS_PER_G", "ACC_ZERO_COUNTS", "Accelerometer", "AccelerometerMode", "Spherical"]
 
@@ -77,6 +78,16 @@ class Accelerometer(Sensor):
 
     def current_command(self) -> Command:
         return self._commands[self.mode]
+
+    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+        if request.command is Command.ACCELEROMETER_RAW:
+            return out_of_range("accelerometer", values, 0, 4095)
+        magnitude, orientation, inclination = values
+        if not math.isfinite(magnitude) or magnitude < 0:
+            return f"accelerometer magnitude {magnitude} is not a finite non-negative number"
+        return out_of_range("accelerometer orientation", [orientation], 0.0, 360.0) or (
+            out_of_range("accelerometer inclination", [inclination], 0.0, 180.0)
+        )
 
     def take(self, values: Sequence[float]) -> None:
         if self.mode is AccelerometerMode.RAW:

@@ -17,7 +17,15 @@ from typing import ClassVar
 from ego.errors import DeviceError, OutOfRangeError, UnknownDeviceError, UnsupportedDeviceError
 from ego.serial.protocol import Command, Profile, Request
 
-__all__ = ["MAX_PERIOD_MS", "Actuator", "ArraySensor", "Device", "Sensor", "check_int"]
+__all__ = [
+    "MAX_PERIOD_MS",
+    "Actuator",
+    "ArraySensor",
+    "Device",
+    "Sensor",
+    "check_int",
+    "out_of_range",
+]
 
 #: Longest sampling period accepted (a day); anything longer is surely a unit mistake.
 MAX_PERIOD_MS = 86_400_000
@@ -45,6 +53,12 @@ def check_int(
     if not low <= number <= high:
         raise OutOfRangeError(f"{what} {value}{unit} is outside {span}: refused, not clamped")
     return number
+
+
+def out_of_range(what: str, values: Sequence[float], low: float, high: float) -> str | None:
+    """A reason if any of ``values`` lies outside low..high, else None."""
+    bad = [v for v in values if not low <= v <= high]
+    return f"{what} value {bad[0]} outside {low}..{high}" if bad else None
 
 
 class Device:
@@ -90,6 +104,16 @@ class Device:
     def requests(self, now_ms: int) -> list[Request]:
         """The commands this family wants in the batch of the step starting at ``now_ms``."""
         return []
+
+    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+        """Why these reply values cannot be true, or None: the plausibility guard.
+
+        The link has no checksum, so a flipped bit inside a reply of the right length
+        reaches here unseen. Values outside their physical range, or a step counter that
+        moved further than the wheels can turn, are caught; a flip that stays in range is
+        not (``now_s`` is the host's monotonic clock).
+        """
+        return None
 
     def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
         """Take the reply values of one of this family's requests."""
@@ -176,9 +200,9 @@ class Sensor(Device, abc.ABC):
     def require_values(self) -> None:
         """Reading before the first sample is an error, never a silent zero."""
         if not self.has_values:
-            state = "is not enabled" if not self.enabled else "has not been sampled yet"
+            state = "not enabled" if not self.enabled else "not sampled yet"
             raise DeviceError(
-                f"the {self.family} {state}: enable it and call step() before reading it"
+                f"{self.family} {state}: enable them and call step() before reading"
             )
 
     def set_profile(self, profile: Profile) -> None:
@@ -214,9 +238,15 @@ class Actuator(Device):
 class ArraySensor(Sensor):
     """A sensor family whose reply is one integer per member, in member order."""
 
+    #: What the 12-bit ADC can give; a value outside it came from a corrupted byte.
+    value_range: ClassVar[tuple[int, int]] = (0, 4095)
+
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)
         self._values: tuple[int, ...] = ()
+
+    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+        return out_of_range(self.family, values, *self.value_range)
 
     def take(self, values: Sequence[float]) -> None:
         self._values = tuple(int(v) for v in values[: len(self.member_names)])

@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Sequence
 from typing import ClassVar
 
 from ego.devices.base import Sensor, check_int
-from ego.serial.protocol import STEPS_PER_TURN, Command, Profile, Request
+from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
 
 __all__ = ["Encoders", "wrap_int16"]
 
 _INT16 = 1 << 16
+#: Steps a counter may move beyond full speed x elapsed time (scheduling jitter).
+JUMP_SLACK_STEPS = 50
 
 
 def wrap_int16(value: int) -> int:
@@ -38,6 +41,7 @@ class Encoders(Sensor):
         self._total = [0, 0]
         self._last_raw: list[int] | None = None
         self._set: Request | None = None
+        self._fetched_s: float | None = None
 
     def set(self, left: int, right: int) -> None:
         """Overwrite both counters (steps); the firmware stores them as int16."""
@@ -54,9 +58,23 @@ class Encoders(Sensor):
         pending = [self._set] if self._set is not None else []
         return pending + super().requests(now_ms)
 
+    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+        """A counter that moved further than a wheel at full speed could is corrupted."""
+        if request.command is not Command.GET_STEPS:
+            return None
+        if self._last_raw is None or self._set is not None or self._fetched_s is None:
+            return None  # nothing to compare with, or P overwrote the counters just now
+        allowed = MAX_SPEED_STEPS * (now_s - self._fetched_s) * 1.5 + JUMP_SLACK_STEPS
+        for side, raw, last in zip(("left", "right"), values, self._last_raw, strict=True):
+            moved = abs(wrap_int16(int(raw) - last))
+            if moved > allowed:
+                return f"{side} step counter jumped {moved} steps, more than {allowed:.0f} possible"
+        return None
+
     def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
         if request.command is Command.GET_STEPS:
             super().decode(request, values, now_ms)
+            self._fetched_s = time.monotonic()
 
     def committed(self, now_ms: int) -> None:
         self._set = None

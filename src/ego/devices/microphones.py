@@ -8,7 +8,7 @@ from typing import ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from ego.devices.base import MAX_PERIOD_MS, ArraySensor, check_int
+from ego.devices.base import MAX_PERIOD_MS, ArraySensor, check_int, out_of_range
 from ego.errors import DeviceError
 from ego.serial.protocol import Command, Profile, Request
 
@@ -57,13 +57,16 @@ class Microphones(ArraySensor):
             reqs.append(Request(Command.MIC_BUFFER))
         return reqs
 
+    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+        if request.command is Command.MIC_BUFFER:
+            return out_of_range("microphone buffer index", values[300:], 0, MIC_SAMPLES - 1)
+        return super().check(request, values, now_s)
+
     def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
         if request.command is Command.MIC_BUFFER:
             self._buffer_fetch_ms = now_ms
             samples = np.asarray(values[:300], dtype=np.int16).reshape(3, MIC_SAMPLES)
             newest = int(values[300])
-            if not 0 <= newest < MIC_SAMPLES:
-                raise DeviceError(f"microphone buffer index {newest} is outside 0..99")
             # A circular buffer written at rising indices, the newest sample at ``newest``:
             # oldest first means starting at the slot after it.
             self._buffer = np.roll(samples, -(newest + 1), axis=1)

@@ -69,6 +69,20 @@ class Motors(Sensor):
         pending = [self._pending] if self._pending is not None else []
         return pending + super().requests(now_ms)
 
+    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+        """E echoes the speeds the dsPIC holds: they must be the ones ego asked for.
+
+        A mismatch is a corrupted reply, or a D the dsPIC misread or never got: either
+        way, send the speeds again.
+        """
+        if request.command is not Command.GET_SPEED:
+            return None
+        held = (int(values[0]), int(values[1]))
+        if held == self._speed:
+            return None
+        self._pending = Request(Command.SET_SPEED, self._speed)
+        return f"the dsPIC holds speeds {held}, ego asked for {self._speed}"
+
     def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
         if request.command is Command.GET_SPEED:
             super().decode(request, values, now_ms)

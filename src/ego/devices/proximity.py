@@ -21,6 +21,8 @@ class ProximitySensors(ArraySensor):
     family = "proximity sensors"
     names: ClassVar[tuple[str, ...]] = tuple(f"ps{i}" for i in range(10))
     command = Command.PROXIMITY
+    #: Calibrated IR can dip below 0 (protocol.md: parse signed); far below is corruption.
+    value_range: ClassVar[tuple[int, int]] = (-1024, 4095)
     #: protocol.md: the stock Overo firmware adds the long-range IR8 (left) and IR9 (right).
     counts: ClassVar[dict[Firmware, int]] = {Firmware.THESIS: 8, Firmware.GCTRONIC_OVERO: 10}
 

@@ -138,6 +138,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         secret = load_secret(args.secret_file) if args.secret_file else None
         check_listen(listen, secret)  # before the robot is touched
+        if args.deadline_ms <= 0:
+            raise ValueError(f"--deadline-ms {args.deadline_ms} must be positive")
     except (OSError, ValueError) as exc:
         print(f"ego serve: {exc}", file=sys.stderr)
         return 2

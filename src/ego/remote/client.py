@@ -40,6 +40,7 @@ from ego.errors import (
     CameraError,
     EgoError,
     FrameError,
+    ImageFormatError,
     LinkLostError,
     LinkTimeoutError,
     OutOfRangeError,
@@ -128,6 +129,8 @@ class RemoteTransport(Transport):
     """
 
     baudrate = None
+    #: The server's own link resynchronises the serial line: ours is never relayed.
+    relays_resync = False
 
     def __init__(
         self,
@@ -589,10 +592,14 @@ class RemoteFrameSource:
         """The next frame as a JPEG (``quality`` 1..100) or PNG file's bytes, converted
         and rotated (degrees counter-clockwise; 180 undoes the camera's mounting) on the
         robot."""
+        from ego.camera.convert import ROTATIONS
+        from ego.camera.encode import check_quality
+
         if kind not in ("jpeg", "png"):
-            raise ValueError(f"image kind {kind!r} is not jpeg or png")
-        if not 1 <= quality <= 100:
-            raise OutOfRangeError(f"JPEG quality {quality} is outside 1..100")
+            raise ImageFormatError(f"image kind {kind!r} is not jpeg or png")
+        quality = check_quality(quality)
+        if isinstance(rotation, bool) or rotation not in ROTATIONS:
+            raise OutOfRangeError(f"rotation {rotation!r} is not one of 0, 90, 180, 270 degrees")
         request = {"kind": kind, "quality": quality, "rotation": rotation}
         return self._request(MessageType.CAMERA_FRAME, pack_json(request))
 

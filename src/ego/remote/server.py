@@ -528,6 +528,8 @@ class RemoteServer:
         if verdict is not Verdict.NEW:
             if verdict is Verdict.REPEAT:
                 peer.send(session.guard.cached)
+            elif verdict is Verdict.WORKING:  # a retransmission while a wrong proof is held
+                peer.send(encode_frame(MessageType.WORKING, frame.seq, b"", session.id))
             return
         session.guard.begin(frame.seq)
         try:
@@ -541,10 +543,13 @@ class RemoteServer:
                 self.secret, session.server_nonce, session.client_nonce, session.id
             )
             if not check_proof(expected, proof):
-                self._pending.pop(peer.key, None)
                 self.stats.refused += 1
                 log.warning("%s: refused, wrong shared secret", peer.label)
                 await asyncio.sleep(self.auth_failure_delay_s)  # slows down guessing
+                # Forgotten only now: a UDP retransmission meanwhile is told WORKING, not
+                # "no handshake in progress", so the client learns the real reason.
+                if self._pending.get(peer.key) is session:
+                    del self._pending[peer.key]
                 self._send_error(
                     peer,
                     frame,

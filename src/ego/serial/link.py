@@ -54,6 +54,8 @@ RESYNC_ZEROS = b"\x00" * 8
 #: instead skips it and takes the next byte as a line's first, so a harmless ``V`` line
 #: follows. Either way the dsPIC ends up idle, and the drain discards what it answered.
 RESYNC = RESYNC_ZEROS + b"\nV\n"
+#: How the answer to that ``V`` starts (protocol.md: ``v,Version ...``).
+VERSION_REPLY = b"v,Version"
 
 
 @dataclass(frozen=True, slots=True)
@@ -74,6 +76,9 @@ class LinkSettings:
     resync_quiet_s: float = 0.1
     #: ... but never longer than this.
     resync_max_s: float = 1.0
+    #: How long a resynchronisation waits for the answer to its own ``V`` (which proves
+    #: that every late byte before it is in) before it settles for a quiet line.
+    resync_marker_s: float = 0.25
     #: How long a lost port may take to come back before the link is lost for good.
     reconnect_timeout_s: float = 3.0
     #: How long to wait for each line of an ASCII reply (V, C, S...).
@@ -111,7 +116,7 @@ class Link:
         self.transport = transport
         self.settings = settings or LinkSettings()
         self.stats = LinkStats()
-        self._forced = Firmware(firmware) if firmware not in (None, "auto") else None
+        self._forced = Firmware.choose(firmware)
         #: The last bytes seen, for a banner split across two reads.
         self._tail = b""
         self._closed = False
@@ -239,14 +244,34 @@ class Link:
             )
             self._check_banner(stale + self._drain())
 
-    def _drain(self) -> bytes:
-        return self.transport.drain(self.settings.resync_quiet_s, self.settings.resync_max_s)
+    def _drain(self, until: bytes = b"") -> bytes:
+        """Read until ``until`` has arrived (if given), then until the line is quiet."""
+        start = time.monotonic()
+        deadline = start + self.settings.resync_max_s
+        marker_deadline = start + min(self.settings.resync_marker_s, self.settings.resync_max_s)
+        drained = bytearray()
+        while until and until not in drained:
+            remaining = marker_deadline - time.monotonic()
+            byte = self.transport.read(1, remaining) if remaining > 0 else b""
+            if not byte:
+                break
+            drained += byte + self.transport.pending()
+        remaining = max(0.0, deadline - time.monotonic())
+        return bytes(drained) + self.transport.drain(self.settings.resync_quiet_s, remaining)
 
     def _resync(self) -> None:
-        """End whatever the dsPIC was parsing (a batch, an ASCII line); drain until quiet."""
+        """End whatever the dsPIC was parsing (a batch, an ASCII line); drain what it sent.
+
+        The dsPIC answers in order, so once the answer to the resync's own ``V`` is in,
+        every late byte of an earlier reply is too: a reply delayed past its timeout can
+        never be taken for the answer to the retry. A firmware that ignores ``V`` is
+        drained until the line is quiet instead.
+        """
         self.stats.resyncs += 1
         self.transport.write(RESYNC)
-        self._check_banner(self._drain())
+        answers = self.info.version and self.transport.relays_resync
+        marker = VERSION_REPLY if answers else b""
+        self._check_banner(self._drain(until=marker))
 
     def _check_banner(self, data: bytes) -> None:
         # The banner can straddle two reads: a short reply holds its first bytes, the

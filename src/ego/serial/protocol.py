@@ -22,7 +22,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
-from ego.errors import ExtraBytesError, ShortReplyError, UnsupportedDeviceError
+from ego.errors import ExtraBytesError, OutOfRangeError, ShortReplyError, UnsupportedDeviceError
 
 __all__ = [
     "BANNER_MARKER",
@@ -97,6 +97,17 @@ class Firmware(str, enum.Enum):
 
     def __str__(self) -> str:
         return self.value
+
+    @classmethod
+    def choose(cls, name: Firmware | str | None) -> Firmware | None:
+        """The firmware a user named; None for "auto" (probe it). Refuses unknown names."""
+        if name is None or name == "auto":
+            return None
+        try:
+            return cls(name)
+        except ValueError:
+            choices = ", ".join(["auto", *(f.value for f in cls)])
+            raise OutOfRangeError(f"firmware {name!r} is not one of {choices}") from None
 
 
 _NONE = struct.Struct("")

@@ -35,6 +35,9 @@ class Transport(abc.ABC):
     #: Extra time a reply may take beyond the line's wire time (a network hop, a
     #: server's own retries); the link adds it to every reply timeout.
     latency_s: float = 0.0
+    #: Whether the link's resynchronisation bytes reach the dsPIC (and its ``V`` answer
+    #: comes back); a relay that resynchronises the line itself says False.
+    relays_resync: bool = True
 
     @abc.abstractmethod
     def write(self, data: bytes) -> None:
