@@ -18,9 +18,11 @@ import random
 import struct
 import time
 from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from pathlib import Path
 
 import ego
-from benchmarks.common import Table, progress
+from benchmarks.common import RESULTS, Table, progress
 from ego.devices.encoders import wrap_int16
 from ego.errors import EgoError
 from ego.serial import Batch, Command, LinkSettings, Request, SerialTransport, encode_batch
@@ -221,3 +223,73 @@ def run(quick: bool = False) -> list[Table]:
         "(every retry timing out, three restarts)."
     )
     return [table]
+
+
+def write_markdown(tables: list[Table], path: Path, machine: str, quick: bool) -> None:
+    """benchmarks/results/reliability.md: the soak's figures and what they mean."""
+    lines = [
+        "# Reliability: soak under faults",
+        "",
+        f"- date: {datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC; machine: {machine}",
+        f"- mode: {'quick' if quick else 'full'}; link settings: resync quiet "
+        f"{SOAK_LINK.resync_quiet_s * 1e3:.0f} ms, otherwise the defaults; fault lengths: delay "
+        f"{SOAK_FAULTS.delay_s * 1e3:.0f} ms, stall {SOAK_FAULTS.stall_s * 1e3:.0f} ms, "
+        f"unplugged {SOAK_FAULTS.replug_s * 1e3:.0f} ms",
+        "- each step asks every sensor (a E M N O Q u, 58 reply bytes) and, every 50 steps, "
+        "new speeds and an LED toggle; the delivered values are compared with the clean reply "
+        "the emulator recorded for the batch it answered",
+        "",
+    ]
+    for table in tables:
+        lines.append(table.markdown())
+    lines += [
+        "## What the columns mean",
+        "",
+        "- **injected**: faults the emulator applied. **steps recovered**: steps that met a "
+        "fault (a retry, a restart, or an implausible reply asked again) and still delivered. "
+        "**typed errors**: steps that raised an `ego.errors` error after the bounded retries "
+        "(a stall longer than the retries cover surfaces as `LinkTimeoutError`).",
+        "- **wrong values**: values delivered that differ from the emulator's ground truth "
+        "for any reason other than a garble: the target is zero.",
+        "- **garbles delivered**: a flipped bit inside a reply of the right length. The "
+        "protocol has no checksum, so nothing can see such a flip; ego's plausibility guard "
+        "catches the flips that take a value out of its range (the top 4 bits of a 12-bit "
+        "sensor value, any flip in `E`, which must echo the commanded speeds, and step "
+        "counters that jump further than the wheels can turn), and asks again. What stays in "
+        "range is delivered: this is the protocol's limit, measured here, not hidden.",
+        "- **longest step** is bounded by the link's settings: every retry timing out and "
+        "three restarts (the `bound` column).",
+        "",
+        "## Recovery",
+        "",
+        "After a dsPIC reset (its banner mid-stream) or an unplugged and re-plugged port, the "
+        "link resynchronises, re-detects the firmware with `V`, and raises `RobotResetError` "
+        "inside `Robot.step`, which re-applies the motors' speeds, the LEDs that were on and "
+        "the step counters (`P` with the last totals) and asks again; each event is logged "
+        "at WARNING.",
+    ]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(lines) + "\n")
+
+
+def main(argv: list[str] | None = None) -> int:
+    import argparse
+
+    from benchmarks.__main__ import machine_description
+
+    parser = argparse.ArgumentParser(prog="python -m benchmarks.reliability")
+    parser.add_argument("--quick", action="store_true", help="300 steps per run, fewer runs")
+    args = parser.parse_args(argv)
+    tables = run(quick=args.quick)
+    for table in tables:
+        table.print()
+    folder = RESULTS / "quick" if args.quick else RESULTS
+    for table in tables:
+        table.write_csv(folder)
+    write_markdown(tables, folder / "reliability.md", machine_description(), args.quick)
+    print(f"\nreport: {folder / 'reliability.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
