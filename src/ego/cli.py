@@ -63,7 +63,9 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     root = Path(__file__).resolve().parents[2]
     if not (root / "benchmarks" / "__main__.py").is_file():
         raise EgoError("ego bench runs from a source checkout (benchmarks/ beside src/)")
-    cmd = [sys.executable, "-m", "benchmarks", *args.bench_args]
+    cmd = [sys.executable, "-m", "benchmarks", *(["--quick"] if args.quick else [])]
+    cmd += [arg for section in args.only for arg in ("--only", section)]
+    cmd += ["--out", args.out] if args.out else []
     return subprocess.call(cmd, cwd=root)
 
 
@@ -122,10 +124,16 @@ def build_parser() -> argparse.ArgumentParser:
 
     bench = sub.add_parser("bench", help="reproduce the thesis' tables (benchmarks/)")
     bench.add_argument(
-        "bench_args",
-        nargs=argparse.REMAINDER,
-        help="arguments for python -m benchmarks (--quick, ...)",
+        "--quick", action="store_true", help="few repetitions, small sizes: a smoke test"
     )
+    bench.add_argument(
+        "--only",
+        action="append",
+        default=[],
+        metavar="SECTION",
+        help="run only this section (repeatable; see python -m benchmarks -h)",
+    )
+    bench.add_argument("--out", default=None, help="results folder")
     bench.set_defaults(func=_cmd_bench)
     return parser
 
