@@ -58,7 +58,7 @@ class _Progress:
         )
         left, right = robot.motors.speed
         world = robot.emulator.world if robot.emulator is not None else None
-        clearance = f"  wall {world.closest_approach_m * 1000:5.1f} mm" if world else ""
+        clearance = f"  closest {world.closest_approach_m * 1000:5.1f} mm" if world else ""
         line = (
             f"t={robot.time_s:5.1f} s  ps0-7 [{ring}]  speed L {left:+5d} R {right:+5d} steps/s"
             f"  steps {robot.steps:5d}  overruns {robot.overruns}{clearance}"
