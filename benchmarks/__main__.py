@@ -69,11 +69,17 @@ def main(argv: list[str] | None = None) -> int:
         try:
             module = importlib.import_module(f"benchmarks.{name}")
             tables = module.run(quick=args.quick)
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as exc:
             print(
                 f"\ninterrupted during {name}: keeping the sections that finished", file=sys.stderr
             )
             interrupted = True
+            partial: list[Table] = getattr(exc, "tables", [])  # common.Interrupted
+            for table in partial:
+                table.print()
+                table.write_csv(out)
+            if partial:
+                done.append((name, partial, time.perf_counter() - t0))
             break
         for table in tables:
             table.print()

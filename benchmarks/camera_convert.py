@@ -213,22 +213,35 @@ _NOTES = {
 }
 
 
-def measure_yuyv(width: int, height: int, repeats: int, *, threads: int = 1) -> dict[str, Stats]:
-    """YUYV with each thesis formula against RGB565, ms per frame (Table 5.1's comparison)."""
+def measure_yuyv(
+    width: int,
+    height: int,
+    repeats: int,
+    *,
+    threads: int = 1,
+    rotation: int = 180,
+    inner: int = 3,
+) -> dict[str, Stats]:
+    """YUYV with each thesis formula against RGB565, ms per frame (Table 5.1's comparison).
+
+    ``rotation`` applies to all four (0: conversion alone, as the thesis' Table 5.1);
+    each sample is the mean of ``inner`` calls in a row.
+    """
     raw = np.random.default_rng(2).integers(0, 256, 2 * width * height).astype(np.uint8).tobytes()
-    out = np.empty((height, width, 3), dtype=np.uint8)
+    shape = (width, height, 3) if rotation in (90, 270) else (height, width, 3)
+    out = np.empty(shape, dtype=np.uint8)
     contenders: dict[str, Callable[[], object]] = {
-        "RGB565": lambda: rgb565_to_rgb888(raw, width, height, out=out)
+        "RGB565": lambda: rgb565_to_rgb888(raw, width, height, rotation, out=out)
     }
     for formula in YuvFormula:
         contenders[f"YUYV {formula.value}"] = functools.partial(
-            yuyv_to_rgb888, raw, width, height, formula=formula, out=out
+            yuyv_to_rgb888, raw, width, height, rotation, formula=formula, out=out
         )
     previous = cv2.getNumThreads()
     if threads:
         cv2.setNumThreads(threads)
     try:
-        stats = interleaved(contenders, repeats, inner=3)
+        stats = interleaved(contenders, repeats, inner=inner)
     finally:
         cv2.setNumThreads(previous)
     return {name: s.scaled(1e3) for name, s in stats.items()}

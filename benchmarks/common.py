@@ -19,6 +19,7 @@ __all__ = [
     "REPO",
     "RESULTS",
     "THESIS",
+    "Interrupted",
     "Stats",
     "Table",
     "fmt",
@@ -77,6 +78,14 @@ def interleaved(
                 fn()
             samples[name].append((time.perf_counter() - t0) / inner)
     return {name: Stats.of(values) for name, values in samples.items()}
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C inside a section, carrying the tables built from the part that finished."""
+
+    def __init__(self, tables: list[Table]) -> None:
+        super().__init__()
+        self.tables = tables
 
 
 def ratio(a: float, b: float) -> float:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from datetime import datetime
 from pathlib import Path
+from typing import Any
 
 from benchmarks.common import Table
 
@@ -38,17 +39,35 @@ def write_report(
         for table in tables:
             lines.append(table.markdown())
             lines.append(f"CSV: [{table.key}.csv]({table.key}.csv)\n")
-            plot = _plot(folder, table)
-            if plot is not None:
-                lines.append(f"![{table.title}]({plot.name})\n")
+            for plot, title in _plots(folder, table):
+                lines.append(f"![{title}]({plot.name})\n")
     path = folder / "report.md"
     path.write_text("\n".join(lines))
     return path
 
 
-def _plot(folder: Path, table: Table) -> Path | None:
-    """A PNG for tables that carry x/y series (pixels on x, ms or kB on y)."""
-    curves = table.series.get("curves")
+def _plots(folder: Path, table: Table) -> list[tuple[Path, str]]:
+    """The table's PNGs: one for ``series`` itself, or one per spec in ``series["plots"]``."""
+    specs = table.series.get("plots") or [table.series]
+    paths = []
+    for spec in specs:
+        key = table.key if len(specs) == 1 else f"{table.key}_{spec['name']}"
+        title = spec.get("title", table.title)
+        path = _plot(folder / f"{key}.png", spec, title)
+        if path is not None:
+            paths.append((path, title))
+    return paths
+
+
+def _plot(path: Path, spec: dict[str, Any], title: str) -> Path | None:
+    """A PNG for x/y series (pixels on x, ms or kB on y).
+
+    ``spec["curves"]``: {label: (xs, ys, style)}, style a matplotlib format string or a
+    dict of ``plot`` keywords; optional ``xlabel``, ``ylabel``, ``logy``, ``ymin``, and ``right``
+    (curves of the same form on a second y axis, labelled ``ylabel_right``), both axes
+    from zero so that proportional curves overlay: the thesis' milliseconds beside ours.
+    """
+    curves = spec.get("curves")
     if not curves:
         return None
     try:
@@ -58,18 +77,30 @@ def _plot(folder: Path, table: Table) -> Path | None:
         import matplotlib.pyplot as plt
     except ImportError:
         return None
-    fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
-    for label, (xs, ys, style) in curves.items():
-        ax.plot(xs, ys, style, label=label, markersize=4)
-    ax.set_xlabel(table.series.get("xlabel", "pixels"))
-    ax.set_ylabel(table.series.get("ylabel", "ms"))
-    if table.series.get("logy"):
-        ax.set_yscale("log")
-    ax.set_title(table.title, fontsize=9)
+    fig, ax = plt.subplots(figsize=(7.5, 4.5), dpi=110)
+    axes = [(ax, curves)]
+    right = spec.get("right")
+    if right:
+        axes.append((ax.twinx(), right))
+    for axis, group in axes:
+        for label, (xs, ys, style) in group.items():
+            if isinstance(style, dict):
+                axis.plot(xs, ys, label=label, **{"markersize": 4, **style})
+            else:
+                axis.plot(xs, ys, style, label=label, markersize=4)
+        if spec.get("logy"):
+            axis.set_yscale("log")
+        elif right or "ymin" in spec:
+            axis.set_ylim(bottom=spec.get("ymin", 0))
+    ax.set_xlabel(spec.get("xlabel", "pixels"))
+    ax.set_ylabel(spec.get("ylabel", "ms"))
+    if right:
+        axes[1][0].set_ylabel(spec.get("ylabel_right", "thesis ms"))
+    ax.set_title(title, fontsize=9)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
+    handles = [h for axis, _ in axes for h in axis.get_legend_handles_labels()[0]]
+    ax.legend(handles=handles, fontsize=7)
     fig.tight_layout()
-    path = folder / f"{table.key}.png"
     fig.savefig(path)
     plt.close(fig)
     return path
