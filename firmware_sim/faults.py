@@ -63,9 +63,11 @@ def parse_fault(text: str) -> FaultSpec:
             raise ValueError(f"bad fault {text!r}: {exc}") from exc
     if "@" in text:
         kind, _, batches = text.partition("@")
+        numbers = batches.split(",")
+        if not all(n.strip().isdigit() and n.strip().isascii() for n in numbers):
+            raise ValueError(f"bad fault {text!r}: batch numbers are whole numbers, like reset@500")
         try:
-            at = frozenset(int(b) for b in batches.split(","))
-            return FaultSpec(kind.strip(), at_batches=at)
+            return FaultSpec(kind.strip(), at_batches=frozenset(int(n) for n in numbers))
         except ValueError as exc:
             raise ValueError(f"bad fault {text!r}: {exc}") from exc
     raise ValueError(f"bad fault {text!r}: write KIND=RATE or KIND@BATCH[,BATCH...]")

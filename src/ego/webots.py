@@ -8,6 +8,7 @@ bytes (3 a pixel) and the ``wb_camera_image_get_*`` helpers read that layout.
 
 from __future__ import annotations
 
+import logging
 from typing import TypeVar
 
 from ego import default_robot
@@ -66,6 +67,8 @@ __all__ = [
     "wbr_stop_actuators",
 ]
 
+log = logging.getLogger(__name__)
+
 Tag = int | str
 _V = TypeVar("_V", bound=Device)
 
@@ -77,8 +80,10 @@ def _view(tag: Tag, cls: type[_V]) -> _V:
     name = name_of(tag)
     if view_class(name) is not cls:
         valid = [n for n in robot.device_names if view_class(n) is cls]
+        kind = cls.__name__
+        article = "an" if kind[0] in "AEIOU" else "a"
         raise UnknownDeviceError(
-            f"device {name!r} is not a {cls.__name__}; valid names: {', '.join(valid)}"
+            f"device {name!r} is not {article} {kind}; valid names: {', '.join(valid)}"
         )
     return cls(robot, name)
 
@@ -272,7 +277,8 @@ def wbr_init(args: str | None = None) -> int:
     global _failed
     try:
         default_robot.open_robot(args)
-    except EgoError:
+    except EgoError as exc:
+        log.warning("wbr_init(%r) failed: %s", args, exc)  # the caller only sees 0
         _failed = True
         return 0
     _failed = False

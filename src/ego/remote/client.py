@@ -229,9 +229,11 @@ class RemoteTransport(Transport):
                 timeout_s=self.connect_timeout_s,
             )
         except LinkTimeoutError as exc:
-            raise PortNotFoundError(f"no ego server answers at {self.name}: {exc}") from exc
+            why = str(exc).removeprefix(f"{self.name}: ")
+            raise PortNotFoundError(f"no ego server answers at {self.name}: {why}") from exc
         except LinkLostError as exc:
-            raise PortNotFoundError(f"no ego server at {self.name}: {exc}") from exc
+            why = str(exc).removeprefix(f"{self.name}: ")
+            raise PortNotFoundError(f"no ego server at {self.name}: {why}") from exc
         try:
             challenge = unpack_json(hello)
             server_nonce = bytes.fromhex(str(challenge["nonce"]))

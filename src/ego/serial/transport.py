@@ -11,18 +11,32 @@ from __future__ import annotations
 import abc
 import contextlib
 import logging
+import numbers
 import time
 from collections.abc import Iterator
 from types import TracebackType
 
 import serial
 
-from ego.errors import LinkLostError, LinkTimeoutError, PortNotFoundError
+from ego.errors import LinkLostError, LinkTimeoutError, OutOfRangeError, PortNotFoundError
 from ego.serial.protocol import DEFAULT_BAUD
 
-__all__ = ["SerialTransport", "Transport"]
+__all__ = ["SerialTransport", "Transport", "check_baudrate"]
 
 log = logging.getLogger(__name__)
+
+
+def check_baudrate(baudrate: object) -> int:
+    """``baudrate`` as a positive int, else TypeError or OutOfRangeError.
+
+    pyserial would open a port at 0 baud (which hangs a POSIX line up) and report a
+    negative rate as a port it cannot open.
+    """
+    if isinstance(baudrate, bool) or not isinstance(baudrate, numbers.Integral):
+        raise TypeError(f"baud rate must be an int, not {type(baudrate).__name__}")
+    if baudrate <= 0:
+        raise OutOfRangeError(f"baud rate {baudrate} must be positive (the Overo's is 230400)")
+    return int(baudrate)
 
 
 class Transport(abc.ABC):
@@ -119,8 +133,8 @@ class SerialTransport(Transport):
     """Any pyserial port or URL, 8N1 without flow control (protocol.md: Line)."""
 
     def __init__(self, url: str, baudrate: int = DEFAULT_BAUD) -> None:
+        self.baudrate: int = check_baudrate(baudrate)
         self.name = url
-        self.baudrate: int = baudrate
         self._port: serial.SerialBase | None = None
         self._timeout: float | None = None
         self._open()
