@@ -35,7 +35,7 @@ from ego.ports import NETWORK_SCHEMES, open_transport, resolve_port
 from ego.scheduler import StepClock
 from ego.serial.link import Link, LinkSettings
 from ego.serial.protocol import DEFAULT_BAUD, Command, Firmware, Request, encode_batch
-from ego.serial.transport import SerialTransport, Transport
+from ego.serial.transport import SerialTransport, Transport, check_baudrate
 
 if TYPE_CHECKING:
     from ego.camera import Camera
@@ -83,6 +83,7 @@ class Robot:
         handle_signals: bool = True,
     ) -> None:
         self._closed = True  # until the link is up, close() has nothing to stop
+        baudrate = check_baudrate(baudrate)
         self._emulator: Any = None
         if transport is None:
             self.port = resolve_port(port)

@@ -17,6 +17,7 @@ from ego.errors import (
     ExtraBytesError,
     LinkLostError,
     LinkTimeoutError,
+    NotAnEpuckError,
     PortNotFoundError,
     ProtocolError,
     RobotResetError,
@@ -278,11 +279,16 @@ def test_gctronic_answer_to_v_asks_the_selector(selector: int, firmware: Firmwar
     assert link.info.selector == selector
 
 
-def test_silent_firmware_gets_the_thesis_profile() -> None:
-    link, fake = make_link([], firmware=None)
+def test_firmware_silent_to_v_but_answering_e_gets_the_thesis_profile() -> None:
+    link, fake = make_link([b"", b"\x00\x00\x00\x00"], firmware=None)
     assert link.info.firmware is Firmware.THESIS
     assert link.info.version == ""
-    assert fake.writes == [b"V\n"]
+    assert fake.writes == [b"V\n", b"\xbb\x00"]
+
+
+def test_port_silent_to_v_and_to_e_is_reported_as_nothing_there() -> None:
+    with pytest.raises(LinkTimeoutError, match="nothing answers on scripted"):
+        make_link([], firmware=None)
 
 
 def test_gctronic_that_does_not_answer_c_gets_the_thesis_profile() -> None:
@@ -291,8 +297,8 @@ def test_gctronic_that_does_not_answer_c_gets_the_thesis_profile() -> None:
     assert link.info.selector is None
 
 
-def test_answer_to_another_command_is_a_protocol_error() -> None:
-    with pytest.raises(ProtocolError, match="does not start with 'v'"):
+def test_answer_to_another_command_means_not_an_epuck() -> None:
+    with pytest.raises(NotAnEpuckError, match=r"not as an e-puck's dsPIC.*does not start with 'v'"):
         make_link([b"z,Command not found\r\n"], firmware=None)
 
 

@@ -24,6 +24,7 @@ from ego.errors import (
     ExtraBytesError,
     LinkLostError,
     LinkTimeoutError,
+    NotAnEpuckError,
     PortNotFoundError,
     ProtocolError,
     RobotResetError,
@@ -35,8 +36,11 @@ from ego.serial.protocol import (
     DEFAULT_BAUD,
     PROFILES,
     Batch,
+    Command,
     Firmware,
     Profile,
+    Request,
+    encode_batch,
     wire_time_s,
 )
 from ego.serial.transport import Transport
@@ -120,7 +124,7 @@ class Link:
         #: The last bytes seen, for a banner split across two reads.
         self._tail = b""
         self._closed = False
-        self.info: FirmwareInfo = self._identify()
+        self.info: FirmwareInfo = self._identify(first=True)
 
     @property
     def profile(self) -> Profile:
@@ -129,17 +133,31 @@ class Link:
 
     # -- firmware --------------------------------------------------------------------
 
-    def _identify(self) -> FirmwareInfo:
-        """Drain the welcome banner, then ask ``V`` (and ``C``) unless told the firmware."""
+    def _identify(self, first: bool = False) -> FirmwareInfo:
+        """Drain the welcome banner, then ask ``V`` (and ``C``) unless told the firmware.
+
+        At open (``first``), something that answers but not as a dsPIC is the wrong port
+        (NotAnEpuckError), and a silent ``V`` is checked with a binary ``E``, which every
+        firmware answers: silence to both means nothing is there.
+        """
         self.transport.drain(self.settings.resync_quiet_s, self.settings.resync_max_s)
         self._tail = b""
         if self._forced is not None:
             return FirmwareInfo(PROFILES[self._forced], detected=False)
-        version = self.ascii_command("V", lines=2)
-        selector = None
-        if version and is_gctronic(line_payload(version[0], "V")):
-            answer = self.ascii_command("C", lines=1)
-            selector = parse_selector(answer[0]) if answer else None
+        try:
+            version = self.ascii_command("V", lines=2)
+            selector = None
+            if version and is_gctronic(line_payload(version[0], "V")):
+                answer = self.ascii_command("C", lines=1)
+                selector = parse_selector(answer[0]) if answer else None
+        except ProtocolError as exc:
+            if not first:
+                raise
+            raise NotAnEpuckError(
+                f"{self.transport.name} answers, but not as an e-puck's dsPIC: {exc}"
+            ) from exc
+        if first and not version:
+            self._probe_silence()
         info = identify(version, selector)
         log.info(
             "%s: firmware %s (%s%s)",
@@ -149,6 +167,17 @@ class Link:
             f", selector {selector}" if selector is not None else "",
         )
         return info
+
+    def _probe_silence(self) -> None:
+        probe = encode_batch([Request(Command.GET_SPEED)], PROFILES[Firmware.THESIS])
+        self.transport.write(probe.tx)
+        try:
+            self.transport.read_exactly(probe.reply_size, self.timeout_for(probe))
+        except LinkTimeoutError as exc:
+            raise LinkTimeoutError(
+                f"nothing answers on {self.transport.name} (no reply to V, nor to a binary "
+                "E): is the robot switched on, and is this its port?"
+            ) from exc
 
     def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
         """Send an ASCII command (``V``, ``S``, ``C``...) and return its reply lines.
