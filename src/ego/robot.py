@@ -12,7 +12,7 @@ import time
 import weakref
 from collections.abc import Callable
 from types import FrameType, TracebackType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ego.devices.accelerometer import Accelerometer
 from ego.devices.base import MAX_PERIOD_MS, Device, check_int
@@ -38,7 +38,8 @@ from ego.serial.protocol import DEFAULT_BAUD, Command, Firmware, Request, encode
 from ego.serial.transport import SerialTransport, Transport, check_baudrate
 
 if TYPE_CHECKING:
-    from ego.camera import Camera
+    from ego.camera import Camera, FrameSource
+    from firmware_sim import Emulator
 
 __all__ = ["SIM_PORT", "Robot", "close_all_robots"]
 
@@ -78,13 +79,13 @@ class Robot:
         link_settings: LinkSettings | None = None,
         secret: str | None = None,
         seed: int | None = None,
-        camera_source: Any = None,
+        camera_source: FrameSource | None = None,
         camera_device: str | None = None,
         handle_signals: bool = True,
     ) -> None:
         self._closed = True  # until the link is up, close() has nothing to stop
         baudrate = check_baudrate(baudrate)
-        self._emulator: Any = None
+        self._emulator: Emulator | None = None
         if transport is None:
             self.port = resolve_port(port)
             transport = self._open(self.port, firmware, baudrate, secret, seed)
@@ -149,7 +150,7 @@ class Robot:
     # -- devices ---------------------------------------------------------------------
 
     @property
-    def emulator(self) -> Any:
+    def emulator(self) -> Emulator | None:
         """The built-in emulator when ``port="sim"`` (its world is the ground truth), else None."""
         return self._emulator
 
@@ -162,7 +163,7 @@ class Robot:
             self._camera = Camera(source=self._camera_source or self._default_camera_source())
         return self._camera
 
-    def _default_camera_source(self) -> Any:
+    def _default_camera_source(self) -> FrameSource:
         if self._emulator is not None:
             from firmware_sim.camera import SimulatedSource
 

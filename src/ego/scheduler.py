@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 import sys
+import threading
 import time
 from collections.abc import Callable
 
@@ -45,11 +46,10 @@ class StepClock:
         self.worst_overrun_s = 0.0
         # Another Python thread (a camera capture, say) keeps the interpreter lock for up to
         # the switch interval, 5 ms by default, before a woken step may run: a 1 ms step
-        # needs it much shorter. Restored by close().
-        self._saved_interval: float | None = None
-        if switch_interval_s is not None and sys.getswitchinterval() > switch_interval_s:
-            self._saved_interval = sys.getswitchinterval()
-            sys.setswitchinterval(switch_interval_s)
+        # needs it much shorter. Restored when the last open clock closes.
+        self._shortened = switch_interval_s is not None
+        if switch_interval_s is not None:
+            _shorten_switch_interval(switch_interval_s)
 
     def begin(self) -> None:
         """Anchor the first deadline at the start of the first step."""
@@ -84,6 +84,29 @@ class StepClock:
         return False
 
     def close(self) -> None:
-        if self._saved_interval is not None:
-            sys.setswitchinterval(self._saved_interval)
-            self._saved_interval = None
+        if self._shortened:
+            self._shortened = False
+            _restore_switch_interval()
+
+
+_lock = threading.Lock()
+_holders = 0
+_saved_interval = 0.0
+
+
+def _shorten_switch_interval(interval_s: float) -> None:
+    global _holders, _saved_interval
+    with _lock:
+        if _holders == 0:
+            _saved_interval = sys.getswitchinterval()
+        _holders += 1
+        if sys.getswitchinterval() > interval_s:
+            sys.setswitchinterval(interval_s)
+
+
+def _restore_switch_interval() -> None:
+    global _holders
+    with _lock:
+        _holders -= 1
+        if _holders == 0:
+            sys.setswitchinterval(_saved_interval)
