@@ -3,12 +3,14 @@
 Each step's deadline is the previous one plus the step, so a late wake-up does not
 push every later step back. The wait sleeps until shortly before the deadline and
 spins the rest, because ``time.sleep`` on Linux overshoots by 50-100 us, which is 5-10 %
-of a 1 ms step. An overrun (the step's work took longer than the step) re-anchors the
-deadline to now instead of rushing the following steps to catch up.
+of a 1 ms step; the stepping thread also asks Linux for a 1 us timer slack instead of
+the default 50 us. An overrun (the step's work took longer than the step) re-anchors
+the deadline to now instead of rushing the following steps to catch up.
 """
 
 from __future__ import annotations
 
+import ctypes
 import logging
 import sys
 import threading
@@ -54,6 +56,7 @@ class StepClock:
     def begin(self) -> None:
         """Anchor the first deadline at the start of the first step."""
         if self._deadline is None:
+            _tighten_timer_slack()
             self._deadline = self._clock()
 
     def wait(self, step_ms: float) -> bool:
@@ -87,6 +90,22 @@ class StepClock:
         if self._shortened:
             self._shortened = False
             _restore_switch_interval()
+
+
+#: prctl(2): the calling thread's timer slack, in nanoseconds.
+PR_SET_TIMERSLACK = 29
+TIMER_SLACK_NS = 1000
+
+
+def _tighten_timer_slack() -> None:
+    """Let this thread's sleeps end within 1 us of their time (Linux; elsewhere a no-op)."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(PR_SET_TIMERSLACK, ctypes.c_ulong(TIMER_SLACK_NS), 0, 0, 0)
+    except (OSError, AttributeError):  # no libc to ask: keep the default slack
+        log.debug("could not set the timer slack")
 
 
 _lock = threading.Lock()

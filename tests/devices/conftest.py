@@ -3,10 +3,10 @@ robots on it that must have stopped their motors and switched their LEDs off by 
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Iterator
 
 import pytest
+from helpers import assert_stopped, wait_until
 
 import ego
 from firmware_sim import Emulator, World
@@ -16,30 +16,6 @@ SEED = 7
 #: The emulator's banner is 4 ms of line time: 20 ms of quiet after it is plenty, where the
 #: default 100 ms suits a real robot. Robots on an external pty open 5x faster with it.
 FAST_OPEN = ego.LinkSettings(resync_quiet_s=0.02)
-
-
-def wait_until(condition: Callable[[], bool], timeout_s: float = 5.0) -> bool:
-    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held.
-
-    An actuator-only batch gets no reply (protocol.md), so the world hears it a moment
-    after ``step()`` returns: tests poll for it rather than sleep a fixed time.
-    """
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.005)
-    return True
-
-
-def is_stopped(world: World) -> bool:
-    return world.speeds == (0, 0) and not any(world.leds)
-
-
-def assert_stopped(world: World) -> None:
-    assert wait_until(lambda: is_stopped(world)), (
-        f"the robot was left running: speeds {world.speeds}, LEDs {world.leds}"
-    )
 
 
 @pytest.fixture(name="wait_until")

@@ -6,12 +6,11 @@ from __future__ import annotations
 
 import os
 import subprocess
-import sys
-import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
+from helpers import assert_stopped, ego_command, wait_until
 
 from ego import default_robot, runtime
 from ego.controller import Robot as WebotsRobot
@@ -19,36 +18,6 @@ from firmware_sim import Emulator, World
 
 #: One seed for every emulator here, so that a failure replays with the same sensor noise.
 SEED = 11
-
-
-def wait_until(condition: Callable[[], bool], timeout_s: float = 5.0) -> bool:
-    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held.
-
-    An actuator-only batch gets no reply (protocol.md), and another process's robot acts on
-    its own time, so tests poll the world rather than sleep a fixed time.
-    """
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.005)
-    return True
-
-
-def is_stopped(world: World) -> bool:
-    return world.speeds == (0, 0) and not any(world.leds)
-
-
-def assert_stopped(world: World) -> None:
-    assert wait_until(lambda: is_stopped(world)), (
-        f"the robot was left running: speeds {world.speeds}, LEDs {world.leds}"
-    )
-
-
-def ego_command() -> list[str]:
-    """The installed ``ego`` script beside this Python, else ``python -m ego.cli``."""
-    script = Path(sys.executable).with_name("ego")
-    return [str(script)] if script.is_file() else [sys.executable, "-m", "ego.cli"]
 
 
 @pytest.fixture(name="ego_command")

@@ -7,46 +7,19 @@ both wheels at 0 and every LED off.
 
 from __future__ import annotations
 
-import contextlib
 import select
 import signal
 import subprocess
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from helpers import spawn
 
 from firmware_sim import Emulator, World
 
 CONTROLLERS = Path(__file__).parent / "controllers"
-
-
-@contextlib.contextmanager
-def spawn(args: list[str], cwd: Path) -> Iterator[subprocess.Popen[str]]:
-    """Start a process whose SIGINT raises KeyboardInterrupt, and never leave it behind.
-
-    A process started in the background by a non-interactive shell inherits SIGINT
-    ignored; a handler installed here while forking is reset to the default in the child.
-    """
-    saved = signal.signal(signal.SIGINT, signal.default_int_handler)
-    try:
-        proc = subprocess.Popen(
-            args,
-            cwd=cwd,
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-    finally:
-        signal.signal(signal.SIGINT, saved)
-    try:
-        yield proc
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-        proc.communicate(timeout=10)
 
 
 def wait_for_running(proc: subprocess.Popen[str], timeout_s: float = 10.0) -> None:

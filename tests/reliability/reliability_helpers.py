@@ -11,14 +11,9 @@ import contextlib
 import os
 import pty
 import select
-import signal
-import subprocess
-import sys
 import threading
-import time
 import tty
-from collections.abc import Callable, Iterator
-from pathlib import Path
+from collections.abc import Callable
 from types import TracebackType
 
 
@@ -94,50 +89,7 @@ def modem_device() -> FakeDevice:
     return FakeDevice(answer)
 
 
-def ego_command() -> list[str]:
-    """The installed ``ego`` script beside this Python, else ``python -m ego.cli``."""
-    script = Path(sys.executable).with_name("ego")
-    return [str(script)] if script.is_file() else [sys.executable, "-m", "ego.cli"]
-
-
-@contextlib.contextmanager
-def spawn(args: list[str], cwd: Path) -> Iterator[subprocess.Popen[str]]:
-    """Start a process whose SIGINT raises KeyboardInterrupt, and never leave it behind.
-
-    A process started in the background by a non-interactive shell inherits SIGINT
-    ignored; a handler installed here while forking is reset to the default in the child.
-    """
-    saved = signal.signal(signal.SIGINT, signal.default_int_handler)
-    try:
-        proc = subprocess.Popen(
-            args,
-            cwd=cwd,
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-    finally:
-        signal.signal(signal.SIGINT, saved)
-    try:
-        yield proc
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-        proc.communicate(timeout=10)
-
-
 def read_line(stream: object, timeout_s: float) -> str:
     """One line of a subprocess's output, or '' if none came within ``timeout_s``."""
     ready, _, _ = select.select([stream], [], [], timeout_s)
     return stream.readline() if ready else ""  # type: ignore[attr-defined]
-
-
-def wait_until(condition: Callable[[], bool], timeout_s: float = 5.0) -> bool:
-    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held."""
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.005)
-    return True

@@ -28,7 +28,8 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from reliability_helpers import echo_device, ego_command, modem_device, silent_device
+from helpers import ego_command
+from reliability_helpers import echo_device, modem_device, silent_device
 
 import ego
 import ego.errors

@@ -29,7 +29,8 @@ from pathlib import Path
 
 import pytest
 from fakes import FAST_LINK
-from reliability_helpers import ego_command, read_line, spawn, wait_until
+from helpers import ego_command, spawn, wait_until
+from reliability_helpers import read_line
 
 from ego.remote.server import DEFAULT_DEADLINE_S, RemoteServer, ServerThread
 from ego.serial.link import Link

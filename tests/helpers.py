@@ -1,0 +1,72 @@
+"""Helpers shared by the test folders: polling the world, child processes, the ego command."""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+from firmware_sim import World
+
+__all__ = ["assert_stopped", "ego_command", "is_stopped", "spawn", "wait_until"]
+
+
+@contextlib.contextmanager
+def spawn(args: list[str], cwd: Path) -> Iterator[subprocess.Popen[str]]:
+    """Start a process whose SIGINT raises KeyboardInterrupt, and never leave it behind.
+
+    A process started in the background by a non-interactive shell inherits SIGINT
+    ignored; a handler installed here while forking is reset to the default in the child.
+    """
+    saved = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        proc = subprocess.Popen(
+            args,
+            cwd=cwd,
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+    finally:
+        signal.signal(signal.SIGINT, saved)
+    try:
+        yield proc
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        proc.communicate(timeout=10)
+
+
+def wait_until(condition: Callable[[], bool], timeout_s: float = 5.0) -> bool:
+    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held.
+
+    An actuator-only batch gets no reply (protocol.md), and another process's robot acts on
+    its own time, so tests poll the world rather than sleep a fixed time.
+    """
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.005)
+    return True
+
+
+def is_stopped(world: World) -> bool:
+    return world.speeds == (0, 0) and not any(world.leds)
+
+
+def assert_stopped(world: World) -> None:
+    assert wait_until(lambda: is_stopped(world)), (
+        f"the robot was left running: speeds {world.speeds}, LEDs {world.leds}"
+    )
+
+
+def ego_command() -> list[str]:
+    """The installed ``ego`` script beside this Python, else ``python -m ego.cli``."""
+    script = Path(sys.executable).with_name("ego")
+    return [str(script)] if script.is_file() else [sys.executable, "-m", "ego.cli"]
