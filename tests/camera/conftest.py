@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from camera_fakes import FakeVideoDevice, StandInWorld
 
-#: The shared folder sits beside the repository (``../shared``), in CI too.
-SHARED = Path(__file__).parents[2].parent / "shared"
-LUT_CSV = SHARED / "thesis" / "figure_4_7_rgb565_lut.csv"
+#: The thesis' Figure 4.7 as a test vector, copied from ../shared/thesis/ so that the
+#: tests run from a bare clone too.
+LUT_CSV = Path(__file__).parent / "data" / "figure_4_7_rgb565_lut.csv"
 
 
 @pytest.fixture(scope="session")
