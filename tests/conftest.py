@@ -11,15 +11,16 @@ from __future__ import annotations
 import os
 import tempfile
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
 from fakes import FAST_LINK
+from helpers import ego_command, wait_until
 
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
-from firmware_sim import Emulator
+from firmware_sim import Emulator, World
 
 #: The name of the emulator's serving thread and the prefix of its pty's directory.
 SIM_THREAD = "ego-sim"
@@ -88,3 +89,21 @@ def link(emulator: Emulator) -> Iterator[Link]:
     lnk = Link(SerialTransport(emulator.path), settings=FAST_LINK)
     yield lnk
     lnk.close()
+
+
+@pytest.fixture
+def world(emulator: Emulator) -> World:
+    """The world behind the emulator (a folder's own ``emulator`` fixture takes precedence)."""
+    return emulator.world
+
+
+@pytest.fixture(name="wait_until")
+def wait_until_fixture() -> Callable[..., bool]:
+    """:func:`helpers.wait_until`, for tests that take it as a fixture."""
+    return wait_until
+
+
+@pytest.fixture(name="ego_command")
+def ego_command_fixture() -> list[str]:
+    """:func:`helpers.ego_command`, for tests that take it as a fixture."""
+    return ego_command()

@@ -3,13 +3,13 @@ robots on it that must have stopped their motors and switched their LEDs off by 
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 
 import pytest
-from helpers import assert_stopped, wait_until
+from helpers import assert_stopped
 
 import ego
-from firmware_sim import Emulator, World
+from firmware_sim import Emulator
 
 #: One seed for every emulator here, so that a failure replays with the same sensor noise.
 SEED = 7
@@ -18,22 +18,11 @@ SEED = 7
 FAST_OPEN = ego.LinkSettings(resync_quiet_s=0.02)
 
 
-@pytest.fixture(name="wait_until")
-def wait_until_fixture() -> Callable[..., bool]:
-    """:func:`wait_until` for the tests (a fixture, as conftest modules are not importable)."""
-    return wait_until
-
-
 @pytest.fixture
 def emulator() -> Iterator[Emulator]:
     """The thesis firmware's dsPIC behind a pty, outliving the robot so the stop is seen."""
     with Emulator("thesis", seed=SEED) as emu:
         yield emu
-
-
-@pytest.fixture
-def world(emulator: Emulator) -> World:
-    return emulator.world
 
 
 @pytest.fixture

@@ -10,7 +10,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
-from helpers import assert_stopped, ego_command, wait_until
+from helpers import assert_stopped, ego_command
 
 from ego import default_robot, runtime
 from ego.controller import Robot as WebotsRobot
@@ -20,28 +20,11 @@ from firmware_sim import Emulator, World
 SEED = 11
 
 
-@pytest.fixture(name="ego_command")
-def ego_command_fixture() -> list[str]:
-    """:func:`ego_command` for the tests."""
-    return ego_command()
-
-
-@pytest.fixture(name="wait_until")
-def wait_until_fixture() -> Callable[..., bool]:
-    """:func:`wait_until` for the tests (a fixture, as conftest modules are not importable)."""
-    return wait_until
-
-
 @pytest.fixture
 def emulator() -> Iterator[Emulator]:
     """The thesis firmware's dsPIC behind a pty, outliving the robots so their stop is seen."""
     with Emulator("thesis", seed=SEED) as emu:
         yield emu
-
-
-@pytest.fixture
-def world(emulator: Emulator) -> World:
-    return emulator.world
 
 
 @pytest.fixture

@@ -24,6 +24,7 @@ Off loopback the server insists on a shared secret (:mod:`ego.remote.auth`).
 
 from __future__ import annotations
 
+import abc
 import asyncio
 import collections
 import concurrent.futures
@@ -183,7 +184,7 @@ def check_listen(
     return endpoints
 
 
-class _Peer:
+class _Peer(abc.ABC):
     """Where replies go: a TCP connection, or a UDP address."""
 
     def __init__(self, key: object, label: str, max_datagram: int | None) -> None:
@@ -192,10 +193,11 @@ class _Peer:
         #: Replies bigger than this go out in PARTs (None: a stream, no limit).
         self.max_datagram = max_datagram
 
+    @abc.abstractmethod
     def send(self, data: bytes) -> None:
-        raise NotImplementedError
+        """Send one frame's bytes to this peer."""
 
-    def close(self) -> None:
+    def close(self) -> None:  # noqa: B027 - deliberately empty: a datagram peer holds nothing
         """Drop the connection (nothing to do for a datagram peer)."""
 
 
