@@ -63,6 +63,8 @@ class SoakResult:
     longest_step_s: float = 0.0
     bound_s: float = 0.0
     wall_s: float = 0.0
+    #: The step at which the link was lost for good (``Robot.step`` returned -1), if it was.
+    lost_at_step: int | None = None
 
 
 def step_bound_s(settings: LinkSettings, reply_timeout_s: float, restarts: int = 3) -> float:
@@ -129,7 +131,9 @@ def soak(kinds: list[str], rate: float, steps: int, seed: int = 1, label: str = 
                 before = (stats.retries, stats.restarts, stats.faults["implausible"])
                 t0 = time.perf_counter()
                 try:
-                    robot.step(1)
+                    if robot.step(1) != 0:
+                        result.lost_at_step = i
+                        break
                 except EgoError as exc:
                     result.typed_errors += 1
                     name = type(exc).__name__
@@ -192,6 +196,7 @@ def run(quick: bool = False) -> list[Table]:
             "typed errors",
             "wrong values",
             "garbles delivered",
+            "link lost",
             "longest step [ms]",
             "bound [ms]",
             "wall [s]",
@@ -211,6 +216,7 @@ def run(quick: bool = False) -> list[Table]:
                 f"{r.typed_errors} ({errors})",
                 r.wrong_values,
                 r.garbles_delivered,
+                "-" if r.lost_at_step is None else f"at step {r.lost_at_step}",
                 r.longest_step_s * 1e3,
                 r.bound_s * 1e3,
                 r.wall_s,
@@ -257,6 +263,8 @@ def write_markdown(tables: list[Table], path: Path, machine: str, quick: bool) -
         "sensor value, any flip in `E`, which must echo the commanded speeds, and step "
         "counters that jump further than the wheels can turn), and asks again. What stays in "
         "range is delivered: this is the protocol's limit, measured here, not hidden.",
+        "- **link lost**: the step at which the link was lost for good (`Robot.step` "
+        "returned -1: a port not back within the reconnect timeout); the run stops there.",
         "- **longest step** is bounded by the link's settings: every retry timing out and "
         "three restarts (the `bound` column).",
         "",

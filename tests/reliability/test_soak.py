@@ -19,6 +19,7 @@ STEPS = 150
 def test_soak_never_delivers_a_wrong_value(kind: str) -> None:
     result = soak([kind], rate=0.05, steps=STEPS, seed=3)
     assert result.injected > 0, "the soak injected nothing: it tested nothing"
+    assert result.lost_at_step is None
     assert result.wrong_values == 0
     assert result.longest_step_s <= result.bound_s
     if kind != "garble":
@@ -28,6 +29,7 @@ def test_soak_never_delivers_a_wrong_value(kind: str) -> None:
 @pytest.mark.slow
 def test_soak_with_every_kind_mixed_never_delivers_a_wrong_value() -> None:
     result = soak(list(FAULT_KINDS), rate=0.01, steps=2 * STEPS, seed=4)
+    assert result.lost_at_step is None
     assert result.wrong_values == 0
     assert result.longest_step_s <= result.bound_s
     assert result.steps == 2 * STEPS

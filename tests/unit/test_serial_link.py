@@ -224,6 +224,26 @@ def test_lost_port_is_reopened_and_reported_as_a_restart() -> None:
     assert (link.stats.reconnects, link.stats.restarts) == (1, 1)
 
 
+def test_port_lost_while_resynchronising_is_reopened_not_lost_for_good() -> None:
+    """A short reply, then the port vanishes under the resync's own write."""
+    link, fake = make_link([REPLY[:3], LinkLostError("scripted: unplugged mid-resync")])
+    with pytest.raises(RobotResetError, match="reopened"):
+        link.exchange(sensor_batch(link))
+    assert fake.reopened == 1
+    assert (link.stats.resyncs, link.stats.reconnects, link.stats.restarts) == (1, 1, 1)
+
+
+def test_port_lost_again_while_the_firmware_is_redetected_is_reopened_again() -> None:
+    """A loose connector: the port comes back, then vanishes under the V re-detection."""
+    fake = ScriptedTransport([b"v,Version 1.2 ego-emulator\n"])
+    link = Link(fake, settings=INSTANT_LINK)
+    fake.script.extend([LinkLostError("unplugged"), LinkLostError("unplugged again")])
+    with pytest.raises(RobotResetError, match="reopened"):
+        link.exchange(sensor_batch(link))
+    assert fake.reopened == 2
+    assert link.stats.restarts == 1
+
+
 def test_port_that_comes_back_before_the_deadline_is_reused() -> None:
     gone = [PortNotFoundError("not yet"), LinkLostError("not yet"), None]
     link, fake = make_link([LinkLostError("unplugged")], reopen=gone)

@@ -230,13 +230,15 @@ class Link:
             if attempt:
                 self.stats.retries += 1
             try:
-                return self._attempt(batch)
-            except (ShortReplyError, ExtraBytesError, LinkTimeoutError) as exc:
-                last = exc
-                self.stats.faults[type(exc).__name__] += 1
-                log.warning("%s; resynchronising (attempt %d)", exc, attempt + 1)
-                self._resync()
+                try:
+                    return self._attempt(batch)
+                except (ShortReplyError, ExtraBytesError, LinkTimeoutError) as exc:
+                    last = exc
+                    self.stats.faults[type(exc).__name__] += 1
+                    log.warning("%s; resynchronising (attempt %d)", exc, attempt + 1)
+                    self._resync()
             except LinkLostError as exc:
+                # The port can vanish mid-batch or mid-resynchronisation alike.
                 self.stats.faults["LinkLostError"] += 1
                 self._reconnect(exc)
         assert last is not None
@@ -313,12 +315,18 @@ class Link:
             self._restarted("the dsPIC restarted (welcome banner mid-stream)")
 
     def _reconnect(self, cause: LinkLostError) -> None:
-        """Reopen a lost port until the deadline; then the robot must be set up again."""
+        """Reopen a lost port until the deadline; then the robot must be set up again.
+
+        A port that comes back and vanishes again while the firmware is re-detected
+        (a loose connector) is reopened again, within the same deadline.
+        """
         deadline = time.monotonic() + self.settings.reconnect_timeout_s
         log.warning("%s: %s; reconnecting", self.transport.name, cause)
         while True:
             try:
                 self.transport.reopen()
+                self.stats.reconnects += 1
+                self._redetect()
                 break
             except (PortNotFoundError, LinkLostError) as exc:
                 if time.monotonic() > deadline:
@@ -327,15 +335,20 @@ class Link:
                         f"{self.settings.reconnect_timeout_s} s: {exc}"
                     ) from cause
                 time.sleep(0.05)
-        self.stats.reconnects += 1
-        self._restarted("the port was lost and reopened")
+        self._raise_restarted("the port was lost and reopened")
 
     def _restarted(self, why: str) -> None:
-        self.stats.restarts += 1
+        self._redetect()
+        self._raise_restarted(why)
+
+    def _redetect(self) -> None:
         try:
             self.info = self._identify()
         except ProtocolError as exc:
             log.warning("%s: firmware re-detection failed: %s", self.transport.name, exc)
+
+    def _raise_restarted(self, why: str) -> None:
+        self.stats.restarts += 1
         raise RobotResetError(f"{self.transport.name}: {why}; robot state must be re-applied")
 
     def close(self) -> None:
