@@ -279,7 +279,9 @@ class Robot:
         and the speeds it reports must be zero.
         """
         requests: list[Request] = [
-            self.motors.stop_request(), *self.leds.all_off(), Request(Command.GET_SPEED)
+            self.motors.stop_request(),
+            *self.leds.all_off(),
+            Request(Command.GET_SPEED),
         ]
         for _ in range(MAX_ATTEMPTS_PER_STEP):
             batch = encode_batch(requests, self.link.profile)

@@ -25,7 +25,7 @@ def test_the_builtin_emulator_is_reachable_from_the_robot(builtin_sim_robot: ego
     robot.encoders.enable(STEP_MS)
     run(robot, 1)
     assert robot.emulator.world.speeds == (200, 200)
-    assert robot.emulator.history[-1].commands == "DQ"
+    assert robot.emulator.history[-1].commands == "DEQ"
     robot.motors.set_speed(0, 0)
 
 

@@ -21,7 +21,6 @@ from firmware_sim.camera import SimulatedSource
 CLIENT_LINK = LinkSettings(retries=1, reconnect_timeout_s=2.0)
 
 
-
 @pytest.fixture
 def serve() -> Iterator[ServeFactory]:
     """``serve(kinds=("tcp",), firmware="thesis", **server_options)``: a served emulator.

@@ -201,9 +201,7 @@ class Sensor(Device, abc.ABC):
         """Reading before the first sample is an error, never a silent zero."""
         if not self.has_values:
             state = "not enabled" if not self.enabled else "not sampled yet"
-            raise DeviceError(
-                f"{self.family} {state}: enable them and call step() before reading"
-            )
+            raise DeviceError(f"{self.family} {state}: enable them and call step() before reading")
 
     def set_profile(self, profile: Profile) -> None:
         super().set_profile(profile)

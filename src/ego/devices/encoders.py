@@ -22,6 +22,16 @@ def wrap_int16(value: int) -> int:
     return ((value + 0x8000) % _INT16) - 0x8000
 
 
+def _jump(raw: Sequence[int], last: Sequence[int], elapsed_s: float) -> str | None:
+    """Why counters cannot have gone from ``last`` to ``raw`` in ``elapsed_s``, or None."""
+    allowed = MAX_SPEED_STEPS * elapsed_s * 1.5 + JUMP_SLACK_STEPS
+    for side, now, before in zip(("left", "right"), raw, last, strict=True):
+        moved = abs(wrap_int16(now - before))
+        if moved > allowed:
+            return f"{side} step counter jumped {moved} steps, more than {allowed:.0f} possible"
+    return None
+
+
 class Encoders(Sensor):
     """Steps counted by each stepper motor since start or since set, unwrapped.
 
@@ -42,6 +52,9 @@ class Encoders(Sensor):
         self._last_raw: list[int] | None = None
         self._set: Request | None = None
         self._fetched_s: float | None = None
+        #: A reading the guard refused, and when: the next one tells a garbled reply
+        #: (which does not repeat) from counters really overwritten on the dsPIC.
+        self._suspect: tuple[tuple[int, int], float] | None = None
 
     def set(self, left: int, right: int) -> None:
         """Overwrite both counters (steps); the firmware stores them as int16."""
@@ -59,17 +72,33 @@ class Encoders(Sensor):
         return pending + super().requests(now_ms)
 
     def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
-        """A counter that moved further than a wheel at full speed could is corrupted."""
+        """A counter that moved further than a wheel at full speed could is corrupted.
+
+        A garbled reply does not repeat: asked again, the dsPIC answers the true counts.
+        If it answers the same jump twice, its counters really were overwritten (a
+        command byte misread as ``P`` takes the next four bytes for counts): ego sets them
+        back to its last good reading, losing at most the steps turned since then, and
+        reads again, instead of refusing every reading until the jump looks plausible.
+        """
         if request.command is not Command.GET_STEPS:
             return None
         if self._last_raw is None or self._set is not None or self._fetched_s is None:
             return None  # nothing to compare with, or P overwrote the counters just now
-        allowed = MAX_SPEED_STEPS * (now_s - self._fetched_s) * 1.5 + JUMP_SLACK_STEPS
-        for side, raw, last in zip(("left", "right"), values, self._last_raw, strict=True):
-            moved = abs(wrap_int16(int(raw) - last))
-            if moved > allowed:
-                return f"{side} step counter jumped {moved} steps, more than {allowed:.0f} possible"
-        return None
+        raw = (int(values[0]), int(values[1]))
+        jump = _jump(raw, self._last_raw, now_s - self._fetched_s)
+        if jump is None:
+            self._suspect = None
+            return None
+        suspect, self._suspect = self._suspect, (raw, now_s)
+        if suspect is None or _jump(raw, suspect[0], now_s - suspect[1]) is not None:
+            return jump
+        self._suspect = None
+        left, right = self._last_raw
+        self._set = Request(Command.SET_STEPS, (left, right))
+        return (
+            f"{jump}, twice: the dsPIC's counters were overwritten (a misread command?); "
+            f"setting them back to ({left}, {right})"
+        )
 
     def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
         if request.command is Command.GET_STEPS:
@@ -91,6 +120,7 @@ class Encoders(Sensor):
     def restarted(self) -> None:
         """A restarted dsPIC counts from 0 again: give it our totals back."""
         super().restarted()
+        self._suspect = None
         if self._last_raw is not None:
             self._set = Request(Command.SET_STEPS, (self._last_raw[0], self._last_raw[1]))
 

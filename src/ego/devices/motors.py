@@ -26,8 +26,9 @@ def steps_to_rad_s(speed_steps: float) -> float:
 class Motors(Sensor):
     """Wheel speeds in steps/s within +-1000 (one turn a second); refused beyond, not clamped.
 
-    A ``D`` command goes out only when the speeds changed. Enabled as a sensor, the family
-    also reads back the speeds the firmware holds (``E``: commanded, not measured).
+    A ``D`` command goes out only when the speeds changed, with an ``E`` behind it that
+    confirms the dsPIC holds them. Enabled as a sensor, the family also reads back the
+    speeds the firmware holds at every period (``E``: commanded, not measured).
 
     >>> robot.motors.set_speed(300, -300)                # doctest: +SKIP
     """
@@ -66,8 +67,12 @@ class Motors(Sensor):
         return Request(Command.SET_SPEED, (0, 0))
 
     def requests(self, now_ms: int) -> list[Request]:
-        pending = [self._pending] if self._pending is not None else []
-        return pending + super().requests(now_ms)
+        # A D always travels with an E behind it, sampled or not: a D whose bytes the
+        # dsPIC misread (no length check can see a flipped speed byte) is then caught by
+        # check() and sent again, instead of driving the wheels at a wrong speed.
+        if self._pending is not None:
+            return [self._pending, Request(Command.GET_SPEED)]
+        return super().requests(now_ms)
 
     def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
         """E echoes the speeds the dsPIC holds: they must be the ones ego asked for.
