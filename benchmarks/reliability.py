@@ -45,6 +45,8 @@ _TRUTH_FORMATS = {
 #: resynchronisations finish in minutes; fault lengths to match.
 SOAK_LINK = LinkSettings(resync_quiet_s=0.03, reconnect_timeout_s=2.0)
 SOAK_FAULTS = FaultTimings(delay_s=0.08, stall_s=0.4, replug_s=0.2)
+#: How many wrong values a run describes in the report.
+MAX_WRONG_EXAMPLES = 5
 
 
 @dataclass
@@ -58,6 +60,9 @@ class SoakResult:
     typed_errors: int = 0
     error_types: dict[str, int] = field(default_factory=dict)
     wrong_values: int = 0
+    #: Steps after which the dsPIC held other speeds, or other LEDs, than ego commanded.
+    speeds_off: int = 0
+    leds_off: int = 0
     garbles_delivered: int = 0
     guard_rejections: int = 0
     longest_step_s: float = 0.0
@@ -65,6 +70,9 @@ class SoakResult:
     wall_s: float = 0.0
     #: The step at which the link was lost for good (``Robot.step`` returned -1), if it was.
     lost_at_step: int | None = None
+    #: The first few wrong values, to say what went wrong: (step, letter, delivered,
+    #: truth, the faults of the batch answered).
+    wrong_examples: list[tuple[int, str, object, object, str]] = field(default_factory=list)
 
 
 def step_bound_s(settings: LinkSettings, reply_timeout_s: float, restarts: int = 3) -> float:
@@ -144,15 +152,25 @@ def soak(kinds: list[str], rate: float, steps: int, seed: int = 1, label: str = 
                     result.steps += 1
                 if (stats.retries, stats.restarts, stats.faults["implausible"]) != before:
                     result.recovered_steps += 1
+                world = emu.world
+                result.speeds_off += world.speeds != robot.motors.speed
+                result.leds_off += world.leds != robot.leds.values
                 record = emu.history[-1]
                 truth = _truth(record.commands, record.reply)
                 delivered = _delivered(robot)
-                wrong = truth is None or any(truth.get(k) != v for k, v in delivered.items())
-                if wrong:
-                    if "garble" in record.faults:
-                        result.garbles_delivered += 1
-                    else:
-                        result.wrong_values += 1
+                truth = truth or {}
+                wrong = [k for k, v in delivered.items() if truth.get(k) != v]
+                if not wrong:
+                    continue
+                if "garble" in record.faults:
+                    result.garbles_delivered += 1
+                    continue
+                result.wrong_values += 1
+                if len(result.wrong_examples) < MAX_WRONG_EXAMPLES:
+                    letter = wrong[0]
+                    faults = ",".join(record.faults) or "none"
+                    example = (i, letter, delivered[letter], truth.get(letter), faults)
+                    result.wrong_examples.append(example)
             result.wall_s = time.perf_counter() - started
         finally:
             robot.close()
@@ -196,6 +214,8 @@ def run(quick: bool = False) -> list[Table]:
             "typed errors",
             "wrong values",
             "garbles delivered",
+            "speeds off",
+            "LEDs off",
             "link lost",
             "longest step [ms]",
             "bound [ms]",
@@ -206,6 +226,11 @@ def run(quick: bool = False) -> list[Table]:
         label = "all mixed" if len(kinds_) > 1 else kinds_[0]
         r = soak(kinds_, rate, steps, label=label)
         errors = ", ".join(f"{k} {v}" for k, v in sorted(r.error_types.items())) or "-"
+        for step, letter, got, truth, faults in r.wrong_examples:
+            table.notes.append(
+                f"{label} at {rate:.0%}, step {step}: {letter} delivered {got}, the emulator "
+                f"answered {truth} (faults in that batch: {faults})"
+            )
         table.rows.append(
             [
                 label,
@@ -216,6 +241,8 @@ def run(quick: bool = False) -> list[Table]:
                 f"{r.typed_errors} ({errors})",
                 r.wrong_values,
                 r.garbles_delivered,
+                r.speeds_off,
+                r.leds_off,
                 "-" if r.lost_at_step is None else f"at step {r.lost_at_step}",
                 r.longest_step_s * 1e3,
                 r.bound_s * 1e3,
@@ -263,6 +290,13 @@ def write_markdown(tables: list[Table], path: Path, machine: str, quick: bool) -
         "sensor value, any flip in `E`, which must echo the commanded speeds, and step "
         "counters that jump further than the wheels can turn), and asks again. What stays in "
         "range is delivered: this is the protocol's limit, measured here, not hidden.",
+        "- **speeds off**, **LEDs off**: steps after which the dsPIC held other wheel speeds, "
+        "or other LEDs, than ego had commanded. A corrupted byte on the way in can make the "
+        "dsPIC misread a command. ego catches it wherever it can read back what it changed: "
+        "every `D` travels with an `E` that must echo the speeds (else `D` goes again), and "
+        "step counters that jump twice alike (a byte misread as `P`) are set back to the "
+        "last good reading. `L` has no read-back on this protocol: an LED command the dsPIC "
+        "misread stays wrong until that LED is set again, counted here.",
         "- **link lost**: the step at which the link was lost for good (`Robot.step` "
         "returned -1: a port not back within the reconnect timeout); the run stops there.",
         "- **longest step** is bounded by the link's settings: every retry timing out and "

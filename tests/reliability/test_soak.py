@@ -21,9 +21,12 @@ def test_soak_never_delivers_a_wrong_value(kind: str) -> None:
     assert result.injected > 0, "the soak injected nothing: it tested nothing"
     assert result.lost_at_step is None
     assert result.wrong_values == 0
+    assert result.speeds_off == 0  # every D is confirmed by the E behind it
     assert result.longest_step_s <= result.bound_s
     if kind != "garble":
         assert result.garbles_delivered == 0
+    if kind != "corrupt":  # only a misread L command, which nothing reads back, leaves one off
+        assert result.leds_off == 0
 
 
 @pytest.mark.slow
@@ -31,6 +34,7 @@ def test_soak_with_every_kind_mixed_never_delivers_a_wrong_value() -> None:
     result = soak(list(FAULT_KINDS), rate=0.01, steps=2 * STEPS, seed=4)
     assert result.lost_at_step is None
     assert result.wrong_values == 0
+    assert result.speeds_off == 0
     assert result.longest_step_s <= result.bound_s
     assert result.steps == 2 * STEPS
 
