@@ -317,6 +317,23 @@ def test_gctronic_that_does_not_answer_c_gets_the_thesis_profile() -> None:
     assert link.info.selector is None
 
 
+def test_robot_switched_on_as_the_port_opens_is_asked_again_after_its_banner() -> None:
+    """The banner comes after the open's drain, in place of the answer to V."""
+    link, fake = make_link([BANNER, WEBOTS_V], firmware=None)
+    assert link.info.detected and link.info.version
+    assert fake.writes == [b"V\n", b"V\n"]
+    fake.script.append(REPLY)
+    assert link.exchange(sensor_batch(link)) == REPLY  # nothing to re-apply at open
+
+
+def test_restart_during_an_ascii_command_is_told_at_the_next_batch() -> None:
+    link, fake = make_link([BANNER, b"s\r\n"])
+    assert link.ascii_command("S") == ["s"]
+    with pytest.raises(RobotResetError, match="during an ASCII command"):
+        link.exchange(sensor_batch(link))
+    assert fake.writes == [b"S\n", b"S\n"]  # the batch was not sent to a restarted dsPIC
+
+
 def test_answer_to_another_command_means_not_an_epuck() -> None:
     with pytest.raises(NotAnEpuckError, match=r"not as an e-puck's dsPIC.*does not start with 'v'"):
         make_link([b"z,Command not found\r\n"], firmware=None)

@@ -124,7 +124,10 @@ class Link:
         #: The last bytes seen, for a banner split across two reads.
         self._tail = b""
         self._closed = False
+        #: A restart seen while answering an ASCII command, not yet told to the owner.
+        self._unreported_restart = False
         self.info: FirmwareInfo = self._identify(first=True)
+        self._unreported_restart = False  # at open there is no state to re-apply
 
     @property
     def profile(self) -> Profile:
@@ -187,6 +190,27 @@ class Link:
         """
         self._discard_stale()
         self.transport.write(letter.encode("ascii") + b"\n")
+        replies = self._read_lines(lines)
+        if replies and BANNER_MARKER.decode() in replies[0]:
+            # The dsPIC started while the command was on its way (a robot switched on
+            # as the port opened): it may not have heard it. Ask again once the banner
+            # is in; the next batch tells the owner to re-apply the robot's state.
+            log.warning("%s: the dsPIC restarted before answering %r", self.transport.name, letter)
+            self._drain()
+            self._tail = b""
+            self._unreported_restart = True
+            self.transport.write(letter.encode("ascii") + b"\n")
+            replies = self._read_lines(lines)
+        # protocol.md: the reply "starts with the command's lower-case letter" (S answers
+        # a bare "s", so no comma is required here).
+        if replies and not replies[0].startswith(letter.lower()):
+            raise ProtocolError(
+                f"reply {replies[0]!r} to {letter!r} does not start with {letter.lower()!r}"
+            )
+        return replies
+
+    def _read_lines(self, lines: int) -> list[str]:
+        """Up to ``lines`` non-empty reply lines; fewer if the firmware falls silent."""
         replies: list[str] = []
         while len(replies) < lines:
             raw = self.transport.read_line(self.settings.line_timeout_s)
@@ -195,12 +219,6 @@ class Link:
             text = raw.decode("ascii", errors="replace").strip()
             if text:
                 replies.append(text)
-        # protocol.md: the reply "starts with the command's lower-case letter" (S answers
-        # a bare "s", so no comma is required here).
-        if replies and not replies[0].startswith(letter.lower()):
-            raise ProtocolError(
-                f"reply {replies[0]!r} to {letter!r} does not start with {letter.lower()!r}"
-            )
         return replies
 
     # -- binary batches ----------------------------------------------------------------
@@ -225,6 +243,9 @@ class Link:
         """
         if self._closed:  # a closed link must not reopen its port behind its owner's back
             raise LinkLostError(f"{self.transport.name}: the link is closed")
+        if self._unreported_restart:
+            self._unreported_restart = False
+            self._raise_restarted("the dsPIC restarted during an ASCII command")
         last: Exception | None = None
         for attempt in range(self.settings.retries + 1):
             if attempt:
