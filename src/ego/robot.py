@@ -240,6 +240,10 @@ class Robot:
             plan = [(f, r) for f in self.families for r in f.requests(now)]
             if not plan:
                 return
+            # Setters first, reads after (a stable sort keeps P before Q): the E that
+            # confirms the speeds then follows every command of the batch, so a byte of
+            # any of them misread as D is caught too (L and D differ by one bit).
+            plan.sort(key=lambda item: not item[1].arguments)
             batch = encode_batch([r for _, r in plan], self.link.profile)
             try:
                 reply = self.link.exchange(batch)

@@ -109,8 +109,9 @@ def test_everything_due_in_one_step_goes_in_one_batch(
 
     assert robot.link.stats.batches == batches_before + 1
     assert len(emulator.history) == records_before + 1
-    # Actuators first, so that P precedes Q (encoders.set is read back in the same step).
-    assert emulator.history[-1].commands == "DELLPQaNMOuU"
+    # Setters first, so that P precedes Q (encoders.set is read back in the same step) and
+    # the E confirming the speeds comes after every command that could be misread as D.
+    assert emulator.history[-1].commands == "DLLPEQaNMOuU"
     assert robot.encoders.values == pytest.approx((10, 20), abs=2)  # the wheels turn
     robot.motors.set_speed(0, 0)
 
