@@ -156,9 +156,8 @@ def soak(kinds: list[str], rate: float, steps: int, seed: int = 1, label: str = 
                 result.speeds_off += world.speeds != robot.motors.speed
                 result.leds_off += world.leds != robot.leds.values
                 record = emu.history[-1]
-                truth = _truth(record.commands, record.reply)
+                truth = _truth(record.commands, record.reply) or {}
                 delivered = _delivered(robot)
-                truth = truth or {}
                 wrong = [k for k, v in delivered.items() if truth.get(k) != v]
                 if not wrong:
                     continue

@@ -93,12 +93,16 @@ class Encoders(Sensor):
         if suspect is None or _jump(raw, suspect[0], now_s - suspect[1]) is not None:
             return jump
         self._suspect = None
-        left, right = self._last_raw
-        self._set = Request(Command.SET_STEPS, (left, right))
+        self._set = self._set_back(self._last_raw)
         return (
             f"{jump}, twice: the dsPIC's counters were overwritten (a misread command?); "
-            f"setting them back to ({left}, {right})"
+            f"setting them back to {tuple(self._last_raw)}"
         )
+
+    @staticmethod
+    def _set_back(raw: Sequence[int]) -> Request:
+        """P with the counters' last good reading: what the dsPIC must hold again."""
+        return Request(Command.SET_STEPS, (raw[0], raw[1]))
 
     def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
         if request.command is Command.GET_STEPS:
@@ -122,7 +126,7 @@ class Encoders(Sensor):
         super().restarted()
         self._suspect = None
         if self._last_raw is not None:
-            self._set = Request(Command.SET_STEPS, (self._last_raw[0], self._last_raw[1]))
+            self._set = self._set_back(self._last_raw)
 
     @property
     def values(self) -> tuple[int, int]:

@@ -188,8 +188,9 @@ class Link:
         Fewer lines than asked come back when the firmware stays silent; a first line
         that does not start with the command's lower-case letter raises ProtocolError.
         """
+        command = letter.encode("ascii") + b"\n"
         self._discard_stale()
-        self.transport.write(letter.encode("ascii") + b"\n")
+        self.transport.write(command)
         replies = self._read_lines(lines)
         if replies and BANNER_MARKER.decode() in replies[0]:
             # The dsPIC started while the command was on its way (a robot switched on
@@ -199,7 +200,7 @@ class Link:
             self._drain()
             self._tail = b""
             self._unreported_restart = True
-            self.transport.write(letter.encode("ascii") + b"\n")
+            self.transport.write(command)
             replies = self._read_lines(lines)
         # protocol.md: the reply "starts with the command's lower-case letter" (S answers
         # a bare "s", so no comma is required here).
