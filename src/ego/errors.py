@@ -12,6 +12,7 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     │   ├── PortNotFoundError (FileNotFoundError) the port or URL does not exist
     │   ├── LinkTimeoutError (TimeoutError)      no (complete) reply within the timeout
     │   ├── LinkLostError                        the port went away and did not come back
+    │   ├── PortBusyError                        another controller holds the port
     │   └── NotAnEpuckError                      something answered, but not an e-puck
     ├── ProtocolError
     │   ├── ShortReplyError                      fewer bytes than the batch asks for
@@ -59,6 +60,7 @@ __all__ = [
     "LinkTimeoutError",
     "NotAnEpuckError",
     "OutOfRangeError",
+    "PortBusyError",
     "PortNotFoundError",
     "ProtocolError",
     "RemoteError",
@@ -112,6 +114,17 @@ class LinkTimeoutError(LinkError, TimeoutError):
 
 class LinkLostError(LinkError):
     """The port disappeared and did not come back within the reconnect deadline."""
+
+
+class PortBusyError(LinkError):
+    """Another process holds the port (ego opens serial ports exclusively, with flock).
+
+    ``holder_pid`` is that process where it could be found, else None.
+    """
+
+    def __init__(self, message: str, holder_pid: int | None = None) -> None:
+        super().__init__(message)
+        self.holder_pid = holder_pid
 
 
 class NotAnEpuckError(LinkError):

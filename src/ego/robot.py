@@ -2,16 +2,13 @@
 
 from __future__ import annotations
 
-import atexit
-import contextlib
 import logging
 import os
-import signal
-import threading
 import time
 import weakref
 from collections.abc import Callable
-from types import FrameType, TracebackType
+from dataclasses import dataclass
+from types import TracebackType
 from typing import TYPE_CHECKING
 
 from ego.devices.accelerometer import Accelerometer
@@ -32,9 +29,10 @@ from ego.errors import (
     UnknownDeviceError,
 )
 from ego.ports import NETWORK_SCHEMES, open_transport, resolve_port
+from ego.safety import install_signal_handlers, register, send_stop
 from ego.scheduler import StepClock
 from ego.serial.link import Link, LinkSettings
-from ego.serial.protocol import DEFAULT_BAUD, Command, Firmware, Request, encode_batch
+from ego.serial.protocol import DEFAULT_BAUD, Firmware, encode_batch
 from ego.serial.transport import SerialTransport, Transport, check_baudrate
 
 if TYPE_CHECKING:
@@ -99,6 +97,12 @@ class Robot:
             raise
         self._closed = False
         self._lost = False
+        self.clock = StepClock()
+        # Everything the stop and the close need, held apart from the Robot so that a
+        # finalizer can stop the wheels when the Robot is dropped without close(), or
+        # when the interpreter exits with it still open.
+        self._parts = _Parts(self.link, self.clock, self._emulator)
+        self._finalizer = weakref.finalize(self, self._parts.close)
         profile = self.link.profile
         self.motors = Motors(profile)
         self.leds = Leds(profile)
@@ -122,13 +126,13 @@ class Robot:
         self._camera: Camera | None = None
         self._camera_source = camera_source
         self._camera_device = camera_device or os.environ.get("EGO_CAMERA", "/dev/video0")
-        self.clock = StepClock()
         self._time_ms = 0
         self.steps = 0
         self._listeners: list[Callable[[Robot], None]] = []
         _OPEN_ROBOTS.add(self)
+        register(self)
         if handle_signals:
-            _install_signal_handlers()
+            install_signal_handlers()
         log.info("robot on %s, firmware %s", self.port, self.link.info.firmware)
 
     def _open(
@@ -161,6 +165,7 @@ class Robot:
             from ego.camera import Camera
 
             self._camera = Camera(source=self._camera_source or self._default_camera_source())
+            self._parts.camera = self._camera
         return self._camera
 
     def _default_camera_source(self) -> FrameSource:
@@ -222,7 +227,7 @@ class Robot:
             self._exchange(now)
         except LinkLostError as exc:
             log.error("link lost for good: %s", exc)
-            self._lost = True
+            self._lost = self._parts.lost = True
             return -1
         if self._camera is not None:
             self._camera.update(now)
@@ -282,20 +287,9 @@ class Robot:
         The batch ends with ``E`` so that the dsPIC answers: the stop is confirmed heard,
         and the speeds it reports must be zero.
         """
-        requests: list[Request] = [
-            self.motors.stop_request(),
-            *self.leds.all_off(),
-            Request(Command.GET_SPEED),
-        ]
-        for _ in range(MAX_ATTEMPTS_PER_STEP):
-            batch = encode_batch(requests, self.link.profile)
-            try:
-                held = batch.decode(self.link.exchange(batch))[-1]
-            except RobotResetError:
-                continue  # a restarted dsPIC stands still with its LEDs off; confirm anyway
-            if tuple(held) == (0, 0):
-                return
-        raise ProtocolError("the robot did not confirm that its motors stopped")
+        self.motors.stop_request()
+        self.leds.all_off()
+        send_stop(self.link)
 
     def close(self) -> None:
         """Stop the motors, LEDs off, then close the port; calling it again does nothing."""
@@ -304,15 +298,10 @@ class Robot:
         self._closed = True
         _OPEN_ROBOTS.discard(self)
         if not self._lost:
-            try:
-                self.stop_actuators()
-            except (EgoError, OSError) as exc:
-                log.error("could not stop the robot's actuators: %s", exc)
-        if self._camera is not None:
-            self._camera.close()
-        self.clock.close()
-        self.link.close()
-        self._stop_emulator()
+            # ego's own view of the actuators follows the stop the finalizer sends.
+            self.motors.stop_request()
+            self.leds.all_off()
+        self._finalizer()
 
     def _stop_emulator(self) -> None:
         if self._emulator is not None:
@@ -336,29 +325,39 @@ class Robot:
 
 # -- stopping robots however the controller ends --------------------------------------
 
+
+@dataclass
+class _Parts:
+    """What a robot must stop and release, without a reference back to the Robot."""
+
+    link: Link
+    clock: StepClock
+    emulator: Emulator | None
+    camera: Camera | None = None
+    lost: bool = False
+
+    def close(self) -> None:
+        """Stop the wheels and LEDs (unless the link is lost), then release everything."""
+        if not self.lost:
+            try:
+                send_stop(self.link)
+            except (EgoError, OSError) as exc:
+                log.error("could not stop the robot's actuators: %s", exc)
+        if self.camera is not None:
+            self.camera.close()
+        self.clock.close()
+        self.link.close()
+        if self.emulator is not None:
+            self.emulator.stop()
+
+
 _OPEN_ROBOTS: weakref.WeakSet[Robot] = weakref.WeakSet()
-_signals_installed = False
 
 
 def close_all_robots() -> None:
+    """Close every robot of this process that is still open (each one stops first)."""
     for robot in list(_OPEN_ROBOTS):
-        with contextlib.suppress(Exception):
+        try:
             robot.close()
-
-
-def _on_sigterm(signum: int, frame: FrameType | None) -> None:
-    # Unwind like Ctrl-C does: with-blocks close their robots, atexit closes the rest.
-    raise SystemExit(128 + signum)
-
-
-def _install_signal_handlers() -> None:
-    """SIGTERM unwinds the controller (SIGINT already does); only if nobody else handles it."""
-    global _signals_installed
-    if _signals_installed or threading.current_thread() is not threading.main_thread():
-        return
-    if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
-        signal.signal(signal.SIGTERM, _on_sigterm)
-    _signals_installed = True
-
-
-atexit.register(close_all_robots)
+        except Exception:
+            log.exception("could not close %r", robot)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import ego.controller
 from ego import default_robot, runtime
-from ego.robot import close_all_robots
+from ego.safety import RobotKeeper, install_signal_handlers
 
 __all__ = ["run_controller"]
 
@@ -18,7 +18,9 @@ def run_controller(path: str | Path, options: runtime.RunOptions, argv: Sequence
     """Execute the controller file at ``path`` as ``__main__`` with ego as its ``controller``.
 
     As Webots does, the controller's own folder is on ``sys.path`` and ``sys.argv`` holds
-    its arguments. Whatever way it ends, every robot it opened is stopped and closed.
+    its arguments. Whatever way it ends, every robot it opened is stopped and closed:
+    the run holds each one strongly until then, since the controller's globals (and with
+    them its robots) are torn down in no particular order when the script ends.
     """
     script = Path(path)
     if not script.is_file():
@@ -29,11 +31,14 @@ def run_controller(path: str | Path, options: runtime.RunOptions, argv: Sequence
     sys.modules["controller"] = ego.controller
     sys.argv = [str(script), *argv]
     sys.path.insert(0, str(script.resolve().parent))
+    install_signal_handlers()
     try:
-        runpy.run_path(str(script), run_name="__main__")
+        with RobotKeeper():
+            try:
+                runpy.run_path(str(script), run_name="__main__")
+            finally:
+                default_robot.close()
     finally:
-        default_robot.close()
-        close_all_robots()
         sys.argv, sys.path[:] = saved_argv, saved_path
         if saved_module is None:
             sys.modules.pop("controller", None)

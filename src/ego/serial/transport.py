@@ -10,15 +10,24 @@ from __future__ import annotations
 
 import abc
 import contextlib
+import errno
 import logging
 import numbers
+import os
 import time
 from collections.abc import Iterator
 from types import TracebackType
 
 import serial
 
-from ego.errors import LinkLostError, LinkTimeoutError, OutOfRangeError, PortNotFoundError
+from ego.errors import (
+    LinkLostError,
+    LinkTimeoutError,
+    OutOfRangeError,
+    PortBusyError,
+    PortNotFoundError,
+)
+from ego.serial.port_holder import find_port_holder
 from ego.serial.protocol import DEFAULT_BAUD
 
 __all__ = ["SerialTransport", "Transport", "check_baudrate"]
@@ -129,6 +138,22 @@ class Transport(abc.ABC):
         return f"<{type(self).__name__} {self.name}>"
 
 
+def port_busy_error(port: str) -> PortBusyError:
+    """The error for a port another process has locked, naming that process if it can."""
+    holder = find_port_holder(port)
+    if holder is None:
+        who = "another process"
+    elif holder.pid == os.getpid():
+        who = "this process (another Robot on the same port)"
+    else:
+        who = f"process {holder.pid} ({holder.command})"
+    return PortBusyError(
+        f"port {port!r} is held by {who}: one controller drives a robot at a time; "
+        "stop the other one first",
+        holder_pid=holder.pid if holder else None,
+    )
+
+
 class SerialTransport(Transport):
     """Any pyserial port or URL, 8N1 without flow control (protocol.md: Line)."""
 
@@ -150,8 +175,13 @@ class SerialTransport(Transport):
                 xonxoff=False,
                 rtscts=False,
                 timeout=0,
+                # flock(2) the port: a second controller on the same robot is refused at
+                # open instead of interleaving its batches with ours (URLs ignore it).
+                exclusive=True,
             )
         except (serial.SerialException, OSError, ValueError) as exc:
+            if getattr(exc, "errno", None) in (errno.EWOULDBLOCK, errno.EAGAIN):
+                raise port_busy_error(self.name) from exc
             raise PortNotFoundError(f"cannot open port {self.name!r}: {exc}") from exc
         self._port = port
         self._timeout = 0
