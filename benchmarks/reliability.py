@@ -115,7 +115,7 @@ def soak(kinds: list[str], rate: float, steps: int, seed: int = 1, label: str = 
     result = SoakResult(label or "+".join(kinds), rate)
     rng = random.Random(seed)
     faults = [FaultSpec(kind, rate=rate) for kind in kinds]
-    with Emulator("thesis", seed=seed, faults=faults, timings=SOAK_FAULTS) as emu:
+    with Emulator("webots", seed=seed, faults=faults, timings=SOAK_FAULTS) as emu:
         robot = ego.Robot(
             transport=SerialTransport(emu.path), link_settings=SOAK_LINK, handle_signals=False
         )

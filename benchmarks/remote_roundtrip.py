@@ -106,16 +106,16 @@ class _ServeProcess:
 
 
 def roundtrip_table(steps: int) -> Table:
-    profile = PROFILES[Firmware.THESIS]
+    profile = PROFILES[Firmware.WEBOTS]
     batch = encode_batch(SENSORS, profile)
     servers = [_ServeProcess("tcp"), _ServeProcess("udp")]
-    emu = Emulator("thesis", seed=1).start()
+    emu = Emulator("webots", seed=1).start()
     links: dict[str, Link] = {}
     try:
-        links["pty (direct)"] = Link(SerialTransport(emu.path), Firmware.THESIS)
+        links["pty (direct)"] = Link(SerialTransport(emu.path), Firmware.WEBOTS)
         for server in servers:
             name = server.url.split(":")[0].upper()
-            links[name] = Link(RemoteTransport.from_url(server.url), Firmware.THESIS)
+            links[name] = Link(RemoteTransport.from_url(server.url), Firmware.WEBOTS)
         stats = interleaved(
             {name: (lambda link=link: link.exchange(batch)) for name, link in links.items()},
             repeats=steps,
@@ -156,7 +156,7 @@ def roundtrip_table(steps: int) -> Table:
 
 
 def _step_without_io(batch_reply: bytes, guard: SequenceGuard, seq: int) -> None:
-    profile = PROFILES[Firmware.THESIS]
+    profile = PROFILES[Firmware.WEBOTS]
     # client: the batch, framed
     batch = encode_batch(SENSORS, profile)
     request = encode_frame(MessageType.STEP, seq, batch.tx, 0x1234)
@@ -172,7 +172,7 @@ def _step_without_io(batch_reply: bytes, guard: SequenceGuard, seq: int) -> None
 
 
 def cpu_table(iterations: int) -> Table:
-    profile = PROFILES[Firmware.THESIS]
+    profile = PROFILES[Firmware.WEBOTS]
     batch = encode_batch(SENSORS, profile)
     reply = bytes(range(batch.reply_size))
     guard = SequenceGuard()

@@ -25,7 +25,7 @@ def _request(command: Command) -> Request:
     return Request(command, _ARGS.get(command, ()))
 
 
-def worst_case_requests(firmware: Firmware = Firmware.THESIS) -> list[Request]:
+def worst_case_requests(firmware: Firmware = Firmware.WEBOTS) -> list[Request]:
     """Every Table 4.1 command once, LEDs for the whole ring: the thesis' worst case."""
     profile = PROFILES[firmware]
     reqs = []
@@ -106,8 +106,8 @@ def overhead_tables() -> list[Table]:
 
 def _link_rate(steps: int, processing_delay_us: float) -> tuple[Stats, float, int]:
     """Per-step round trips (s), us per byte, and bytes a step, over the emulated link."""
-    with Emulator("thesis", seed=1, processing_delay_s=processing_delay_us * 1e-6) as emu:
-        link = Link(SerialTransport(emu.path), firmware="thesis")
+    with Emulator("webots", seed=1, processing_delay_s=processing_delay_us * 1e-6) as emu:
+        link = Link(SerialTransport(emu.path), firmware="webots")
         try:
             batch = encode_batch(worst_case_requests(), link.profile)
             per_step = len(batch.tx) + batch.reply_size

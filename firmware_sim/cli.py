@@ -7,7 +7,7 @@ import signal
 import sys
 from types import FrameType
 
-from firmware_sim.dspic import FIRMWARES
+from firmware_sim.dspic import FIRMWARE_ALIASES, FIRMWARES
 from firmware_sim.faults import FAULT_KINDS, FaultTimings, parse_fault
 from firmware_sim.server import Emulator
 
@@ -17,9 +17,10 @@ __all__ = ["add_arguments", "build_parser", "main", "run"]
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--firmware",
-        choices=FIRMWARES,
-        default="thesis",
-        help="which asercom to answer as (default: thesis)",
+        choices=(*FIRMWARES, *FIRMWARE_ALIASES),
+        metavar="{" + ",".join(FIRMWARES) + "}",
+        default="webots",
+        help="which firmware to answer as (default: webots)",
     )
     parser.add_argument(
         "--baud",

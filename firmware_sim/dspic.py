@@ -9,22 +9,46 @@ of :class:`Emission` (the reply of a batch, U's 600 bytes sent at once, an ASCII
 from __future__ import annotations
 
 import struct
+import warnings
 from dataclasses import dataclass, field
 
 from firmware_sim.world import World
 
-__all__ = ["BANNER", "FIRMWARES", "BatchRecord", "Dspic", "Emission"]
+__all__ = [
+    "BANNER",
+    "FIRMWARES",
+    "FIRMWARE_ALIASES",
+    "BatchRecord",
+    "Dspic",
+    "Emission",
+    "firmware_name",
+]
 
 #: asercom's welcome text after a reset.
 BANNER = (
     b"\x0c\x07 WELCOME to the SerCom protocol on e-Puck\r\n"
     b' the EPFL education robot type "H" for help\r\n'
 )
-FIRMWARES = ("thesis", "gctronic-overo")
+FIRMWARES = ("gctronic", "webots")
+#: The profiles' first names, still accepted with a warning.
+FIRMWARE_ALIASES = {"thesis": "webots", "gctronic-overo": "gctronic"}
+
+
+def firmware_name(name: str) -> str:
+    """``name`` if it is a firmware of :data:`FIRMWARES`, its new name if an old one."""
+    if name in FIRMWARE_ALIASES:
+        new = FIRMWARE_ALIASES[name]
+        warnings.warn(f"firmware name {name!r} is deprecated: use {new!r}", FutureWarning,
+                      stacklevel=3)  # fmt: skip
+        return new
+    if name not in FIRMWARES:
+        raise ValueError(f"firmware {name!r} is not one of {', '.join(FIRMWARES)}")
+    return name
+
 
 _VERSIONS = {
-    "thesis": "v,Version 1.5.3 November 2016 (Webots)",
-    "gctronic-overo": "v,Version 1.2.2 August 2008 GCtronic",
+    "webots": "v,Version 1.5.3 November 2016 (Webots)",
+    "gctronic": "v,Version 1.2.2 August 2008 GCtronic",
 }
 
 
@@ -74,11 +98,9 @@ _COMMANDS: dict[int, tuple[int, str]] = {
 class Dspic:
     """One dsPIC running asercom in ``firmware`` mode over a :class:`World`."""
 
-    def __init__(self, world: World, firmware: str = "thesis", hardware: str = "1.1") -> None:
-        if firmware not in FIRMWARES:
-            raise ValueError(f"firmware {firmware!r} is not one of {', '.join(FIRMWARES)}")
+    def __init__(self, world: World, firmware: str = "webots", hardware: str = "1.1") -> None:
         self.world = world
-        self.firmware = firmware
+        self.firmware = firmware_name(firmware)
         self.hardware = hardware
         self.batches = 0
         self.last_record: BatchRecord | None = None
@@ -92,7 +114,7 @@ class Dspic:
 
     @property
     def overo(self) -> bool:
-        return self.firmware == "gctronic-overo"
+        return self.firmware == "gctronic"
 
     def reset(self) -> None:
         """Power-on state: parser idle, motors stopped, counters and LEDs cleared."""

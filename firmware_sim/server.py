@@ -47,7 +47,7 @@ class Emulator:
 
     def __init__(
         self,
-        firmware: str = "thesis",
+        firmware: str = "webots",
         *,
         baud: int = 230400,
         processing_delay_s: float = 0.0,

@@ -70,7 +70,7 @@ def assert_removed(emu: Emulator) -> None:
 @pytest.fixture
 def emulator() -> Iterator[Emulator]:
     """The thesis firmware on a pty, serving from a background thread."""
-    with Emulator("thesis", seed=1) as emu:
+    with Emulator("webots", seed=1) as emu:
         yield emu
     assert_removed(emu)
 
@@ -78,7 +78,7 @@ def emulator() -> Iterator[Emulator]:
 @pytest.fixture
 def overo_emulator() -> Iterator[Emulator]:
     """The stock GCtronic firmware in Overo mode (selector 10) on a pty."""
-    with Emulator("gctronic-overo", seed=1) as emu:
+    with Emulator("gctronic", seed=1) as emu:
         yield emu
     assert_removed(emu)
 

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from ego import __version__, runtime
 from ego.errors import EgoError
+from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES
 
 __all__ = ["build_parser", "main"]
 
@@ -79,7 +80,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     demo = sub.add_parser("demo", help="obstacle avoidance on the built-in emulator, shown live")
     demo.add_argument("--duration", type=_positive, default=20.0, help="seconds (default 20)")
-    demo.add_argument("--firmware", choices=("thesis", "gctronic-overo"), default="thesis")
+    demo.add_argument(
+        "--firmware",
+        choices=(*FIRMWARE_CHOICES[1:], *DEPRECATED_FIRMWARE_NAMES),
+        metavar="{gctronic,webots}",
+        default="webots",
+        help="which firmware the emulator answers as (default: webots)",
+    )
     demo.add_argument("--seed", type=int, default=1)
     demo.set_defaults(func=_cmd_demo)
 
@@ -89,7 +96,13 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="serial port, pyserial URL, 'sim', tcp:// or udp:// (default: EGO_PORT or /dev/ttyS0)",
     )
-    run.add_argument("--firmware", choices=("auto", "thesis", "gctronic-overo"), default=None)
+    run.add_argument(
+        "--firmware",
+        choices=(*FIRMWARE_CHOICES, *DEPRECATED_FIRMWARE_NAMES),
+        metavar="{auto,gctronic,webots}",
+        default=None,
+        help="the dsPIC's firmware (default: auto, asked with V and C at open)",
+    )
     run.add_argument(
         "--duration",
         type=_positive,

@@ -69,7 +69,7 @@ class _Progress:
 
 def run_demo(
     duration_s: float = 20.0,
-    firmware: str = "thesis",
+    firmware: str = "webots",
     seed: int | None = 1,
     out: TextIO = sys.stdout,
 ) -> DemoReport:

@@ -35,7 +35,8 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
         └── FrameError (ValueError)              a malformed or oversized network frame
             └── VersionMismatchError             a frame of another ego protocol version
     EgoWarning (UserWarning)
-    └── StepOverrunWarning                       a step's work took longer than the step
+    ├── StepOverrunWarning                       a step's work took longer than the step
+    └── DeprecatedNameWarning (FutureWarning)    an old name that still works, for now
 """
 
 from __future__ import annotations
@@ -47,6 +48,7 @@ __all__ = [
     "CameraError",
     "CameraTimeoutError",
     "ConfigSyntaxError",
+    "DeprecatedNameWarning",
     "DeviceError",
     "EgoError",
     "EgoWarning",
@@ -235,3 +237,8 @@ class EgoWarning(UserWarning):
 
 class StepOverrunWarning(EgoWarning):
     """A step's work (I/O included) took longer than the step itself."""
+
+
+class DeprecatedNameWarning(EgoWarning, FutureWarning):
+    """A name ego renamed (a firmware profile, say); it works, and says what replaced it."""
+

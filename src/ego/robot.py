@@ -147,7 +147,7 @@ class Robot:
             return open_transport(port, baudrate, secret)
         from firmware_sim import Emulator  # only the emulator's users pay for it
 
-        fw = Firmware.choose(firmware) or Firmware.THESIS
+        fw = Firmware.choose(firmware) or Firmware.WEBOTS
         self._emulator = Emulator(fw.value, baud=baudrate, seed=seed).start()
         return SerialTransport(self._emulator.path, baudrate)
 

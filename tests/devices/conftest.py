@@ -21,7 +21,7 @@ FAST_OPEN = ego.LinkSettings(resync_quiet_s=0.02)
 @pytest.fixture
 def emulator() -> Iterator[Emulator]:
     """The thesis firmware's dsPIC behind a pty, outliving the robot so the stop is seen."""
-    with Emulator("thesis", seed=SEED) as emu:
+    with Emulator("webots", seed=SEED) as emu:
         yield emu
 
 
@@ -51,7 +51,7 @@ def builtin_sim_robot() -> Iterator[ego.Robot]:
 @pytest.fixture
 def overo_emulator() -> Iterator[Emulator]:
     """The stock GCtronic firmware in Overo mode (selector 10)."""
-    with Emulator("gctronic-overo", seed=SEED) as emu:
+    with Emulator("gctronic", seed=SEED) as emu:
         yield emu
 
 

@@ -22,7 +22,7 @@ STEP_MS = 32
 def idle_robot() -> Iterator[ego.Robot]:
     """One robot for the checks that refuse before any I/O: nothing here enables anything."""
     settings = ego.LinkSettings(resync_quiet_s=0.02)  # the emulator's banner is short
-    with Emulator("thesis") as emu, ego.Robot(emu.path, link_settings=settings) as robot:
+    with Emulator("webots") as emu, ego.Robot(emu.path, link_settings=settings) as robot:
         yield robot
         assert robot.link.stats.batches == 0, "a refused call reached the wire"
 

@@ -24,7 +24,7 @@ GET_STEPS = Request(Command.GET_STEPS)
 
 
 def fresh_encoders(left: int, right: int) -> Encoders:
-    encoders = Encoders(PROFILES[Firmware.THESIS])
+    encoders = Encoders(PROFILES[Firmware.WEBOTS])
     encoders.decode(GET_STEPS, (left, right), 0)
     return encoders
 
@@ -81,7 +81,7 @@ def test_a_misread_d_is_caught_by_the_e_behind_it_and_sent_again() -> None:
     stopped = struct.pack("<2h", 0, 0)
     fake = ScriptedTransport([misread, held, stopped])
     robot = ego.Robot(
-        transport=fake, firmware="thesis", link_settings=INSTANT_LINK, handle_signals=False
+        transport=fake, firmware="webots", link_settings=INSTANT_LINK, handle_signals=False
     )
     try:
         robot.motors.set_speed(300, 300)

@@ -23,7 +23,7 @@ SEED = 11
 @pytest.fixture
 def emulator() -> Iterator[Emulator]:
     """The thesis firmware's dsPIC behind a pty, outliving the robots so their stop is seen."""
-    with Emulator("thesis", seed=SEED) as emu:
+    with Emulator("webots", seed=SEED) as emu:
         yield emu
 
 

@@ -47,7 +47,7 @@ def test_a_deprecated_getter_of_the_wrong_kind_lists_the_right_names(
 
 
 def test_the_long_range_sensors_exist_only_on_the_overo_firmware() -> None:
-    with Emulator("gctronic-overo") as emu:
+    with Emulator("gctronic") as emu:
         runtime.set_options(runtime.RunOptions(port=emu.path))
         try:
             robot = WebotsRobot()

@@ -60,17 +60,17 @@ def ask(port: serial.Serial, tx: bytes, size: int) -> bytes:
 
 
 def test_thesis_process_answers_the_full_step_with_58_bytes(tmp_path: Path) -> None:
-    with sim_process(tmp_path, "--firmware", "thesis") as (_, path):
+    with sim_process(tmp_path, "--firmware", "webots") as (_, path):
         assert os.path.exists(path)
         with open_port(path) as port:
             assert len(ask(port, FULL_STEP, 58)) == 58
 
 
 def test_overo_process_answers_n_with_20_bytes_and_m_with_none(tmp_path: Path) -> None:
-    """protocol.md: on gctronic-overo "N and O return 10 values (20 bytes)", "M returns
+    """protocol.md: on gctronic "N and O return 10 values (20 bytes)", "M returns
     nothing"."""
     with (
-        sim_process(tmp_path, "--firmware", "gctronic-overo") as (_, path),
+        sim_process(tmp_path, "--firmware", "gctronic") as (_, path),
         open_port(path) as port,
     ):
         assert len(ask(port, bytes.fromhex("b2 00"), 20)) == 20
@@ -112,7 +112,7 @@ def test_each_bad_fault_is_refused_before_a_pty_is_made(
 
 def test_unknown_firmware_is_refused_by_the_parser(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as caught:
-        main(["--firmware", "webots"])
+        main(["--firmware", "e-puck2"])
     assert caught.value.code == 2
     assert "invalid choice" in capsys.readouterr().err
 

@@ -36,7 +36,7 @@ from ego.serial.protocol import Command, Firmware, Request, encode_batch
 from ego.serial.transport import SerialTransport
 from firmware_sim import FAULT_KINDS, Emulator, FaultSpec
 
-SENSOR_LETTERS = {Firmware.THESIS: "aEMNOQu", Firmware.GCTRONIC_OVERO: "aENOQu"}
+SENSOR_LETTERS = {Firmware.WEBOTS: "aEMNOQu", Firmware.GCTRONIC: "aENOQu"}
 #: Errors a step may raise; anything else (and LinkLostError: the port always comes back
 #: within the reconnect deadline here) fails the test.
 RECOVERABLE = (LinkTimeoutError, ShortReplyError, ExtraBytesError)
@@ -125,7 +125,7 @@ STEPS = 120
 @pytest.mark.parametrize("kind", FAULT_KINDS)
 def test_link_never_delivers_a_wrong_value_under_faults(kind: str) -> None:
     faults = [FaultSpec(kind, rate=RATES[kind])]
-    with Emulator("thesis", seed=11, faults=faults, timings=FAST_FAULTS) as emu:
+    with Emulator("webots", seed=11, faults=faults, timings=FAST_FAULTS) as emu:
         link = open_link(emu)
         try:
             tally = run_steps(link, emu, STEPS, random.Random(kind))
@@ -150,7 +150,7 @@ def test_link_never_delivers_a_wrong_value_under_faults(kind: str) -> None:
 @pytest.mark.slow
 def test_every_fault_at_one_percent_together() -> None:
     faults = [FaultSpec(kind, rate=0.01) for kind in FAULT_KINDS]
-    with Emulator("thesis", seed=5, faults=faults, timings=FAST_FAULTS) as emu:
+    with Emulator("webots", seed=5, faults=faults, timings=FAST_FAULTS) as emu:
         link = open_link(emu)
         try:
             tally = run_steps(link, emu, 160, random.Random(5))
@@ -165,7 +165,7 @@ def test_every_fault_at_one_percent_together() -> None:
 # -- every kind, once, on demand, both firmwares -----------------------------------------------
 
 
-@pytest.mark.parametrize("firmware", ["thesis", "gctronic-overo"])
+@pytest.mark.parametrize("firmware", ["webots", "gctronic"])
 @pytest.mark.parametrize("kind", FAULT_KINDS)
 def test_injected_fault_is_recovered_or_raised_typed(firmware: str, kind: str) -> None:
     with Emulator(firmware, seed=3, timings=FAST_FAULTS) as emu:

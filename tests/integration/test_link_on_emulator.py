@@ -20,13 +20,13 @@ def req(letter: str, *args: int) -> Request:
 
 
 SENSORS = {
-    Firmware.THESIS: [req(c) for c in "aEMNOQu"],
-    Firmware.GCTRONIC_OVERO: [req(c) for c in "aENOQu"],  # M is refused there
+    Firmware.WEBOTS: [req(c) for c in "aEMNOQu"],
+    Firmware.GCTRONIC: [req(c) for c in "aENOQu"],  # M is refused there
 }
 
 
 @pytest.mark.parametrize(
-    ("firmware", "selector"), [("thesis", 3), ("gctronic-overo", 10)], ids=["thesis", "overo"]
+    ("firmware", "selector"), [("webots", 3), ("gctronic", 10)], ids=["webots", "overo"]
 )
 def test_v_probe_detects_the_firmware(firmware: str, selector: int) -> None:
     """protocol.md: "The library learns which firmware it talks to at start-up" from V
@@ -37,16 +37,16 @@ def test_v_probe_detects_the_firmware(firmware: str, selector: int) -> None:
             assert link.info.firmware is Firmware(firmware)
             assert link.info.detected
             assert link.info.hardware == "HW version: 1.1"
-            if firmware == "gctronic-overo":
+            if firmware == "gctronic":
                 assert link.info.selector == selector
         finally:
             link.close()
 
 
 def test_forced_firmware_is_trusted(overo_emulator: Emulator) -> None:
-    link = Link(SerialTransport(overo_emulator.path), firmware="thesis", settings=FAST_LINK)
+    link = Link(SerialTransport(overo_emulator.path), firmware="webots", settings=FAST_LINK)
     try:
-        assert link.info.firmware is Firmware.THESIS
+        assert link.info.firmware is Firmware.WEBOTS
         assert not link.info.detected
         # The wrong profile expects 16 bytes for N where this firmware sends 20: the link
         # refuses them (typed) rather than misparse them.
@@ -57,7 +57,7 @@ def test_forced_firmware_is_trusted(overo_emulator: Emulator) -> None:
 
 
 def test_forced_firmware_matching_the_robot_works(overo_emulator: Emulator) -> None:
-    link = Link(SerialTransport(overo_emulator.path), firmware="gctronic-overo")
+    link = Link(SerialTransport(overo_emulator.path), firmware="gctronic")
     try:
         batch = encode_batch([req("N")], link.profile)
         (values,) = batch.decode(link.exchange(batch))
@@ -67,10 +67,10 @@ def test_forced_firmware_matching_the_robot_works(overo_emulator: Emulator) -> N
 
 
 def test_hardware_1_3_overo_refuses_the_accelerometer_it_would_read_as_zeros() -> None:
-    with Emulator("gctronic-overo", seed=1, hardware="1.3") as emu:
+    with Emulator("gctronic", seed=1, hardware="1.3") as emu:
         link = Link(SerialTransport(emu.path), settings=FAST_LINK)
         try:
-            assert link.info.firmware is Firmware.GCTRONIC_OVERO
+            assert link.info.firmware is Firmware.GCTRONIC
             with pytest.raises(UnsupportedDeviceError, match=r"1\.3"):
                 encode_batch([req("a")], link.profile)
         finally:
@@ -92,7 +92,7 @@ def test_sensor_step_delivers_what_the_dspic_sent(
         proximity = batch.decode(reply)[
             [r.command for r in batch.requests].index(Command.PROXIMITY)
         ]
-        assert len(proximity) == (8 if link.info.firmware is Firmware.THESIS else 10)
+        assert len(proximity) == (8 if link.info.firmware is Firmware.WEBOTS else 10)
     finally:
         link.close()
 
@@ -138,7 +138,7 @@ def test_thousand_steps_on_the_raw_pty_with_pyserial() -> None:
     (paced at 921600 baud to keep the run short; the link's runs use 230400)."""
     tx = bytes.fromhex("9f bb b3 b2 b1 af 8b 00")
     with (
-        Emulator("thesis", seed=2, baud=921600) as emulator,
+        Emulator("webots", seed=2, baud=921600) as emulator,
         serial.Serial(emulator.path, 921600, timeout=1.0) as port,
     ):
         port.timeout = 0.2

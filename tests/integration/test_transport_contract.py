@@ -53,7 +53,7 @@ def loop_far_end() -> Iterator[FarEnd]:
 @contextmanager
 def emulator_far_end() -> Iterator[FarEnd]:
     """The emulated dsPIC on a real pty: E answers the speeds, (0, 0) at rest."""
-    with Emulator("thesis", seed=1) as emu:
+    with Emulator("webots", seed=1) as emu:
         transport = SerialTransport(emu.path)
         transport.drain(0.05, 2.0)  # the power-on banner
 

@@ -211,8 +211,8 @@ def namespace() -> Iterator[Namespace]:
         for name, text in CONTROLLERS.items():
             (tmp_path / name).write_text(text)
 
-        emu = stack.enter_context(Emulator("thesis", seed=3))
-        overo_emu = stack.enter_context(Emulator("gctronic-overo", seed=3))
+        emu = stack.enter_context(Emulator("webots", seed=3))
+        overo_emu = stack.enter_context(Emulator("gctronic", seed=3))
         robot = stack.enter_context(ego.Robot(emu.path, link_settings=FAST_OPEN))
         overo_robot = stack.enter_context(ego.Robot(overo_emu.path, link_settings=FAST_OPEN))
 
@@ -233,14 +233,14 @@ def namespace() -> Iterator[Namespace]:
         camera.update(0)
 
         # A served robot that wants a secret, and one that does not, driven by remote_robot.
-        served_emu = stack.enter_context(Emulator("thesis", seed=3))
+        served_emu = stack.enter_context(Emulator("webots", seed=3))
         served_link = Link(SerialTransport(served_emu.path), settings=FAST_OPEN)
         stack.callback(served_link.close)
         server = RemoteServer(
             served_link, listen=["tcp://127.0.0.1:0", "udp://127.0.0.1:0"], secret=SECRET
         )
         served = stack.enter_context(ServerThread(server))
-        open_emu = stack.enter_context(Emulator("thesis", seed=3))
+        open_emu = stack.enter_context(Emulator("webots", seed=3))
         open_link = Link(SerialTransport(open_emu.path), settings=FAST_OPEN)
         stack.callback(open_link.close)
         open_server = stack.enter_context(

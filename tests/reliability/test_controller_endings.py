@@ -41,7 +41,7 @@ ENDING = [s for s in TERMINATING_SIGNALS if s not in IGNORED]
 
 @pytest.fixture
 def emulator() -> Iterator[Emulator]:
-    with Emulator("thesis", seed=1) as emu:
+    with Emulator("webots", seed=1) as emu:
         yield emu
 
 

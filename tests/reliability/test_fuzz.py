@@ -83,8 +83,8 @@ FUZZ = settings(
 #: For properties whose examples wait on timeouts (the scripted transport sleeps them).
 FUZZ_SLOW = settings(FUZZ, max_examples=40)
 
-THESIS = PROFILES[Firmware.THESIS]
-OVERO = PROFILES[Firmware.GCTRONIC_OVERO]
+THESIS = PROFILES[Firmware.WEBOTS]
+OVERO = PROFILES[Firmware.GCTRONIC]
 PROFILE_LIST = [THESIS, OVERO]
 
 #: The range of each struct code a reply may hold.
@@ -255,7 +255,7 @@ def test_identify_gives_a_known_profile_or_a_protocol_error(
     except ProtocolError:
         assert lines and not lines[0].strip().startswith("v,")
         return
-    assert info.firmware in (Firmware.THESIS, Firmware.GCTRONIC_OVERO)
+    assert info.firmware in (Firmware.WEBOTS, Firmware.GCTRONIC)
     assert set(info.profile.commands) <= set(PROFILES[info.firmware].commands)
 
 
@@ -290,7 +290,7 @@ def test_an_ascii_command_gives_its_reply_lines_or_a_protocol_error(
     answer: bytes, letter: str, lines: int
 ) -> None:
     transport = ScriptedTransport()
-    link = Link(transport, Firmware.THESIS, INSTANT_LINK)  # told the firmware: no probe
+    link = Link(transport, Firmware.WEBOTS, INSTANT_LINK)  # told the firmware: no probe
     transport.script.append(answer)
     try:
         replies = link.ascii_command(letter, lines)
@@ -313,7 +313,7 @@ def test_the_firmware_probe_ends_in_a_profile_or_a_typed_error(
         link = Link(ScriptedTransport([version, selector]), settings=INSTANT_LINK)
     except EgoError:
         return
-    assert link.profile.firmware in (Firmware.THESIS, Firmware.GCTRONIC_OVERO)
+    assert link.profile.firmware in (Firmware.WEBOTS, Firmware.GCTRONIC)
     assert link.info.selector is None or 0 <= link.info.selector <= 15
 
 
@@ -591,7 +591,7 @@ DSPIC_BYTES = st.lists(
 E_BATCH = encode_batch([Request(Command.GET_SPEED)], THESIS).tx
 
 
-@pytest.mark.parametrize("firmware", ["thesis", "gctronic-overo"])
+@pytest.mark.parametrize("firmware", ["webots", "gctronic"])
 @FUZZ
 @given(garbage=DSPIC_BYTES)
 def test_the_dspic_survives_any_bytes_and_the_resync_brings_it_back(

@@ -62,7 +62,7 @@ def is_stopped(world: World) -> bool:
 @pytest.fixture
 def emulator() -> Iterator[Emulator]:
     """The thesis firmware's dsPIC behind a pty, outliving every process that drives it."""
-    with Emulator("thesis", seed=5) as emu:
+    with Emulator("webots", seed=5) as emu:
         yield emu
 
 

@@ -23,7 +23,7 @@ CLIENT_LINK = LinkSettings(retries=1, reconnect_timeout_s=2.0)
 
 @pytest.fixture
 def serve() -> Iterator[ServeFactory]:
-    """``serve(kinds=("tcp",), firmware="thesis", **server_options)``: a served emulator.
+    """``serve(kinds=("tcp",), firmware="webots", **server_options)``: a served emulator.
 
     ``sim_camera=True`` serves the emulator's camera.
     """
@@ -31,7 +31,7 @@ def serve() -> Iterator[ServeFactory]:
 
         def factory(
             kinds: tuple[str, ...] = ("tcp",),
-            firmware: str = "thesis",
+            firmware: str = "webots",
             emulator_options: dict[str, Any] | None = None,
             link_settings: LinkSettings = FAST_LINK,
             sim_camera: bool = False,

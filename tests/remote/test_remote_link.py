@@ -59,16 +59,16 @@ def test_actuator_batch_moves_the_emulated_wheels_and_leds(
 def test_firmware_is_detected_through_the_relay(
     serve: ServeFactory, connect: ConnectFactory, kind: str
 ) -> None:
-    served = serve(kinds=(kind,), firmware="gctronic-overo")
+    served = serve(kinds=(kind,), firmware="gctronic")
     link = connect(served.url)
-    assert link.profile.firmware is Firmware.GCTRONIC_OVERO  # from the relayed V and C
-    assert link.transport.firmware == "gctronic-overo"  # type: ignore[attr-defined]
+    assert link.profile.firmware is Firmware.GCTRONIC  # from the relayed V and C
+    assert link.transport.firmware == "gctronic"  # type: ignore[attr-defined]
     batch = encode_batch([Request(Command.PROXIMITY)], link.profile)
     assert len(batch.decode(link.exchange(batch))[0]) == 10  # ps0..ps7 + IR8, IR9
 
 
 def test_ascii_command_is_relayed(serve: ServeFactory, connect: ConnectFactory, kind: str) -> None:
-    served = serve(kinds=(kind,), firmware="gctronic-overo")
+    served = serve(kinds=(kind,), firmware="gctronic")
     link = connect(served.url)
     assert link.ascii_command("C") == ["c,10"]
     assert link.ascii_command("V", lines=2)[0].startswith("v,Version 1.2.2")
@@ -86,8 +86,8 @@ def test_unrelayed_ascii_command_is_refused(serve: ServeFactory, connect: Connec
 def test_batch_the_server_firmware_cannot_serve_is_refused(
     serve: ServeFactory, connect: ConnectFactory, kind: str
 ) -> None:
-    served = serve(kinds=(kind,), firmware="gctronic-overo")
-    link = connect(served.url, firmware="thesis")  # wrongly told: M exists there
+    served = serve(kinds=(kind,), firmware="gctronic")
+    link = connect(served.url, firmware="webots")  # wrongly told: M exists there
     before = len(served.emu.history)
     with pytest.raises(UnsupportedDeviceError, match="floor"):
         link.exchange(encode_batch([Request(Command.FLOOR)], link.profile))

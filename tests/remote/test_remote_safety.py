@@ -191,7 +191,7 @@ def test_client_refuses_a_server_that_cannot_prove_the_secret() -> None:
     def impostor() -> None:
         for reply in (
             {"nonce": bytes(32).hex(), "auth": True, "deadline_s": 0.5},
-            {"proof": bytes(32).hex(), "firmware": "thesis"},
+            {"proof": bytes(32).hex(), "firmware": "webots"},
         ):
             data, addr = sock.recvfrom(MAX_DATAGRAM)
             frame = decode_frame(data)
@@ -311,5 +311,5 @@ def test_welcome_names_the_firmware_and_deadline(serve: ServeFactory) -> None:
     welcome = unpack_json(raw.handshake().payload)
     raw.send(MessageType.BYE)
     raw.close()
-    assert welcome["firmware"] == "thesis"
+    assert welcome["firmware"] == "webots"
     assert welcome["deadline_s"] == 0.4

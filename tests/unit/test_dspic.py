@@ -27,7 +27,7 @@ def batch(*letters: str, args: bytes = b"") -> bytes:
     return bytes([neg(head)]) + args + bytes(neg(c) for c in rest) + b"\x00"
 
 
-def make(firmware: str = "thesis", hardware: str = "1.1") -> Dspic:
+def make(firmware: str = "webots", hardware: str = "1.1") -> Dspic:
     return Dspic(World(seed=3, noise=False), firmware, hardware)
 
 
@@ -78,14 +78,14 @@ def test_replies_are_the_worlds_values_little_endian_in_command_order() -> None:
 
 def test_full_sensor_step_on_gctronic_overo_skips_floor_and_widens_n_and_o() -> None:
     """protocol.md: "N and O return 10 values (20 bytes)", "M returns nothing"."""
-    dspic = make("gctronic-overo")
+    dspic = make("gctronic")
     out = dspic.feed(bytes.fromhex("9f bb b3 b2 b1 af 8b 00"))
     assert len(only_reply(out)) == 6 + 4 + 0 + 20 + 20 + 4 + 6
     assert out[-1].record is not None
     assert out[-1].record.commands == "aEMNOQu"
 
 
-@pytest.mark.parametrize(("firmware", "size"), [("thesis", 16), ("gctronic-overo", 20)])
+@pytest.mark.parametrize(("firmware", "size"), [("webots", 16), ("gctronic", 20)])
 @pytest.mark.parametrize("letter", ["N", "O"])
 def test_proximity_and_light_sizes_follow_the_firmware(
     firmware: str, size: int, letter: str
@@ -94,13 +94,13 @@ def test_proximity_and_light_sizes_follow_the_firmware(
 
 
 def test_overo_long_range_sensors_follow_ps0_to_ps7() -> None:
-    dspic = make("gctronic-overo")
+    dspic = make("gctronic")
     values = struct.unpack("<10h", only_reply(dspic.feed(batch("N"))))
     assert list(values) == dspic.world.proximity(long_range=True)
 
 
 def test_floor_sensors_are_silent_on_gctronic_overo() -> None:
-    dspic = make("gctronic-overo")
+    dspic = make("gctronic")
     assert only_reply(dspic.feed(batch("M"))) == b""
     assert only_reply(dspic.feed(batch("E", "M", "Q"))) == bytes(8)
 
@@ -174,8 +174,8 @@ def test_unknown_command_bytes_are_skipped() -> None:
 
 def test_gyro_answers_six_zeros_only_on_gctronic_overo() -> None:
     """protocol.md: "g returns 6 zero bytes" on the stock Overo firmware."""
-    assert only_reply(make("gctronic-overo").feed(batch("g"))) == bytes(6)
-    assert only_reply(make("thesis").feed(batch("g"))) == b""
+    assert only_reply(make("gctronic").feed(batch("g"))) == bytes(6)
+    assert only_reply(make("webots").feed(batch("g"))) == b""
 
 
 def test_lone_zeros_are_ignored() -> None:
@@ -198,7 +198,7 @@ def test_zeros_complete_pending_arguments_then_end_the_batch() -> None:
 @pytest.mark.parametrize("led", [8, 9])
 def test_body_and_front_leds_are_ignored_on_gctronic_overo(led: int) -> None:
     """protocol.md: "L 8 and L 9 (body, front) are ignored"."""
-    overo, thesis = make("gctronic-overo"), make()
+    overo, thesis = make("gctronic"), make()
     overo.feed(batch("L", args=bytes([led, 1])))
     thesis.feed(batch("L", args=bytes([led, 1])))
     assert overo.world.leds[led] == 0
@@ -218,9 +218,9 @@ def test_led_value_two_toggles_and_other_numbers_set_the_whole_ring() -> None:
 
 def test_hardware_1_3_on_gctronic_overo_reads_zeros_from_the_accelerometer() -> None:
     """protocol.md: "on hardware revision 1.3 a/A return zeros" (ego refuses them instead)."""
-    dspic = make("gctronic-overo", hardware="1.3")
+    dspic = make("gctronic", hardware="1.3")
     assert only_reply(dspic.feed(batch("a", "A"))) == bytes(18)
-    assert only_reply(make("gctronic-overo").feed(batch("a"))) != bytes(6)
+    assert only_reply(make("gctronic").feed(batch("a"))) != bytes(6)
 
 
 def test_accelerometer_at_rest_sees_one_g_on_z() -> None:
@@ -266,8 +266,8 @@ def test_bytes_split_anywhere_give_the_same_replies(cuts: list[int]) -> None:
 @pytest.mark.parametrize(
     ("firmware", "version"),
     [
-        ("thesis", "v,Version 1.5.3 November 2016 (Webots)"),
-        ("gctronic-overo", "v,Version 1.2.2 August 2008 GCtronic"),
+        ("webots", "v,Version 1.5.3 November 2016 (Webots)"),
+        ("gctronic", "v,Version 1.2.2 August 2008 GCtronic"),
     ],
 )
 def test_v_names_the_firmware_in_two_lines(firmware: str, version: str) -> None:
@@ -275,7 +275,7 @@ def test_v_names_the_firmware_in_two_lines(firmware: str, version: str) -> None:
     assert text(make(firmware, hardware="1.3").feed(b"V\n")) == [version, "HW version: 1.3"]
 
 
-@pytest.mark.parametrize(("firmware", "selector"), [("thesis", "c,3"), ("gctronic-overo", "c,10")])
+@pytest.mark.parametrize(("firmware", "selector"), [("webots", "c,3"), ("gctronic", "c,10")])
 def test_c_answers_the_selector(firmware: str, selector: str) -> None:
     """protocol.md: "C (selector; reply c,N)", 10 being the Overo mode."""
     assert text(make(firmware).feed(b"C\n")) == [selector]
@@ -341,5 +341,5 @@ def test_zeros_do_not_end_an_ascii_line_but_a_newline_does() -> None:
 
 
 def test_unknown_firmware_is_refused() -> None:
-    with pytest.raises(ValueError, match="firmware 'webots'"):
-        Dspic(World(), "webots")
+    with pytest.raises(ValueError, match="firmware 'e-puck2'"):
+        Dspic(World(), "e-puck2")

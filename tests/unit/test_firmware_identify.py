@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from ego.errors import ProtocolError, UnsupportedDeviceError
+from ego.errors import DeprecatedNameWarning, ProtocolError, UnsupportedDeviceError
 from ego.serial.firmware import (
     OVERO_SELECTOR,
     identify,
@@ -13,6 +13,7 @@ from ego.serial.firmware import (
     parse_selector,
 )
 from ego.serial.protocol import Command, Firmware, Request, encode_batch
+from firmware_sim.dspic import firmware_name
 
 # protocol.md: "v,Version 1.2.2 August 2008 GCtronic / HW version: ...", or
 # "v,Version 1.5.3 November 2016 (Webots)".
@@ -23,7 +24,7 @@ WEBOTS = ["v,Version 1.5.3 November 2016 (Webots)"]
 def test_webots_firmware_gets_the_thesis_profile() -> None:
     """protocol.md: "The Webots firmware ... get[s] the thesis profile"."""
     info = identify(WEBOTS)
-    assert info.firmware is Firmware.THESIS
+    assert info.firmware is Firmware.WEBOTS
     assert info.version == "Version 1.5.3 November 2016 (Webots)"
     assert info.detected
 
@@ -32,7 +33,7 @@ def test_gctronic_firmware_on_selector_10_gets_the_overo_profile() -> None:
     """protocol.md: "the ASCII C command (reply c,N) tells the selector position: 10 is the
     Overo mode"."""
     info = identify(GCTRONIC, selector=10)
-    assert info.firmware is Firmware.GCTRONIC_OVERO
+    assert info.firmware is Firmware.GCTRONIC
     assert info.selector == OVERO_SELECTOR == 10
     assert info.hardware == "HW version: 1.1"
     assert info.profile.supports(Command.ACCELEROMETER_RAW)
@@ -43,14 +44,14 @@ def test_gctronic_firmware_on_another_selector_gets_the_thesis_profile(
     selector: int | None,
 ) -> None:
     info = identify(GCTRONIC, selector=selector)
-    assert info.firmware is Firmware.THESIS
+    assert info.firmware is Firmware.WEBOTS
     assert info.selector == selector
 
 
 def test_silence_gets_the_thesis_profile() -> None:
     """protocol.md: "a firmware that answers neither, get[s] the thesis profile"."""
     info = identify([])
-    assert info.firmware is Firmware.THESIS
+    assert info.firmware is Firmware.WEBOTS
     assert info.version == ""
 
 
@@ -59,7 +60,7 @@ def test_hardware_1_3_on_overo_refuses_the_accelerometer(hardware: str) -> None:
     """protocol.md: "on hardware revision 1.3 a/A return zeros (that accelerometer is on I2C
     too)", and a device the firmware cannot serve "never reads zeros"."""
     info = identify([GCTRONIC[0], hardware], selector=10)
-    assert info.firmware is Firmware.GCTRONIC_OVERO
+    assert info.firmware is Firmware.GCTRONIC
     for letter in "aA":
         with pytest.raises(UnsupportedDeviceError, match=r"1\.3"):
             encode_batch([Request(Command((-ord(letter)) & 0xFF))], info.profile)
@@ -108,3 +109,16 @@ def test_line_payload_strips_the_letter_and_the_line_end() -> None:
 )
 def test_gctronic_is_recognised_by_its_version_text(version: str, gctronic: bool) -> None:
     assert is_gctronic(version) is gctronic
+
+
+@pytest.mark.parametrize(("old", "new"), [("thesis", "webots"), ("gctronic-overo", "gctronic")])
+def test_old_profile_names_still_work_and_warn(old: str, new: str) -> None:
+    """The fidelity audit renamed the profiles after the firmwares they model."""
+    with pytest.warns(DeprecatedNameWarning, match=f"{old!r} is deprecated: it is {new!r}"):
+        assert Firmware.choose(old) is Firmware(new)
+
+
+@pytest.mark.parametrize(("old", "new"), [("thesis", "webots"), ("gctronic-overo", "gctronic")])
+def test_the_emulator_takes_the_old_names_too_with_a_warning(old: str, new: str) -> None:
+    with pytest.warns(FutureWarning, match=f"{old!r} is deprecated"):
+        assert firmware_name(old) == new

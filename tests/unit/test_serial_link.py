@@ -37,7 +37,7 @@ GCTRONIC_V = b"v,Version 1.2.2 August 2008 GCtronic\r\nHW version: 1.1\r\n"
 
 def make_link(
     script: list[object] | None = None,
-    firmware: str | None = "thesis",
+    firmware: str | None = "webots",
     settings: LinkSettings = INSTANT_LINK,
     **transport: object,
 ) -> tuple[Link, ScriptedTransport]:
@@ -174,12 +174,12 @@ def test_banner_in_a_reply_raises_robot_reset_after_re_identification() -> None:
     """A dsPIC that restarted has lost its actuator state: the link finds out which firmware
     now answers and tells its owner to re-apply that state."""
     link, fake = make_link([WEBOTS_V, BANNER, GCTRONIC_V, b"c,10\r\n"], firmware=None)
-    assert link.info.firmware is Firmware.THESIS
+    assert link.info.firmware is Firmware.WEBOTS
     batch = sensor_batch(link)
     with pytest.raises(RobotResetError, match="restarted"):
         link.exchange(batch)
     assert fake.writes == [b"V\n", batch.tx, b"V\n", b"C\n"]
-    assert link.info.firmware is Firmware.GCTRONIC_OVERO
+    assert link.info.firmware is Firmware.GCTRONIC
     assert link.stats.restarts == 1
 
 
@@ -272,7 +272,7 @@ def test_transport_that_cannot_reconnect_is_lost_for_good() -> None:
     fake = OneShot([LinkLostError("gone")])
     link = Link(
         fake,
-        firmware="thesis",
+        firmware="webots",
         settings=dataclasses.replace(INSTANT_LINK, reconnect_timeout_s=0.05),
     )
     with pytest.raises(LinkLostError):
@@ -284,13 +284,13 @@ def test_transport_that_cannot_reconnect_is_lost_for_good() -> None:
 
 def test_webots_answer_to_v_selects_thesis_without_asking_c() -> None:
     link, fake = make_link([WEBOTS_V], firmware=None)
-    assert link.info.firmware is Firmware.THESIS
+    assert link.info.firmware is Firmware.WEBOTS
     assert link.info.detected
     assert fake.writes == [b"V\n"]
 
 
 @pytest.mark.parametrize(
-    ("selector", "firmware"), [(10, Firmware.GCTRONIC_OVERO), (3, Firmware.THESIS)]
+    ("selector", "firmware"), [(10, Firmware.GCTRONIC), (3, Firmware.WEBOTS)]
 )
 def test_gctronic_answer_to_v_asks_the_selector(selector: int, firmware: Firmware) -> None:
     link, fake = make_link([GCTRONIC_V, f"c,{selector}\r\n".encode()], firmware=None)
@@ -301,7 +301,7 @@ def test_gctronic_answer_to_v_asks_the_selector(selector: int, firmware: Firmwar
 
 def test_firmware_silent_to_v_but_answering_e_gets_the_thesis_profile() -> None:
     link, fake = make_link([b"", b"\x00\x00\x00\x00"], firmware=None)
-    assert link.info.firmware is Firmware.THESIS
+    assert link.info.firmware is Firmware.WEBOTS
     assert link.info.version == ""
     assert fake.writes == [b"V\n", b"\xbb\x00"]
 
@@ -313,7 +313,7 @@ def test_port_silent_to_v_and_to_e_is_reported_as_nothing_there() -> None:
 
 def test_gctronic_that_does_not_answer_c_gets_the_thesis_profile() -> None:
     link, _ = make_link([GCTRONIC_V], firmware=None)
-    assert link.info.firmware is Firmware.THESIS
+    assert link.info.firmware is Firmware.WEBOTS
     assert link.info.selector is None
 
 
@@ -339,7 +339,7 @@ def test_answer_to_another_command_means_not_an_epuck() -> None:
         make_link([b"z,Command not found\r\n"], firmware=None)
 
 
-@pytest.mark.parametrize("firmware", ["thesis", Firmware.GCTRONIC_OVERO, "gctronic-overo"])
+@pytest.mark.parametrize("firmware", ["webots", Firmware.GCTRONIC, "gctronic"])
 def test_forced_firmware_sends_no_probe(firmware: str) -> None:
     link, fake = make_link([WEBOTS_V], firmware=firmware)
     assert link.info.firmware is Firmware(firmware)
@@ -354,8 +354,8 @@ def test_auto_firmware_probes_like_none() -> None:
 
 
 def test_unknown_firmware_name_is_refused() -> None:
-    with pytest.raises(ValueError, match="'webots'"):
-        make_link(firmware="webots")
+    with pytest.raises(ValueError, match="'e-puck2'"):
+        make_link(firmware="e-puck2")
 
 
 def test_ascii_command_returns_its_reply_lines() -> None:

@@ -26,8 +26,8 @@ from ego.serial.protocol import (
     wire_time_s,
 )
 
-THESIS = PROFILES[Firmware.THESIS]
-OVERO = PROFILES[Firmware.GCTRONIC_OVERO]
+THESIS = PROFILES[Firmware.WEBOTS]
+OVERO = PROFILES[Firmware.GCTRONIC]
 
 
 def req(letter: str, *args: int) -> Request:
@@ -39,7 +39,7 @@ def hexbytes(text: str) -> bytes:
 
 
 # protocol.md, Table 4.1: (letter, arguments, tx bytes of the one-command batch,
-# reply bytes on `thesis`, reply bytes on `gctronic-overo` or None where it is refused).
+# reply bytes on `thesis`, reply bytes on `gctronic` or None where it is refused).
 GOLDEN = [
     ("a", (), "9f 00", 6, 6),
     ("A", (), "bf 00", 12, 12),
@@ -127,7 +127,7 @@ def test_each_command_encodes_to_its_golden_bytes_on_gctronic_overo(
     letter: str, args: tuple[int, ...], tx: str, _: int, reply: int | None
 ) -> None:
     if reply is None:
-        with pytest.raises(UnsupportedDeviceError, match="gctronic-overo"):
+        with pytest.raises(UnsupportedDeviceError, match="gctronic"):
             encode_batch([req(letter, *args)], OVERO)
         return
     batch = encode_batch([req(letter, *args)], OVERO)
@@ -377,7 +377,7 @@ def requests_for(formats: dict[str, str]) -> st.SearchStrategy[Request]:
 PROFILE_FORMATS = [(THESIS, REPLY_FORMATS), (OVERO, OVERO_REPLY_FORMATS)]
 
 
-@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["thesis", "overo"])
+@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo"])
 @given(data=st.data())
 def test_encoded_batches_parse_back_to_the_same_requests(
     profile: Profile, formats: dict[str, str], data: st.DataObject
@@ -402,7 +402,7 @@ def value_for(fmt: str) -> st.SearchStrategy[tuple[float, ...]]:
     return st.tuples(*[element] * count)
 
 
-@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["thesis", "overo"])
+@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo"])
 @given(data=st.data())
 def test_packed_values_decode_back_to_themselves(
     profile: Profile, formats: dict[str, str], data: st.DataObject
@@ -421,7 +421,7 @@ def test_packed_values_decode_back_to_themselves(
     assert batch.decode(prefix + body) == expected
 
 
-@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["thesis", "overo"])
+@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo"])
 @given(data=st.data())
 def test_reply_parser_fed_random_bytes_gives_values_or_a_length_error(
     profile: Profile, formats: dict[str, str], data: st.DataObject

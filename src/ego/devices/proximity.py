@@ -24,7 +24,7 @@ class ProximitySensors(ArraySensor):
     #: Calibrated IR can dip below 0 (protocol.md: parse signed); far below is corruption.
     value_range: ClassVar[tuple[int, int]] = (-1024, 4095)
     #: protocol.md: the stock Overo firmware adds the long-range IR8 (left) and IR9 (right).
-    counts: ClassVar[dict[Firmware, int]] = {Firmware.THESIS: 8, Firmware.GCTRONIC_OVERO: 10}
+    counts: ClassVar[dict[Firmware, int]] = {Firmware.WEBOTS: 8, Firmware.GCTRONIC: 10}
 
     @property
     def member_names(self) -> tuple[str, ...]:

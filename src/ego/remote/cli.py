@@ -24,6 +24,7 @@ from ego.errors import EgoError
 from ego.remote.auth import load_secret
 from ego.remote.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, RemoteServer, check_listen
 from ego.serial.link import Link
+from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES
 from ego.serial.transport import SerialTransport
 
 if TYPE_CHECKING:
@@ -59,7 +60,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--firmware",
-        choices=("auto", "thesis", "gctronic-overo"),
+        choices=(*FIRMWARE_CHOICES, *DEPRECATED_FIRMWARE_NAMES),
+        metavar="{auto,gctronic,webots}",
         default="auto",
         help="dsPIC firmware (default: ask the robot); with --port sim, the one emulated",
     )
@@ -103,7 +105,7 @@ def open_robot(port: str | None, firmware: str = "auto", camera: str | None = No
         if where == "sim":
             from firmware_sim import Emulator
 
-            emulator = Emulator("thesis" if firmware == "auto" else firmware).start()
+            emulator = Emulator("webots" if firmware == "auto" else firmware).start()
             closers.append(emulator.stop)
             where = emulator.path
         transport = SerialTransport(where)

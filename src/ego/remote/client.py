@@ -273,7 +273,7 @@ class RemoteTransport(Transport):
 
     @property
     def firmware(self) -> str | None:
-        """The firmware the server's link talks to ("thesis", "gctronic-overo")."""
+        """The firmware the server's link talks to ("webots", "gctronic")."""
         value = self.server_info.get("firmware")
         return str(value) if value is not None else None
 

@@ -72,12 +72,12 @@ def identify(version_lines: list[str], selector: int | None = None) -> FirmwareI
     protocol.md says for a firmware that answers neither.
     """
     if not version_lines:
-        return FirmwareInfo(PROFILES[Firmware.THESIS])
+        return FirmwareInfo(PROFILES[Firmware.WEBOTS])
     version = line_payload(version_lines[0], "V")
     hardware = version_lines[1].strip() if len(version_lines) > 1 else ""
     if not (is_gctronic(version) and selector == OVERO_SELECTOR):
-        return FirmwareInfo(PROFILES[Firmware.THESIS], version, hardware, selector)
-    profile = PROFILES[Firmware.GCTRONIC_OVERO]
+        return FirmwareInfo(PROFILES[Firmware.WEBOTS], version, hardware, selector)
+    profile = PROFILES[Firmware.GCTRONIC]
     if re.search(r"\b1\.3\b", hardware):
         # protocol.md: on hardware revision 1.3 the accelerometer is on I2C, so the
         # stock firmware returns zeros for a/A; refuse the device instead.

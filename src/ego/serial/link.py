@@ -172,7 +172,7 @@ class Link:
         return info
 
     def _probe_silence(self) -> None:
-        probe = encode_batch([Request(Command.GET_SPEED)], PROFILES[Firmware.THESIS])
+        probe = encode_batch([Request(Command.GET_SPEED)], PROFILES[Firmware.WEBOTS])
         self.transport.write(probe.tx)
         try:
             self.transport.read_exactly(probe.reply_size, self.timeout_for(probe))

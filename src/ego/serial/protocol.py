@@ -18,16 +18,25 @@ from __future__ import annotations
 
 import enum
 import struct
+import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
-from ego.errors import ExtraBytesError, OutOfRangeError, ShortReplyError, UnsupportedDeviceError
+from ego.errors import (
+    DeprecatedNameWarning,
+    ExtraBytesError,
+    OutOfRangeError,
+    ShortReplyError,
+    UnsupportedDeviceError,
+)
 
 __all__ = [
     "BANNER_MARKER",
     "BITS_PER_BYTE",
     "DEFAULT_BAUD",
+    "DEPRECATED_FIRMWARE_NAMES",
+    "FIRMWARE_CHOICES",
     "MAX_SPEED_STEPS",
     "PROFILES",
     "STEPS_PER_TURN",
@@ -90,13 +99,31 @@ class Command(enum.IntEnum):
 
 
 class Firmware(str, enum.Enum):
-    """Which dsPIC firmware answers: the thesis' (also Webots') or the stock Overo one."""
+    """Which dsPIC firmware answers, named after the firmware it is (docs/protocol.md, Line).
 
-    THESIS = "thesis"
-    GCTRONIC_OVERO = "gctronic-overo"
+    ``gctronic`` is GCtronic's stock asercom: in selector position 10 it talks to the
+    Overo on UART2 at 230400 baud (the line ego is made for); in other positions it also
+    answers over Bluetooth. ``webots`` is Webots' e-puck firmware 1.5.x, which listens
+    only on UART1, the Bluetooth line, at 115200 baud.
+    """
+
+    GCTRONIC = "gctronic"
+    WEBOTS = "webots"
 
     def __str__(self) -> str:
         return self.value
+
+    @classmethod
+    def _missing_(cls, value: object) -> Firmware | None:
+        new = DEPRECATED_FIRMWARE_NAMES.get(value) if isinstance(value, str) else None
+        if new is None:
+            return None
+        warnings.warn(
+            f"firmware name {value!r} is deprecated: it is {new!r} now",
+            DeprecatedNameWarning,
+            stacklevel=4,
+        )
+        return cls(new)
 
     @classmethod
     def choose(cls, name: Firmware | str | None) -> Firmware | None:
@@ -108,6 +135,15 @@ class Firmware(str, enum.Enum):
         except ValueError:
             choices = ", ".join(["auto", *(f.value for f in cls)])
             raise OutOfRangeError(f"firmware {name!r} is not one of {choices}") from None
+
+
+#: The profiles' first names, kept working with a warning: ``thesis`` was described as
+#: Webots' firmware at 230400 baud, which no real robot runs.
+DEPRECATED_FIRMWARE_NAMES: Mapping[str, str] = MappingProxyType(
+    {"thesis": "webots", "gctronic-overo": "gctronic"}
+)
+#: The firmware names a user may give, "auto" first (the deprecated ones are accepted too).
+FIRMWARE_CHOICES = ("auto", "gctronic", "webots")
 
 
 _NONE = struct.Struct("")
@@ -190,14 +226,14 @@ del _overo[Command.FLOOR]
 
 PROFILES: Mapping[Firmware, Profile] = MappingProxyType(
     {
-        Firmware.THESIS: Profile(
-            Firmware.THESIS,
+        Firmware.WEBOTS: Profile(
+            Firmware.WEBOTS,
             MappingProxyType(_COMMON),
             tuple(range(10)),
             "E-GO / Webots asercom",
         ),
-        Firmware.GCTRONIC_OVERO: Profile(
-            Firmware.GCTRONIC_OVERO,
+        Firmware.GCTRONIC: Profile(
+            Firmware.GCTRONIC,
             MappingProxyType(_overo),
             tuple(range(8)),  # L 8 and L 9 (body, front) are ignored by this firmware
             "stock GCtronic asercom, selector 10",
