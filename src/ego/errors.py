@@ -241,4 +241,3 @@ class StepOverrunWarning(EgoWarning):
 
 class DeprecatedNameWarning(EgoWarning, FutureWarning):
     """A name ego renamed (a firmware profile, say); it works, and says what replaced it."""
-

@@ -342,10 +342,10 @@ def overo_microphone_enable_buffer(dt: Tag, ms: int) -> None:
     default_robot.get().microphones.enable_buffer(ms)
 
 
-def overo_microphone_get_buffer(dt: Tag) -> npt.NDArray[np.int16]:
+def overo_microphone_get_buffer(dt: Tag) -> npt.NDArray[np.uint16]:
     """The last 100 samples of one microphone at 16384 Hz, oldest first."""
     index = ("mic0", "mic1", "mic2").index(_expect(dt, "mic0", "mic1", "mic2"))
-    samples: npt.NDArray[np.int16] = default_robot.get().microphones.buffer[index]
+    samples: npt.NDArray[np.uint16] = default_robot.get().microphones.buffer[index]
     return samples
 
 

@@ -4,10 +4,17 @@ from __future__ import annotations
 
 import os
 
-from ego.serial.protocol import DEFAULT_BAUD
+from ego.serial.protocol import DEFAULT_BAUD, PROFILES, Firmware
 from ego.serial.transport import SerialTransport, Transport
 
-__all__ = ["DEFAULT_PORT", "NETWORK_SCHEMES", "open_transport", "resolve_port"]
+__all__ = [
+    "BLUETOOTH_PORT_PREFIX",
+    "DEFAULT_PORT",
+    "NETWORK_SCHEMES",
+    "default_baud",
+    "open_transport",
+    "resolve_port",
+]
 
 #: The Overo's UART to the dsPIC.
 DEFAULT_PORT = "/dev/ttyS0"
@@ -34,3 +41,20 @@ def open_transport(port: str, baudrate: int = DEFAULT_BAUD, secret: str | None =
 
         return RemoteTransport.from_url(port, secret=secret)
     return SerialTransport(port, baudrate)
+
+
+#: Where Linux puts a Bluetooth serial link (rfcomm bind / rfcomm connect).
+BLUETOOTH_PORT_PREFIX = "/dev/rfcomm"
+
+
+def default_baud(port: str, firmware: Firmware | None) -> int:
+    """The line rate to open ``port`` at when the caller names none (docs/protocol.md, Line).
+
+    A named firmware's own rate (Webots' answers at 115200 only, the stock firmware at
+    230400 on the Overo's UART2); else 115200 for a Bluetooth port and 230400 for the rest.
+    """
+    if firmware is not None:
+        return PROFILES[firmware].line_baud
+    if port.startswith(BLUETOOTH_PORT_PREFIX):
+        return PROFILES[Firmware.WEBOTS].line_baud
+    return DEFAULT_BAUD

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 from ego.devices.accelerometer import Accelerometer
 from ego.devices.base import MAX_PERIOD_MS, Device, check_int
+from ego.devices.battery import Battery
 from ego.devices.encoders import Encoders
 from ego.devices.floor import FloorSensors
 from ego.devices.leds import Leds
@@ -27,12 +28,13 @@ from ego.errors import (
     ProtocolError,
     RobotResetError,
     UnknownDeviceError,
+    UnsupportedDeviceError,
 )
-from ego.ports import NETWORK_SCHEMES, open_transport, resolve_port
+from ego.ports import NETWORK_SCHEMES, default_baud, open_transport, resolve_port
 from ego.safety import install_signal_handlers, register, send_stop
 from ego.scheduler import StepClock
 from ego.serial.link import Link, LinkSettings
-from ego.serial.protocol import DEFAULT_BAUD, Firmware, encode_batch
+from ego.serial.protocol import Firmware, encode_batch
 from ego.serial.transport import SerialTransport, Transport, check_baudrate
 
 if TYPE_CHECKING:
@@ -73,7 +75,7 @@ class Robot:
         *,
         transport: Transport | None = None,
         firmware: Firmware | str | None = None,
-        baudrate: int = DEFAULT_BAUD,
+        baudrate: int | None = None,
         link_settings: LinkSettings | None = None,
         secret: str | None = None,
         seed: int | None = None,
@@ -82,11 +84,16 @@ class Robot:
         handle_signals: bool = True,
     ) -> None:
         self._closed = True  # until the link is up, close() has nothing to stop
-        baudrate = check_baudrate(baudrate)
+        if baudrate is not None:
+            baudrate = check_baudrate(baudrate)
         self._emulator: Emulator | None = None
         if transport is None:
             self.port = resolve_port(port)
-            transport = self._open(self.port, firmware, baudrate, secret, seed)
+            chosen = Firmware.choose(firmware)
+            if self.port == SIM_PORT:
+                chosen = chosen or Firmware.WEBOTS
+            baudrate = baudrate or default_baud(self.port, chosen)
+            transport = self._open(self.port, chosen, baudrate, secret, seed)
         else:
             self.port = transport.name
         try:
@@ -112,6 +119,8 @@ class Robot:
         self.floor = FloorSensors(profile)
         self.light = LightSensors(profile)
         self.microphones = Microphones(profile)
+        self.battery = Battery(profile)
+        self.proximity.bind_calibration(self.calibrate_proximity)
         #: Actuators first, so that ``P`` precedes ``Q`` in a batch.
         self.families: tuple[Device, ...] = (
             self.motors,
@@ -122,6 +131,7 @@ class Robot:
             self.floor,
             self.light,
             self.microphones,
+            self.battery,
         )
         self._camera: Camera | None = None
         self._camera_source = camera_source
@@ -138,7 +148,7 @@ class Robot:
     def _open(
         self,
         port: str,
-        firmware: Firmware | str | None,
+        firmware: Firmware | None,
         baudrate: int,
         secret: str | None,
         seed: int | None,
@@ -147,7 +157,7 @@ class Robot:
             return open_transport(port, baudrate, secret)
         from firmware_sim import Emulator  # only the emulator's users pay for it
 
-        fw = Firmware.choose(firmware) or Firmware.WEBOTS
+        fw = firmware or Firmware.WEBOTS
         self._emulator = Emulator(fw.value, baud=baudrate, seed=seed).start()
         return SerialTransport(self._emulator.path, baudrate)
 
@@ -186,7 +196,7 @@ class Robot:
     def device(self, name: str) -> Device:
         """The family serving the Webots device ``name`` ("ps3", "left wheel motor"...)."""
         for family in self.families:
-            if name in family.member_names:
+            if family.webots_device and name in family.member_names:
                 return family
         raise UnknownDeviceError(
             f"no device named {name!r}; valid names: {', '.join(self.device_names)}"
@@ -195,7 +205,37 @@ class Robot:
     @property
     def device_names(self) -> tuple[str, ...]:
         """Every Webots device name this robot answers to, camera included."""
-        return (*(n for f in self.families for n in f.member_names), "camera")
+        names = (n for f in self.families if f.webots_device for n in f.member_names)
+        return (*names, "camera")
+
+    # -- ASCII commands --------------------------------------------------------------
+
+    def calibrate_proximity(self) -> None:
+        """Calibrate the IR proximity sensors (``K``); see ProximitySensors.calibrate."""
+        self._require_open()
+        self.link.calibrate_proximity()
+
+    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
+        """Send one ASCII command to the dsPIC and return its reply lines.
+
+        ``S`` (stop) differs between the firmwares (docs/protocol.md, quirk "S"): the
+        stock one stops the wheels and the ring LEDs but keeps echoing the old speeds in
+        ``E``; Webots' also clears that echo and the body and front LEDs. ego's own view of
+        the motors and LEDs follows what the connected firmware did, and on the stock
+        firmware a ``D 0 0`` goes with the next batch so that ``E`` echoes the truth:
+        otherwise ego's speed check would see a mismatch and send the old speeds again.
+        """
+        self._require_open()
+        replies = self.link.ascii_command(letter, lines)
+        if letter.upper() == "S":
+            stop = self.link.profile.ascii_stop
+            self.motors.stopped_by_firmware(resend=not stop.clears_echo)
+            self.leds.switched_off(stop.leds)
+        return replies
+
+    def _require_open(self) -> None:
+        if self._closed or self._lost:
+            raise LinkLostError(f"{self.port}: the robot is {'closed' if self._closed else 'lost'}")
 
     # -- time ------------------------------------------------------------------------
 
@@ -266,10 +306,19 @@ class Robot:
                 why = f"implausible reply: {problems[0]}"
                 log.warning("%s; asking again", why)
                 continue
+            # A reply that proves a device absent (docs/protocol.md: zeros from a rev 1.3
+            # accelerometer, 0xFFFF without the ground module) disables it and is told
+            # once the rest of the step is delivered.
+            absent: list[UnsupportedDeviceError] = []
             for (family, request), values in decoded:
-                family.decode(request, values, now)
+                try:
+                    family.decode(request, values, now)
+                except UnsupportedDeviceError as exc:
+                    absent.append(exc)
             for family in self.families:
                 family.committed(now)
+            if absent:
+                raise absent[0]
             return
         raise ProtocolError(f"no usable reply after {MAX_ATTEMPTS_PER_STEP} attempts ({why})")
 

@@ -182,14 +182,19 @@ def test_microphone_amplitude_grows_nearer_the_source(sim_robot: ego.Robot, worl
     assert all(n > 2 * f for n, f in zip(near, far, strict=True)), (near, far)
 
 
-def test_microphone_buffer_is_three_by_one_hundred_int16_samples(sim_robot: ego.Robot) -> None:
+def test_microphone_buffer_is_three_by_one_hundred_adc_counts(sim_robot: ego.Robot) -> None:
+    """e_micro.c: unsigned 12-bit ADC samples around mid-scale, not zero-mean."""
     sim_robot.microphones.enable_buffer(64)
     run(sim_robot, 1)
     buffer = sim_robot.microphones.buffer
     assert buffer.shape == (3, 100)
-    assert buffer.dtype == np.int16
-    # A 1 kHz tone sampled at 16384 Hz: it swings both ways, it is not zeros.
-    assert (buffer.max(axis=1) > 50).all() and (buffer.min(axis=1) < -50).all()
+    assert buffer.dtype == np.uint16
+    assert (buffer <= 4095).all()
+    # A 1 kHz tone sampled at 16384 Hz swings both ways around mid-scale.
+    middle = np.median(buffer, axis=1, keepdims=True).astype(int)
+    assert (buffer.max(axis=1) > middle[:, 0] + 50).all()
+    assert (buffer.min(axis=1) < middle[:, 0] - 50).all()
+    assert (abs(middle - 2048) < 600).all()
 
 
 # -- actuators -------------------------------------------------------------------------

@@ -157,7 +157,7 @@ def test_microphone_volume_and_buffer(device: Addressing, world: World) -> None:
     step()
     far = ov.overo_microphone_get_volume(mic1)
     assert near > 2 * far > 0
-    assert samples.shape == (100,) and samples.dtype == np.int16
+    assert samples.shape == (100,) and samples.dtype == np.uint16
     assert samples.max() > 50 and samples.min() < -50
 
     ov.overo_microphone_disable(mic1)

@@ -9,73 +9,100 @@ from ego.serial.firmware import (
     OVERO_SELECTOR,
     identify,
     is_gctronic,
+    is_rev13,
     line_payload,
+    parse_hardware_version,
     parse_selector,
 )
 from ego.serial.protocol import Command, Firmware, Request, encode_batch
 from firmware_sim.dspic import firmware_name
 
-# protocol.md: "v,Version 1.2.2 August 2008 GCtronic / HW version: ...", or
-# "v,Version 1.5.3 November 2016 (Webots)".
-GCTRONIC = ["v,Version 1.2.2 August 2008 GCtronic", "HW version: 1.1"]
-WEBOTS = ["v,Version 1.5.3 November 2016 (Webots)"]
+# docs/protocol.md, "V": Asercom.c sends "v,Version 1.2.2 August 2008 GCtronic" then
+# sprintf("HW version: %X", HWversion), a word read from the EEPROM (0xFFFF when never
+# written); Webots' firmware.c answers "v,Version 1.5.3 November 2016 (Webots)".
+GCTRONIC = ["v,Version 1.2.2 August 2008 GCtronic", "HW version: FFFF"]
+WEBOTS = ["v,Version 1.5.3 November 2016 (Webots)", "HW version: 1300"]
+#: Asercom.c, ASCII 'b': "b,%d (%d%%)" on a rev 1.3 (raw ADC, percent), "b,%d" (BATT_LOW).
+REV13_BATTERY, OLD_BATTERY = "b,3012 (76%)", "b,1"
 
 
-def test_webots_firmware_gets_the_thesis_profile() -> None:
-    """protocol.md: "The Webots firmware ... get[s] the thesis profile"."""
+def test_webots_firmware_gets_the_webots_profile() -> None:
     info = identify(WEBOTS)
     assert info.firmware is Firmware.WEBOTS
     assert info.version == "Version 1.5.3 November 2016 (Webots)"
+    assert info.hardware_version == 0x1300
+    assert info.profile.line_baud == 115200  # firmware.c: e_init_uart1(), 115200 only
     assert info.detected
 
 
+@pytest.mark.parametrize(
+    ("line", "word"),
+    [("HW version: FFFF", 0xFFFF), ("HW version: 1300", 0x1300), ("HW version: 0", 0),
+     ("HW version: 1.3", None), ("HW version: 12345", None), ("HW: 13", None)],
+)  # fmt: skip
+def test_the_hardware_version_is_an_eeprom_word_in_hex(line: str, word: int | None) -> None:
+    """Never "1.3": the format is %X of a 16-bit word; anything else is not that line."""
+    assert parse_hardware_version(line) == word
+
+
 def test_gctronic_firmware_on_selector_10_gets_the_overo_profile() -> None:
-    """protocol.md: "the ASCII C command (reply c,N) tells the selector position: 10 is the
-    Overo mode"."""
-    info = identify(GCTRONIC, selector=10)
+    """Asercom.c: selector 10 talks to the Overo on UART2 (use_bt = 0)."""
+    info = identify(GCTRONIC, selector=10, battery_line=OLD_BATTERY)
     assert info.firmware is Firmware.GCTRONIC
     assert info.selector == OVERO_SELECTOR == 10
-    assert info.hardware == "HW version: 1.1"
+    assert info.hardware_version == 0xFFFF
     assert info.profile.supports(Command.ACCELEROMETER_RAW)
+    assert info.profile.reply_values(Command.PROXIMITY) == 10
+    assert not info.profile.supports(Command.FLOOR)
+    assert info.profile.line_baud == 230400
+    assert info.profile.rev13 is False
 
 
-@pytest.mark.parametrize("selector", [3, 0, 15, None])
-def test_gctronic_firmware_on_another_selector_gets_the_thesis_profile(
-    selector: int | None,
-) -> None:
-    info = identify(GCTRONIC, selector=selector)
-    assert info.firmware is Firmware.WEBOTS
+@pytest.mark.parametrize("selector", [3, 0, 15])
+def test_gctronic_firmware_on_another_selector_is_its_bluetooth_mode(selector: int) -> None:
+    """Asercom.c: any other selector answers on UART1 (use_bt = 1): 8 IR values, and M
+    with the ground and cliff sensors (CLIFF_SENSORS is defined)."""
+    info = identify(GCTRONIC, selector=selector, battery_line=OLD_BATTERY)
+    assert info.firmware is Firmware.GCTRONIC
     assert info.selector == selector
+    assert info.profile.reply_values(Command.PROXIMITY) == 8
+    assert info.profile.reply_values(Command.FLOOR) == 5
+    assert info.profile.leds == tuple(range(10))
+    assert info.profile.line_baud == 115200
 
 
-def test_silence_gets_the_thesis_profile() -> None:
-    """protocol.md: "a firmware that answers neither, get[s] the thesis profile"."""
+def test_silence_gets_the_webots_profile() -> None:
     info = identify([])
     assert info.firmware is Firmware.WEBOTS
     assert info.version == ""
 
 
-@pytest.mark.parametrize("hardware", ["HW version: 1.3", "HW version 1.3 (2014)"])
-def test_hardware_1_3_on_overo_refuses_the_accelerometer(hardware: str) -> None:
-    """protocol.md: "on hardware revision 1.3 a/A return zeros (that accelerometer is on I2C
-    too)", and a device the firmware cannot serve "never reads zeros"."""
-    info = identify([GCTRONIC[0], hardware], selector=10)
-    assert info.firmware is Firmware.GCTRONIC
+@pytest.mark.parametrize(
+    ("line", "rev13"), [(REV13_BATTERY, True), (OLD_BATTERY, False), ("b,0", False),
+                        (None, None), ("z,Command not found", None)]
+)  # fmt: skip
+def test_the_battery_reply_tells_a_rev_1_3(line: str | None, rev13: bool | None) -> None:
+    assert is_rev13(line) is rev13
+
+
+def test_a_rev_1_3_in_overo_mode_refuses_the_accelerometer() -> None:
+    """Asercom.c, 'a' and 'A': in Overo mode isEpuckVersion1_3() gives zeros; a device the
+    firmware cannot serve is refused, never read as zeros."""
+    info = identify(GCTRONIC, selector=10, battery_line=REV13_BATTERY)
+    assert info.profile.rev13 is True
     for letter in "aA":
-        with pytest.raises(UnsupportedDeviceError, match=r"1\.3"):
+        with pytest.raises(UnsupportedDeviceError, match=r"rev 1\.3"):
             encode_batch([Request(Command((-ord(letter)) & 0xFF))], info.profile)
     assert encode_batch([Request(Command.PROXIMITY)], info.profile).reply_size == 20
 
 
-@pytest.mark.parametrize("hardware", ["HW version: 1.1", "HW version: 11.3", "HW version: 1.30"])
-def test_other_hardware_keeps_the_accelerometer(hardware: str) -> None:
-    info = identify([GCTRONIC[0], hardware], selector=10)
+def test_a_rev_1_3_over_bluetooth_reads_its_accelerometer_at_2048() -> None:
+    """e_acc.c, e_get_acc_filtered: a rev 1.3 gives ((v>>4) - (v>>6)) + 2048, about 750 a g."""
+    info = identify(GCTRONIC, selector=3, battery_line=REV13_BATTERY)
     assert info.profile.supports(Command.ACCELEROMETER_RAW)
-
-
-def test_hardware_1_3_on_webots_firmware_keeps_the_accelerometer() -> None:
-    info = identify([WEBOTS[0], "HW version: 1.3"])
-    assert info.profile.supports(Command.ACCELEROMETER_RAW)
+    assert (info.profile.acc_zero_counts, info.profile.acc_counts_per_g) == (2048, 750)
+    older = identify(GCTRONIC, selector=3, battery_line=OLD_BATTERY)
+    assert (older.profile.acc_zero_counts, older.profile.acc_counts_per_g) == (2000, 800)
 
 
 def test_version_line_from_another_command_is_refused() -> None:

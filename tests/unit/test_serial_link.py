@@ -31,8 +31,10 @@ REPLY = bytes(range(58))
 #: protocol.md: "sending a few zeros is the way to resynchronise"; a newline and a
 #: harmless V line then end any ASCII line a desynchronised stream started.
 RESYNC = bytes(8) + b"\nV\n"
-WEBOTS_V = b"v,Version 1.5.3 November 2016 (Webots)\r\nHW version: 1.1\r\n"
-GCTRONIC_V = b"v,Version 1.2.2 August 2008 GCtronic\r\nHW version: 1.1\r\n"
+WEBOTS_V = b"v,Version 1.5.3 November 2016 (Webots)\r\nHW version: FFFF\r\n"
+GCTRONIC_V = b"v,Version 1.2.2 August 2008 GCtronic\r\nHW version: FFFF\r\n"
+#: Asercom.c, ASCII 'b' on an e-puck older than rev 1.3: the BATT_LOW flag.
+OLD_BATTERY = b"b,1\r\n"
 
 
 def make_link(
@@ -151,20 +153,30 @@ def test_link_timeout_carries_what_arrived() -> None:
     assert isinstance(caught.value, TimeoutError)
 
 
-def test_reply_timeout_scales_with_wire_time_and_transport_latency() -> None:
-    """protocol.md: "43.4 us/byte at 230400"; a network transport adds its own latency."""
+#: docs/protocol.md, Timing: Webots' firmware reads the ground sensors over I2C, about 3 ms.
+M_WORK_S = 0.003
+
+
+def test_reply_timeout_scales_with_wire_time_firmware_work_and_latency() -> None:
+    """docs/protocol.md: 10 bits a byte; the dsPIC's own work per command; a network
+    transport adds its own latency."""
     settings = dataclasses.replace(INSTANT_LINK, reply_timeout_s=0.025, wire_factor=3.0)
-    link, _ = make_link(settings=settings, latency_s=0.2)
-    batch = sensor_batch(link)  # 8 bytes out, 58 back
-    assert link.timeout_for(batch) == pytest.approx(0.025 + 3 * 66 * 10 / 230400 + 0.2)
-    slow, _ = make_link(settings=settings, baudrate=115200)
-    assert slow.timeout_for(batch) == pytest.approx(0.025 + 3 * 66 * 10 / 115200)
+    link, _ = make_link(settings=settings, firmware="gctronic", latency_s=0.2)
+    batch = encode_batch([Request(Command.PROXIMITY), Request(Command.GET_SPEED)], link.profile)
+    wire = (len(batch.tx) + batch.reply_size) * 10 / 230400  # 4 bytes out, 24 back
+    assert link.timeout_for(batch) == pytest.approx(0.025 + 3 * wire + 0.2)
+    slow, _ = make_link(settings=settings, firmware="gctronic", baudrate=57600)
+    assert slow.timeout_for(batch) == pytest.approx(0.025 + 3 * wire * 4)
 
 
-def test_transport_without_a_baud_rate_is_timed_at_230400() -> None:
+def test_webots_firmware_is_timed_at_its_own_115200_baud_whatever_the_port() -> None:
+    """firmware.c: e_init_uart1(), 115200 baud; a pty opened at 230400 carries it all the same,
+    and the M it is asked costs its I2C read."""
     settings = dataclasses.replace(INSTANT_LINK, reply_timeout_s=0.0, wire_factor=1.0)
-    link, _ = make_link(settings=settings, baudrate=None)
-    assert link.timeout_for(sensor_batch(link)) == pytest.approx(66 * 10 / 230400)
+    for baudrate in (230400, None):
+        link, _ = make_link(settings=settings, baudrate=baudrate)
+        batch = sensor_batch(link)  # 8 bytes out, 58 back, an M among them
+        assert link.timeout_for(batch) == pytest.approx(66 * 10 / 115200 + M_WORK_S)
 
 
 # -- restarts and lost ports -----------------------------------------------------------------------
@@ -173,12 +185,14 @@ def test_transport_without_a_baud_rate_is_timed_at_230400() -> None:
 def test_banner_in_a_reply_raises_robot_reset_after_re_identification() -> None:
     """A dsPIC that restarted has lost its actuator state: the link finds out which firmware
     now answers and tells its owner to re-apply that state."""
-    link, fake = make_link([WEBOTS_V, BANNER, GCTRONIC_V, b"c,10\r\n"], firmware=None)
+    link, fake = make_link(
+        [WEBOTS_V, BANNER, GCTRONIC_V, b"c,10\r\n", OLD_BATTERY], firmware=None
+    )
     assert link.info.firmware is Firmware.WEBOTS
     batch = sensor_batch(link)
     with pytest.raises(RobotResetError, match="restarted"):
         link.exchange(batch)
-    assert fake.writes == [b"V\n", batch.tx, b"V\n", b"C\n"]
+    assert fake.writes == [b"V\n", batch.tx, b"V\n", b"C\n", b"b\n"]
     assert link.info.firmware is Firmware.GCTRONIC
     assert link.stats.restarts == 1
 
@@ -282,21 +296,25 @@ def test_transport_that_cannot_reconnect_is_lost_for_good() -> None:
 # -- firmware identification -------------------------------------------------------------------
 
 
-def test_webots_answer_to_v_selects_thesis_without_asking_c() -> None:
+def test_webots_answer_to_v_selects_webots_without_asking_c() -> None:
     link, fake = make_link([WEBOTS_V], firmware=None)
     assert link.info.firmware is Firmware.WEBOTS
     assert link.info.detected
     assert fake.writes == [b"V\n"]
 
 
-@pytest.mark.parametrize(
-    ("selector", "firmware"), [(10, Firmware.GCTRONIC), (3, Firmware.WEBOTS)]
-)
-def test_gctronic_answer_to_v_asks_the_selector(selector: int, firmware: Firmware) -> None:
-    link, fake = make_link([GCTRONIC_V, f"c,{selector}\r\n".encode()], firmware=None)
-    assert fake.writes == [b"V\n", b"C\n"]
-    assert link.info.firmware is firmware
+@pytest.mark.parametrize(("selector", "ir_values"), [(10, 10), (3, 8)])
+def test_gctronic_answer_to_v_asks_the_selector_and_the_battery(
+    selector: int, ir_values: int
+) -> None:
+    """The selector says Overo mode (10) or Bluetooth; b's form says whether a rev 1.3."""
+    script = [GCTRONIC_V, f"c,{selector}\r\n".encode(), OLD_BATTERY]
+    link, fake = make_link(script, firmware=None)  # type: ignore[arg-type]
+    assert fake.writes == [b"V\n", b"C\n", b"b\n"]
+    assert link.info.firmware is Firmware.GCTRONIC
     assert link.info.selector == selector
+    assert link.profile.reply_values(Command.PROXIMITY) == ir_values
+    assert link.profile.rev13 is False
 
 
 def test_firmware_silent_to_v_but_answering_e_gets_the_thesis_profile() -> None:
@@ -311,10 +329,11 @@ def test_port_silent_to_v_and_to_e_is_reported_as_nothing_there() -> None:
         make_link([], firmware=None)
 
 
-def test_gctronic_that_does_not_answer_c_gets_the_thesis_profile() -> None:
+def test_gctronic_that_does_not_answer_c_is_taken_to_be_in_overo_mode() -> None:
     link, _ = make_link([GCTRONIC_V], firmware=None)
-    assert link.info.firmware is Firmware.WEBOTS
+    assert link.info.firmware is Firmware.GCTRONIC
     assert link.info.selector is None
+    assert link.profile.line_baud == 230400
 
 
 def test_robot_switched_on_as_the_port_opens_is_asked_again_after_its_banner() -> None:

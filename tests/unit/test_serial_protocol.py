@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 
 from ego.errors import ExtraBytesError, ShortReplyError, UnsupportedDeviceError
 from ego.serial.protocol import (
+    GCTRONIC_BLUETOOTH,
     PROFILES,
     Command,
     Firmware,
@@ -28,6 +29,7 @@ from ego.serial.protocol import (
 
 THESIS = PROFILES[Firmware.WEBOTS]
 OVERO = PROFILES[Firmware.GCTRONIC]
+BLUETOOTH = GCTRONIC_BLUETOOTH
 
 
 def req(letter: str, *args: int) -> Request:
@@ -38,8 +40,8 @@ def hexbytes(text: str) -> bytes:
     return bytes.fromhex(text)
 
 
-# protocol.md, Table 4.1: (letter, arguments, tx bytes of the one-command batch,
-# reply bytes on `thesis`, reply bytes on `gctronic` or None where it is refused).
+# docs/protocol.md, Table 4.1: (letter, arguments, tx bytes of the one-command batch,
+# reply bytes on `webots`, reply bytes on `gctronic` in Overo mode; None where refused).
 GOLDEN = [
     ("a", (), "9f 00", 6, 6),
     ("A", (), "bf 00", 12, 12),
@@ -53,7 +55,7 @@ GOLDEN = [
     ("Q", (), "af 00", 4, 4),
     ("u", (), "8b 00", 6, 6),
     ("U", (), "ab 00", 601, 601),
-    ("b", (), "9e 00", 2, 2),
+    ("b", (), "9e 00", None, 2),  # firmware.c has no case 'b'; Asercom.c answers 2 bytes
 ]
 
 # protocol.md, Table 4.1: each reply's layout, little-endian ("All multi-byte values are
@@ -67,12 +69,13 @@ REPLY_FORMATS = {
     "O": "<8h",
     "Q": "<2h",
     "u": "<3H",
-    "b": "<H",
     "U": "<B",
 }
-# "the stock firmware in Overo mode ... N and O return 10 values (20 bytes)", "M returns nothing".
-OVERO_REPLY_FORMATS = {**REPLY_FORMATS, "N": "<10h", "O": "<10h"}
+# Asercom.c, use_bt == 0: N and O send 10 values (20 bytes), M sends nothing; 'b' 2 bytes.
+OVERO_REPLY_FORMATS = {**REPLY_FORMATS, "N": "<10h", "O": "<10h", "b": "<H"}
 del OVERO_REPLY_FORMATS["M"]
+# Asercom.c, use_bt == 1 with CLIFF_SENSORS: M sends 6 ground bytes then 4 cliff bytes.
+BLUETOOTH_REPLY_FORMATS = {**REPLY_FORMATS, "M": "<5H", "b": "<H"}
 U_PREFIX = "<300h"
 ARGUMENT_FORMATS = {"D": "<2h", "L": "<2B", "P": "<2h"}
 
@@ -114,9 +117,13 @@ def test_wire_time_is_ten_bits_a_byte() -> None:
 
 
 @pytest.mark.parametrize(("letter", "args", "tx", "reply", "_"), GOLDEN)
-def test_each_command_encodes_to_its_golden_bytes_on_thesis(
-    letter: str, args: tuple[int, ...], tx: str, reply: int, _: int | None
+def test_each_command_encodes_to_its_golden_bytes_on_webots(
+    letter: str, args: tuple[int, ...], tx: str, reply: int | None, _: int | None
 ) -> None:
+    if reply is None:
+        with pytest.raises(UnsupportedDeviceError, match="webots"):
+            encode_batch([req(letter, *args)], THESIS)
+        return
     batch = encode_batch([req(letter, *args)], THESIS)
     assert batch.tx == hexbytes(tx)
     assert batch.reply_size == reply
@@ -268,8 +275,10 @@ def test_spherical_acceleration_decodes_three_floats() -> None:
 
 
 def test_battery_decodes_one_unsigned_word() -> None:
-    batch = encode_batch([req("b")], THESIS)
-    assert batch.decode(hexbytes("d8 0e")) == [(3800,)]
+    """Asercom.c, 'b': the raw ADC count low byte first on a rev 1.3, else [BATT_LOW, 0]."""
+    batch = encode_batch([req("b")], OVERO)
+    assert batch.decode(hexbytes("c4 0b")) == [(3012,)]
+    assert batch.decode(hexbytes("01 00")) == [(1,)]
 
 
 def test_microphone_buffer_arrives_before_the_batch_replies() -> None:
@@ -288,7 +297,7 @@ def test_microphone_buffer_arrives_before_the_batch_replies() -> None:
 
 
 def test_two_microphone_buffers_both_come_first_in_command_order() -> None:
-    batch = encode_batch([req("U"), req("b"), req("U")], THESIS)
+    batch = encode_batch([req("U"), req("b"), req("U")], OVERO)
     first, second = list(range(300)), list(range(-300, 0))
     reply = (
         struct.pack("<300h", *first)
@@ -374,10 +383,14 @@ def requests_for(formats: dict[str, str]) -> st.SearchStrategy[Request]:
     )
 
 
-PROFILE_FORMATS = [(THESIS, REPLY_FORMATS), (OVERO, OVERO_REPLY_FORMATS)]
+PROFILE_FORMATS = [
+    (THESIS, REPLY_FORMATS),
+    (OVERO, OVERO_REPLY_FORMATS),
+    (BLUETOOTH, BLUETOOTH_REPLY_FORMATS),
+]
 
 
-@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo"])
+@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo", "bluetooth"])
 @given(data=st.data())
 def test_encoded_batches_parse_back_to_the_same_requests(
     profile: Profile, formats: dict[str, str], data: st.DataObject
@@ -402,7 +415,7 @@ def value_for(fmt: str) -> st.SearchStrategy[tuple[float, ...]]:
     return st.tuples(*[element] * count)
 
 
-@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo"])
+@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo", "bluetooth"])
 @given(data=st.data())
 def test_packed_values_decode_back_to_themselves(
     profile: Profile, formats: dict[str, str], data: st.DataObject
@@ -421,7 +434,7 @@ def test_packed_values_decode_back_to_themselves(
     assert batch.decode(prefix + body) == expected
 
 
-@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo"])
+@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo", "bluetooth"])
 @given(data=st.data())
 def test_reply_parser_fed_random_bytes_gives_values_or_a_length_error(
     profile: Profile, formats: dict[str, str], data: st.DataObject

@@ -1,4 +1,13 @@
-"""The three-axis accelerometer, raw (wire command a) or spherical (wire command A)."""
+"""The three-axis accelerometer, raw (wire command a) or spherical (wire command A).
+
+docs/protocol.md, quirks "a" and "A": ``a`` gives the ADC counts (0 g near 2000, about
+800 a g; an e-puck rev 1.3 over Bluetooth gives 0 g at 2048 and about 750 a g). ``A``
+gives three floats computed on the dsPIC from the counts less the offsets it measured at
+start-up: the magnitude in counts, the orientation and the inclination in degrees, both
+converted with 180/3.1415, so they overshoot their ranges by up to 0.006 %. A stock
+firmware in Overo mode answers zeros on a rev 1.3 e-puck, whose accelerometer is on I2C:
+all zeros cannot be a reading of the analog accelerometer, so they are refused.
+"""
 
 from __future__ import annotations
 
@@ -10,11 +19,27 @@ from typing import ClassVar, NamedTuple
 from ego.devices.base import Sensor, out_of_range
 from ego.serial.protocol import Command, Profile, Request
 
-__all__ = ["ACC_COUNTS_PER_G", "ACC_ZERO_COUNTS", "Accelerometer", "AccelerometerMode", "Spherical"]
+__all__ = [
+    "ACC_COUNTS_PER_G",
+    "ACC_ZERO_COUNTS",
+    "ANGLE_OVERSHOOT",
+    "Accelerometer",
+    "AccelerometerMode",
+    "Spherical",
+]
 
 ACC_ZERO_COUNTS = 2000
 ACC_COUNTS_PER_G = 800
 GRAVITY_MPS2 = 9.81
+#: The firmware's degrees per radian, 180/3.1415 (docs/protocol.md, "A").
+FIRMWARE_DEGREES_PER_RADIAN = 180 / 3.1415
+#: How far past 0..180 and 0..360 that makes the angles reach.
+ANGLE_OVERSHOOT = 360 * (FIRMWARE_DEGREES_PER_RADIAN / (180 / math.pi) - 1) + 1e-4
+#: What says "this robot's firmware has no accelerometer data for us".
+NO_DATA_WHY = (
+    "the accelerometer answered all zeros, which the stock firmware in Overo mode sends "
+    "for an e-puck rev 1.3 (its accelerometer is on I2C, which the Overo owns)"
+)
 
 
 class AccelerometerMode(str, enum.Enum):
@@ -23,7 +48,11 @@ class AccelerometerMode(str, enum.Enum):
 
 
 class Spherical(NamedTuple):
-    """Spherical acceleration: magnitude (g), orientation 0-360 deg, inclination 0-180 deg."""
+    """The firmware's spherical acceleration, in its own units (docs/protocol.md, "A").
+
+    ``magnitude`` is in accelerometer counts (about 800 at 1 g); the angles are in the
+    firmware's degrees, 0..360 and 0..180 give or take :data:`ANGLE_OVERSHOOT`.
+    """
 
     magnitude: float
     orientation_deg: float
@@ -85,11 +114,14 @@ class Accelerometer(Sensor):
         magnitude, orientation, inclination = values
         if not math.isfinite(magnitude) or magnitude < 0:
             return f"accelerometer magnitude {magnitude} is not a finite non-negative number"
-        return out_of_range("accelerometer orientation", [orientation], 0.0, 360.0) or (
-            out_of_range("accelerometer inclination", [inclination], 0.0, 180.0)
+        over = ANGLE_OVERSHOOT
+        return out_of_range("accelerometer orientation", [orientation], -over, 360 + over) or (
+            out_of_range("accelerometer inclination", [inclination], -over / 2, 180 + over / 2)
         )
 
     def take(self, values: Sequence[float]) -> None:
+        if not any(values):
+            raise self.missing(NO_DATA_WHY)
         if self.mode is AccelerometerMode.RAW:
             x, y, z = (int(v) for v in values)
             self._raw = (x, y, z)
@@ -104,10 +136,14 @@ class Accelerometer(Sensor):
 
     @property
     def acceleration_mps2(self) -> tuple[float, float, float]:
-        """x, y, z in m/s^2 with Webots' conversion (protocol.md): x is negated."""
+        """x, y, z in m/s^2 with Webots' conversion (docs/protocol.md, "a"): x is negated.
+
+        0 g and the counts per g are the connected firmware's figures for this robot.
+        """
         x, y, z = self.values
-        k = GRAVITY_MPS2 / ACC_COUNTS_PER_G
-        return (-k * (x - ACC_ZERO_COUNTS), k * (y - ACC_ZERO_COUNTS), k * (z - ACC_ZERO_COUNTS))
+        zero = self.profile.acc_zero_counts
+        k = GRAVITY_MPS2 / self.profile.acc_counts_per_g
+        return (-k * (x - zero), k * (y - zero), k * (z - zero))
 
     @property
     def spherical(self) -> Spherical:

@@ -68,6 +68,9 @@ class Device:
     names: ClassVar[tuple[str, ...]] = ()
     #: Short family name for messages.
     family: ClassVar[str] = "device"
+    #: Whether Webots knows its members as devices (``getDevice``); the battery is not
+    #: one (Webots reads it through the robot: ``batterySensorGetValue``).
+    webots_device: ClassVar[bool] = True
 
     def __init__(self, profile: Profile) -> None:
         self._profile = profile
@@ -214,6 +217,16 @@ class Sensor(Device, abc.ABC):
 
     def restarted(self) -> None:
         self._last_fetch_ms = None  # fetch again at the next step
+
+    def missing(self, why: str) -> UnsupportedDeviceError:
+        """Disable the family and return the error saying the robot cannot serve it.
+
+        For a reply that proves the device absent (a firmware answering zeros or 0xFFFF
+        for hardware the robot lacks): the value is never delivered as a reading.
+        """
+        self._periods.clear()
+        self._last_fetch_ms = self._sampled_ms = None
+        return UnsupportedDeviceError(f"no {self.family} data on this robot: {why}")
 
 
 class Actuator(Device):

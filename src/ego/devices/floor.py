@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import ClassVar
 
 from ego.devices.base import ArraySensor
-from ego.serial.protocol import Command
+from ego.serial.protocol import Command, Request
 
 __all__ = ["FloorSensors"]
 
@@ -14,7 +15,10 @@ class FloorSensors(ArraySensor):
     """IR reflection of the floor, 0..4095: high on white, low on black.
 
     The stock Overo firmware does not serve them (``M`` answers nothing; they sit on the
-    Overo's I2C bus at 0x60), so enabling them there raises UnsupportedDeviceError.
+    Overo's I2C bus at 0x60), so enabling them there raises UnsupportedDeviceError. Over
+    Bluetooth the stock firmware adds two cliff sensors to ``M``'s reply (ignored here).
+    Without the ground module fitted, the firmware's I2C reads go unacknowledged and every
+    byte reads 0xFF (docs/protocol.md, "M"): that raises UnsupportedDeviceError too.
 
     >>> robot.floor.enable(32)                           # doctest: +SKIP
     >>> robot.step(32); on_line = robot.floor.value("gs1") < 500
@@ -23,3 +27,18 @@ class FloorSensors(ArraySensor):
     family = "floor sensors"
     names: ClassVar[tuple[str, ...]] = ("gs0", "gs1", "gs2")
     command = Command.FLOOR
+    #: What an unacknowledged I2C read gives.
+    NO_MODULE = 0xFFFF
+
+    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+        if all(v == self.NO_MODULE for v in values):
+            return None  # not a corruption: take() says what it means
+        return super().check(request, values, now_s)
+
+    def take(self, values: Sequence[float]) -> None:
+        if all(v == self.NO_MODULE for v in values):
+            raise self.missing(
+                "every ground sensor reads 0xFFFF, as when the ground module is not fitted "
+                "(the firmware reads it over I2C without checking the acknowledge)"
+            )
+        super().take(values)

@@ -70,6 +70,12 @@ class Leds(Actuator):
             self._state[i] = 0
         return [Request(Command.SET_LED, (i, 0)) for i in self.profile.leds]
 
+    def switched_off(self, leds: tuple[int, ...]) -> None:
+        """The dsPIC switched these LEDs off itself (ASCII ``S``); ego's view follows."""
+        for i in leds:
+            self._state[i] = 0
+            self._pending.pop(i, None)
+
     def restarted(self) -> None:
         """A restarted dsPIC has its LEDs off: switch on again those that were on."""
         for i in self.profile.leds:

@@ -26,7 +26,11 @@ class Microphones(ArraySensor):
 
     >>> robot.microphones.enable(100)                    # doctest: +SKIP
     >>> robot.microphones.enable_buffer(500)
-    >>> robot.step(100); samples = robot.microphones.buffer   # (3, 100) int16, oldest first
+    >>> robot.step(100); samples = robot.microphones.buffer   # (3, 100) uint16, oldest first
+
+    The buffer is not a snapshot (docs/protocol.md, "U"): the dsPIC sends it straight from
+    the array its ADC interrupt keeps writing, so samples near the write position may be
+    newer than the index byte says.
     """
 
     family = "microphones"
@@ -37,7 +41,7 @@ class Microphones(ArraySensor):
         super().__init__(profile)
         self._buffer_period: int | None = None
         self._buffer_fetch_ms: int | None = None
-        self._buffer: npt.NDArray[np.int16] | None = None
+        self._buffer: npt.NDArray[np.uint16] | None = None
 
     def enable_buffer(self, period_ms: int) -> None:
         """Fetch the raw 3 x 100 samples every ``period_ms``."""
@@ -65,17 +69,19 @@ class Microphones(ArraySensor):
     def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
         if request.command is Command.MIC_BUFFER:
             self._buffer_fetch_ms = now_ms
-            samples = np.asarray(values[:300], dtype=np.int16).reshape(3, MIC_SAMPLES)
-            newest = int(values[300])
-            # A circular buffer written at rising indices, the newest sample at ``newest``:
-            # oldest first means starting at the slot after it.
-            self._buffer = np.roll(samples, -(newest + 1), axis=1)
+            # Unsigned ADC counts around mid-scale (docs/protocol.md, "U"); the wire
+            # format is signed, the values never reach 0x8000.
+            samples = np.asarray(values[:300], dtype=np.int64).astype(np.uint16)
+            samples = samples.reshape(3, MIC_SAMPLES)
+            # The index byte is the slot the ADC writes next, that is the oldest sample
+            # of the circular buffer: oldest first means starting there.
+            self._buffer = np.roll(samples, -int(values[300]), axis=1)
         else:
             super().decode(request, values, now_ms)
 
     @property
-    def buffer(self) -> npt.NDArray[np.int16]:
-        """(3, 100) samples of mic0..mic2 at 16384 Hz, oldest first."""
+    def buffer(self) -> npt.NDArray[np.uint16]:
+        """(3, 100) ADC samples of mic0..mic2 at 16384 Hz (mid-scale is silence), oldest first."""
         if self._buffer is None:
             raise DeviceError(
                 "the microphone buffer has not been fetched: enable_buffer() and step()"

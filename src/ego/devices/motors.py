@@ -9,7 +9,10 @@ from typing import ClassVar
 from ego.devices.base import Sensor, check_int
 from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
 
-__all__ = ["MAX_SPEED_RAD_S", "Motors", "rad_s_to_steps", "steps_to_rad_s"]
+__all__ = ["MAX_SPEED_RAD_S", "Motors", "rad_s_to_steps", "real_speed_steps", "steps_to_rad_s"]
+
+#: The motors' step timer, in ticks a second (docs/protocol.md, quirk "D").
+STEP_TIMER_HZ = 10000
 
 #: 1000 steps/s is one wheel turn a second.
 MAX_SPEED_RAD_S = 2 * math.pi * MAX_SPEED_STEPS / STEPS_PER_TURN
@@ -23,12 +26,30 @@ def steps_to_rad_s(speed_steps: float) -> float:
     return speed_steps * 2 * math.pi / STEPS_PER_TURN
 
 
+def real_speed_steps(speed_steps: int) -> float:
+    """The speed the wheel really turns at when asked ``speed_steps`` (clamped to +-1000).
+
+    The dsPIC steps every ``floor(10000 / |v|)`` ticks of its 10 kHz timer.
+    """
+    v = max(-MAX_SPEED_STEPS, min(MAX_SPEED_STEPS, int(speed_steps)))
+    if v == 0:
+        return 0.0
+    return math.copysign(STEP_TIMER_HZ / (STEP_TIMER_HZ // abs(v)), v)
+
+
 class Motors(Sensor):
     """Wheel speeds in steps/s within +-1000 (one turn a second); refused beyond, not clamped.
 
     A ``D`` command goes out only when the speeds changed, with an ``E`` behind it that
     confirms the dsPIC holds them. Enabled as a sensor, the family also reads back the
     speeds the firmware holds at every period (``E``: commanded, not measured).
+
+    The wheels do not turn at exactly the speed asked (docs/protocol.md, quirk "D"): the
+    dsPIC steps a motor every ``floor(10000 / |v|)`` ticks of a 10 kHz timer, so the
+    real speed is ``10000 / floor(10000 / |v|)`` steps/s: 950 runs at 1000, 600 at 625,
+    300 at 303. :func:`real_speed_steps` gives it; odometry should use it. An RC5 TV
+    remote pointed at the robot also sets the speeds, even in Overo mode; the ``E`` check
+    then sees speeds ego did not ask for and sends ego's again.
 
     >>> robot.motors.set_speed(300, -300)                # doctest: +SKIP
     """
@@ -65,6 +86,15 @@ class Motors(Sensor):
         self._speed = (0, 0)
         self._pending = None
         return Request(Command.SET_SPEED, (0, 0))
+
+    def stopped_by_firmware(self, resend: bool) -> None:
+        """The dsPIC stopped the wheels itself (ASCII ``S``); ego's view follows.
+
+        ``resend``: its ``E`` still echoes the old speeds (the stock firmware), so a
+        ``D 0 0`` goes out with the next batch to make the echo true again.
+        """
+        self._speed = (0, 0)
+        self._pending = Request(Command.SET_SPEED, (0, 0)) if resend else None
 
     def requests(self, now_ms: int) -> list[Request]:
         # A D always travels with an E behind it, sampled or not: a D whose bytes the

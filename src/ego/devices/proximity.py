@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import ClassVar
 
 from ego.devices.base import ArraySensor
-from ego.serial.protocol import Command, Firmware
+from ego.errors import EgoError
+from ego.serial.protocol import Command, Profile
 
 __all__ = ["ProximitySensors"]
 
@@ -23,9 +25,29 @@ class ProximitySensors(ArraySensor):
     command = Command.PROXIMITY
     #: Calibrated IR can dip below 0 (protocol.md: parse signed); far below is corruption.
     value_range: ClassVar[tuple[int, int]] = (-1024, 4095)
-    #: protocol.md: the stock Overo firmware adds the long-range IR8 (left) and IR9 (right).
-    counts: ClassVar[dict[Firmware, int]] = {Firmware.WEBOTS: 8, Firmware.GCTRONIC: 10}
+
+    def __init__(self, profile: Profile) -> None:
+        super().__init__(profile)
+        self._calibrate: Callable[[], None] | None = None
 
     @property
     def member_names(self) -> tuple[str, ...]:
-        return self.names[: self.counts[self.profile.firmware]]
+        # docs/protocol.md: the stock firmware in Overo mode adds the Overo board's
+        # long-range IR8 (left) and IR9 (right) to N's reply.
+        return self.names[: self.profile.reply_values(Command.PROXIMITY) or 8]
+
+    def bind_calibration(self, calibrate: Callable[[], None]) -> None:
+        """The robot's way of sending ``K`` (this family does no I/O itself)."""
+        self._calibrate = calibrate
+
+    def calibrate(self) -> None:
+        """Calibrate the sensors' zero against the current surroundings (ASCII ``K``).
+
+        Keep every object out of the sensors' range: the dsPIC averages what they see
+        now and subtracts it from later readings (the stock firmware; Webots' firmware
+        calibrates too but keeps answering raw values). It takes about 1 s (stock) or
+        1.5 s (Webots), during which the dsPIC does not listen to the line.
+        """
+        if self._calibrate is None:
+            raise EgoError("these proximity sensors are not attached to a robot")
+        self._calibrate()

@@ -1,10 +1,13 @@
-"""Which firmware answers: parsing the ASCII ``V`` and ``C`` replies into a profile (no I/O).
+"""Which firmware answers: parsing the ASCII ``V``, ``C`` and ``b`` replies into a profile (no I/O).
 
-protocol.md: ``V\\n`` answers two lines, ``v,Version 1.2.2 August 2008 GCtronic`` /
-``HW version: ...`` (stock firmware) or ``v,Version 1.5.3 November 2016 (Webots)``.
-For the stock GCtronic firmware ``C\\n`` answers ``c,N``, the selector position;
-10 is the Overo mode. The Webots firmware, and one that answers neither, get the
-``thesis`` profile.
+docs/protocol.md, "Telling the firmwares apart": ``V\\n`` answers two lines, the version
+(``v,Version 1.2.2 August 2008 GCtronic`` on the stock firmware, ``v,Version 1.5.3
+November 2016 (Webots)`` on Webots') and ``HW version: %X``, a word of the dsPIC's EEPROM
+in hex (``FFFF`` when never written); it says nothing of the robot's revision. On the
+stock firmware ``C\\n`` answers ``c,N``, the selector position (10: Overo mode on
+UART2; any other: Bluetooth on UART1), and ``b\\n`` answers ``b,RAW (P%)`` on an e-puck
+revision 1.3 (which has a battery ADC) and ``b,FLAG`` on older ones: that is how the
+revision is told, since the firmware itself detects it over I2C.
 """
 
 from __future__ import annotations
@@ -13,14 +16,17 @@ import re
 from dataclasses import dataclass
 
 from ego.errors import ProtocolError
-from ego.serial.protocol import PROFILES, Command, Firmware, Profile
+from ego.serial.protocol import GCTRONIC_BLUETOOTH, PROFILES, Command, Firmware, Profile
 
 __all__ = [
     "OVERO_SELECTOR",
     "FirmwareInfo",
+    "gctronic_profile",
     "identify",
     "is_gctronic",
+    "is_rev13",
     "line_payload",
+    "parse_hardware_version",
     "parse_selector",
 ]
 
@@ -34,7 +40,8 @@ class FirmwareInfo:
 
     profile: Profile
     version: str = ""
-    hardware: str = ""
+    #: The ``HW version`` EEPROM word (0xFFFF when never written), None if not said.
+    hardware_version: int | None = None
     selector: int | None = None
     #: False when the profile was given explicitly rather than probed.
     detected: bool = True
@@ -65,25 +72,66 @@ def parse_selector(line: str) -> int:
     return int(payload)
 
 
-def identify(version_lines: list[str], selector: int | None = None) -> FirmwareInfo:
-    """The profile for what ``V`` (and for stock firmware, ``C``) answered.
+def parse_hardware_version(line: str) -> int | None:
+    """The EEPROM word of a ``HW version: %X`` line; None for a line of another shape."""
+    match = re.fullmatch(r"HW version:\s*([0-9A-Fa-f]{1,4})", line.strip())
+    return int(match.group(1), 16) if match else None
 
-    ``version_lines`` empty means nothing answered: the ``thesis`` profile, as
-    protocol.md says for a firmware that answers neither.
+
+def is_rev13(battery_line: str | None) -> bool | None:
+    """Whether the stock firmware's ``b`` reply is a revision 1.3's (``b,RAW (P%)``).
+
+    Older robots answer ``b,0`` or ``b,1`` (the low-battery flag); None when nothing
+    (or something else) answered.
+    """
+    if battery_line is None:
+        return None
+    text = battery_line.strip()
+    if re.fullmatch(r"b,\d+ \(\d+%\)", text):
+        return True
+    if re.fullmatch(r"b,[01]", text):
+        return False
+    return None
+
+
+def gctronic_profile(selector: int | None, rev13: bool | None) -> Profile:
+    """The stock firmware's profile in a selector position, for a robot's revision.
+
+    Selector 10 (or unknown: the Overo line is the one ego is made for) is Overo mode.
+    A rev 1.3 e-puck's accelerometer sits on I2C: in Overo mode the firmware leaves I2C
+    to the Overo and answers ``a``/``A`` with zeros, so they are removed; over Bluetooth
+    it reads them with 0 g at 2048 and about 750 counts a g (docs/protocol.md, "a").
+    """
+    if selector is None or selector == OVERO_SELECTOR:
+        profile = PROFILES[Firmware.GCTRONIC].but(rev13=rev13)
+        if rev13:
+            profile = profile.without(
+                Command.ACCELEROMETER_RAW,
+                Command.ACCELEROMETER_SPHERICAL,
+                why="an e-puck rev 1.3, whose accelerometer is on I2C, answers a/A with zeros",
+            )
+        return profile
+    profile = GCTRONIC_BLUETOOTH.but(
+        description=f"{GCTRONIC_BLUETOOTH.description}, selector {selector}", rev13=rev13
+    )
+    if rev13:
+        profile = profile.but(acc_zero_counts=2048, acc_counts_per_g=750)
+    return profile
+
+
+def identify(
+    version_lines: list[str], selector: int | None = None, battery_line: str | None = None
+) -> FirmwareInfo:
+    """The profile for what ``V`` (and for the stock firmware, ``C`` and ``b``) answered.
+
+    ``version_lines`` empty means nothing answered: the ``webots`` profile (Webots'
+    firmware answers ``V``, but a robot that answers no ASCII at all is spoken to as one).
     """
     if not version_lines:
         return FirmwareInfo(PROFILES[Firmware.WEBOTS])
     version = line_payload(version_lines[0], "V")
-    hardware = version_lines[1].strip() if len(version_lines) > 1 else ""
-    if not (is_gctronic(version) and selector == OVERO_SELECTOR):
+    hardware = parse_hardware_version(version_lines[1]) if len(version_lines) > 1 else None
+    if not is_gctronic(version):
         return FirmwareInfo(PROFILES[Firmware.WEBOTS], version, hardware, selector)
-    profile = PROFILES[Firmware.GCTRONIC]
-    if re.search(r"\b1\.3\b", hardware):
-        # protocol.md: on hardware revision 1.3 the accelerometer is on I2C, so the
-        # stock firmware returns zeros for a/A; refuse the device instead.
-        profile = profile.without(
-            Command.ACCELEROMETER_RAW,
-            Command.ACCELEROMETER_SPHERICAL,
-            why="hardware 1.3 (accelerometer on the Overo's I2C bus)",
-        )
+    profile = gctronic_profile(selector, is_rev13(battery_line))
     return FirmwareInfo(profile, version, hardware, selector)

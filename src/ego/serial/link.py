@@ -126,7 +126,9 @@ class Link:
         self._closed = False
         #: A restart seen while answering an ASCII command, not yet told to the owner.
         self._unreported_restart = False
-        self.info: FirmwareInfo = self._identify(first=True)
+        #: Until the firmware is known, timeouts assume the slower of the two lines.
+        self.info = FirmwareInfo(PROFILES[Firmware.WEBOTS], detected=False)
+        self.info = self._identify(first=True)
         self._unreported_restart = False  # at open there is no state to re-apply
 
     @property
@@ -137,7 +139,7 @@ class Link:
     # -- firmware --------------------------------------------------------------------
 
     def _identify(self, first: bool = False) -> FirmwareInfo:
-        """Drain the welcome banner, then ask ``V`` (and ``C``) unless told the firmware.
+        """Drain the welcome banner, then ask ``V`` (and ``C``, ``b``) unless told the firmware.
 
         At open (``first``), something that answers but not as a dsPIC is the wrong port
         (NotAnEpuckError), and a silent ``V`` is checked with a binary ``E``, which every
@@ -149,10 +151,11 @@ class Link:
             return FirmwareInfo(PROFILES[self._forced], detected=False)
         try:
             version = self.ascii_command("V", lines=2)
-            selector = None
+            selector = battery = None
             if version and is_gctronic(line_payload(version[0], "V")):
                 answer = self.ascii_command("C", lines=1)
                 selector = parse_selector(answer[0]) if answer else None
+                battery = self._battery_line()
         except ProtocolError as exc:
             if not first:
                 raise
@@ -161,7 +164,7 @@ class Link:
             ) from exc
         if first and not version:
             self._probe_silence()
-        info = identify(version, selector)
+        info = identify(version, selector, battery)
         log.info(
             "%s: firmware %s (%s%s)",
             self.transport.name,
@@ -170,6 +173,16 @@ class Link:
             f", selector {selector}" if selector is not None else "",
         )
         return info
+
+    def _battery_line(self) -> str | None:
+        """The stock firmware's answer to ``b``, whose form tells an e-puck rev 1.3.
+
+        docs/protocol.md, "b"; None when it answers something else (an older build).
+        """
+        try:
+            return next(iter(self.ascii_command("b", lines=1)), None)
+        except ProtocolError:
+            return None
 
     def _probe_silence(self) -> None:
         probe = encode_batch([Request(Command.GET_SPEED)], PROFILES[Firmware.WEBOTS])
@@ -182,16 +195,20 @@ class Link:
                 "E): is the robot switched on, and is this its port?"
             ) from exc
 
-    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
+    def ascii_command(
+        self, letter: str, lines: int = 1, line_timeout_s: float | None = None
+    ) -> list[str]:
         """Send an ASCII command (``V``, ``S``, ``C``...) and return its reply lines.
 
         Fewer lines than asked come back when the firmware stays silent; a first line
         that does not start with the command's lower-case letter raises ProtocolError.
+        ``line_timeout_s`` overrides the settings' wait for each line (for ``K``, whose
+        last line comes only after the calibration).
         """
         command = letter.encode("ascii") + b"\n"
         self._discard_stale()
         self.transport.write(command)
-        replies = self._read_lines(lines)
+        replies = self._read_lines(lines, line_timeout_s)
         if replies and BANNER_MARKER.decode() in replies[0]:
             # The dsPIC started while the command was on its way (a robot switched on
             # as the port opened): it may not have heard it. Ask again once the banner
@@ -201,7 +218,7 @@ class Link:
             self._tail = b""
             self._unreported_restart = True
             self.transport.write(command)
-            replies = self._read_lines(lines)
+            replies = self._read_lines(lines, line_timeout_s)
         # protocol.md: the reply "starts with the command's lower-case letter" (S answers
         # a bare "s", so no comma is required here).
         if replies and not replies[0].startswith(letter.lower()):
@@ -210,11 +227,12 @@ class Link:
             )
         return replies
 
-    def _read_lines(self, lines: int) -> list[str]:
+    def _read_lines(self, lines: int, line_timeout_s: float | None = None) -> list[str]:
         """Up to ``lines`` non-empty reply lines; fewer if the firmware falls silent."""
         replies: list[str] = []
+        timeout = self.settings.line_timeout_s if line_timeout_s is None else line_timeout_s
         while len(replies) < lines:
-            raw = self.transport.read_line(self.settings.line_timeout_s)
+            raw = self.transport.read_line(timeout + self.transport.latency_s)
             if not raw.endswith(b"\n"):
                 break
             text = raw.decode("ascii", errors="replace").strip()
@@ -222,16 +240,40 @@ class Link:
                 replies.append(text)
         return replies
 
+    def calibrate_proximity(self) -> None:
+        """The ASCII ``K``: calibrate the IR sensors, sending nothing until it is done.
+
+        docs/protocol.md, quirk "K": the dsPIC answers a first line at once, then spends
+        about 1 s (stock) or 1.5 s (Webots) calibrating without reading its 64-byte
+        receive ring, which has no overflow check; only its last line says it listens
+        again. Raises LinkTimeoutError when that line does not come.
+        """
+        wait_s = 2 * self.profile.calibration_s + self.settings.line_timeout_s
+        replies = self.ascii_command("K", lines=2, line_timeout_s=wait_s)
+        if len(replies) < 2 or "finished" not in replies[-1]:
+            raise LinkTimeoutError(
+                f"{self.transport.name}: the IR calibration did not finish within {wait_s:.1f} s "
+                f"(got {replies!r})"
+            )
+
     # -- binary batches ----------------------------------------------------------------
 
     def timeout_for(self, batch: Batch) -> float:
-        """Reply timeout of a batch: wire time of its bytes both ways, scaled, plus slack."""
-        baud = self.transport.baudrate or DEFAULT_BAUD
+        """Reply timeout of a batch: its wire time and the dsPIC's work, scaled, plus slack.
+
+        The wire time counts the batch's bytes both ways at the slower of the port's rate
+        and the rate the firmware answers at (docs/protocol.md, Line: Webots' firmware
+        speaks 115200 baud only, whatever the port was opened at); the dsPIC's work is the
+        profile's time per command (an I2C read for ``M``, software floats for ``A``).
+        """
+        profile = self.info.profile
+        baud = min(self.transport.baudrate or DEFAULT_BAUD, profile.line_baud)
         wire = wire_time_s(len(batch.tx) + batch.reply_size, baud)
+        work = sum(profile.work_s.get(r.command, 0.0) for r in batch.requests)
         return (
             self.settings.reply_timeout_s
-            + self.settings.wire_factor * wire
-            + (self.transport.latency_s)
+            + self.settings.wire_factor * (wire + work)
+            + self.transport.latency_s
         )
 
     def exchange(self, batch: Batch) -> bytes:

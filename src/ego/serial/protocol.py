@@ -20,8 +20,9 @@ import enum
 import struct
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from types import MappingProxyType
+from typing import Any
 
 from ego.errors import (
     DeprecatedNameWarning,
@@ -37,9 +38,11 @@ __all__ = [
     "DEFAULT_BAUD",
     "DEPRECATED_FIRMWARE_NAMES",
     "FIRMWARE_CHOICES",
+    "GCTRONIC_BLUETOOTH",
     "MAX_SPEED_STEPS",
     "PROFILES",
     "STEPS_PER_TURN",
+    "AsciiStop",
     "Batch",
     "Command",
     "Firmware",
@@ -183,15 +186,38 @@ _COMMON: dict[Command, WireFormat] = {
 
 
 @dataclass(frozen=True, slots=True)
+class AsciiStop:
+    """What the ASCII ``S`` command does on one firmware (docs/protocol.md, quirk "S")."""
+
+    #: The LEDs it switches off.
+    leds: tuple[int, ...]
+    #: Whether it also sets the speeds ``E`` echoes back to (0, 0).
+    clears_echo: bool
+
+
+@dataclass(frozen=True, slots=True)
 class Profile:
-    """What one firmware serves: its commands' wire formats and which LEDs it drives."""
+    """What one firmware serves: its commands' wire formats, LEDs, line rate and timings."""
 
     firmware: Firmware
     commands: Mapping[Command, WireFormat] = field(repr=False)
     leds: tuple[int, ...] = field(repr=False)
-    #: Free text for error messages ("stock GCtronic asercom 1.2.2, selector 10").
+    #: Free text for error messages ("stock GCtronic asercom, selector 10").
     description: str = ""
-    hardware: str = field(default="", compare=False)
+    #: The rate of the UART this firmware answers on: it never answers faster, whatever
+    #: rate the port was opened at (a pty carries any rate), so reply timeouts use it.
+    line_baud: int = DEFAULT_BAUD
+    #: Time the dsPIC spends on a command before its reply bytes can go out (an I2C read,
+    #: software floating point); commands not listed take a few microseconds.
+    work_s: Mapping[Command, float] = field(default_factory=dict, repr=False)
+    #: How long the ASCII ``K`` (IR calibration) keeps the dsPIC deaf to the line.
+    calibration_s: float = 1.0
+    ascii_stop: AsciiStop = field(default=AsciiStop(tuple(range(8)), False), repr=False)
+    #: 0 g of the raw accelerometer (``a``) and counts per g (docs/protocol.md, quirk "a").
+    acc_zero_counts: int = 2000
+    acc_counts_per_g: int = 800
+    #: An e-puck revision 1.3 (I2C accelerometer, battery ADC); None when not asked.
+    rev13: bool | None = field(default=None, compare=False)
 
     def supports(self, command: Command) -> bool:
         return command is Command.END or command in self.commands
@@ -205,40 +231,79 @@ class Profile:
                 f"{command.letter!r} ({command.name.lower()})"
             ) from None
 
+    def reply_values(self, command: Command) -> int:
+        """How many values the in-batch reply to ``command`` holds (0 if not served)."""
+        if command not in self.commands:
+            return 0
+        return len(self.commands[command].reply.unpack(bytes(self.commands[command].reply.size)))
+
     def without(self, *commands: Command, why: str) -> Profile:
         """The same profile with some commands removed (a hardware revision's quirk)."""
         kept = {c: f for c, f in self.commands.items() if c not in commands}
-        return Profile(
-            self.firmware,
-            MappingProxyType(kept),
-            self.leds,
-            f"{self.description}; {why}",
-            self.hardware,
+        return replace(
+            self, commands=MappingProxyType(kept), description=f"{self.description}; {why}"
         )
 
+    def but(self, **changes: Any) -> Profile:
+        """The same profile with some fields changed (a mode or a revision of the robot)."""
+        return replace(self, **changes)
+
+
+#: docs/protocol.md, quirk "M": Webots' firmware reads the ground sensors over I2C
+#: (about 3 ms), byte by byte; A computes with software floating point on the dsPIC.
+_M_WORK_S = 0.003
+_A_WORK_S = 0.002
+
+_webots = dict(_COMMON)
+# docs/protocol.md, quirk "b": Webots' firmware has no b (the byte is skipped silently).
+del _webots[Command.BATTERY]
 
 _overo = dict(_COMMON)
-# protocol.md: ps0-ps7 plus the Overo board's long-range IR8 (left) and IR9 (right).
+# docs/protocol.md: ps0-ps7 plus the Overo board's long-range IR8 (left) and IR9 (right).
 _overo[Command.PROXIMITY] = _fmt(reply="10h")
 _overo[Command.LIGHT] = _fmt(reply="10h")
-# protocol.md: M returns nothing; the ground sensors sit on the Overo's I2C bus.
+# docs/protocol.md: M returns nothing; the I2C bus is left to the Overo.
 del _overo[Command.FLOOR]
+
+_bluetooth = dict(_COMMON)
+# docs/protocol.md, quirk "M": the stock firmware is built with its cliff sensors, so
+# M answers the three ground sensors and then two cliff values (10 bytes).
+_bluetooth[Command.FLOOR] = _fmt(reply="5H")
 
 PROFILES: Mapping[Firmware, Profile] = MappingProxyType(
     {
-        Firmware.WEBOTS: Profile(
-            Firmware.WEBOTS,
-            MappingProxyType(_COMMON),
-            tuple(range(10)),
-            "E-GO / Webots asercom",
-        ),
         Firmware.GCTRONIC: Profile(
             Firmware.GCTRONIC,
             MappingProxyType(_overo),
-            tuple(range(8)),  # L 8 and L 9 (body, front) are ignored by this firmware
+            tuple(range(8)),  # L 8 and L 9 (body, front) are ignored in Overo mode
             "stock GCtronic asercom, selector 10",
+            line_baud=230400,
+            work_s=MappingProxyType({Command.ACCELEROMETER_SPHERICAL: _A_WORK_S}),
+            calibration_s=1.0,
+            ascii_stop=AsciiStop(tuple(range(8)), clears_echo=False),
+        ),
+        Firmware.WEBOTS: Profile(
+            Firmware.WEBOTS,
+            MappingProxyType(_webots),
+            tuple(range(10)),
+            "Webots e-puck firmware 1.5.x, Bluetooth",
+            line_baud=115200,
+            work_s=MappingProxyType(
+                {Command.FLOOR: _M_WORK_S, Command.ACCELEROMETER_SPHERICAL: _A_WORK_S}
+            ),
+            calibration_s=1.5,
+            ascii_stop=AsciiStop(tuple(range(10)), clears_echo=True),
         ),
     }
+)
+
+#: The stock firmware in any selector but 10: asercom over Bluetooth (UART1, 115200).
+GCTRONIC_BLUETOOTH = PROFILES[Firmware.GCTRONIC].but(
+    commands=MappingProxyType(_bluetooth),
+    leds=tuple(range(10)),
+    description="stock GCtronic asercom over Bluetooth",
+    line_baud=115200,
+    work_s=MappingProxyType({Command.FLOOR: _M_WORK_S, Command.ACCELEROMETER_SPHERICAL: _A_WORK_S}),
 )
 
 
