@@ -10,8 +10,10 @@ from importlib import resources
 from typing import TextIO
 
 from ego import runtime
+from ego.ports import default_baud
 from ego.robot import Robot
 from ego.runner import run_controller
+from ego.serial.protocol import Firmware
 
 __all__ = ["DemoReport", "run_demo"]
 
@@ -83,9 +85,10 @@ def run_demo(
         seed=seed,
         on_robot=[progress.attach],
     )
+    baud = default_baud("sim", Firmware.choose(firmware))
     out.write(
         f"ego demo: a Webots obstacle-avoidance controller drives the emulated e-puck "
-        f"({firmware} firmware, 230400 baud pty) for {duration_s:g} s\n"
+        f"({firmware} firmware, {baud} baud pty) for {duration_s:g} s\n"
     )
     controller = resources.files("ego.examples") / "obstacle_avoidance.py"
     started = time.monotonic()
