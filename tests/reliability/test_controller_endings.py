@@ -196,3 +196,39 @@ def _run_to_end_refused(
     return subprocess.run(
         args, cwd=tmp_path, env=_env(emu.path), capture_output=True, text=True, timeout=60
     )
+
+
+@pytest.mark.parametrize(
+    "sig", [signal.SIGHUP, signal.SIGQUIT, signal.SIGUSR1], ids=lambda s: s.name
+)
+def test_ego_serve_stops_the_robot_on_every_terminating_signal(
+    emulator: Emulator, tmp_path: Path, sig: signal.Signals
+) -> None:
+    """The server on the robot is a controller too: its ssh session dropping must not leave
+    the wheels turning for the PC that drove them."""
+    from ego.remote.client import RemoteTransport
+    from ego.serial.link import Link
+    from ego.serial.protocol import Command, Request, encode_batch
+
+    args = [*ego_command(), "serve", "--port", emulator.path, "--listen", "tcp://127.0.0.1:0"]
+    with spawn(args, tmp_path) as proc:
+        assert proc.stderr is not None
+        url = ""
+        for line in proc.stderr:
+            if " on tcp://" in line:
+                url = line.rsplit(" on ", 1)[1].strip()
+                break
+        assert url, "ego serve did not start"
+        link = Link(RemoteTransport.from_url(url))
+        try:
+            batch = encode_batch(
+                [Request(Command.SET_SPEED, (300, -300)), Request(Command.SET_LED, (1, 1))],
+                link.profile,
+            )
+            link.exchange(batch)
+            assert wait_until(lambda: emulator.world.speeds == (300, -300))
+            proc.send_signal(sig)
+            assert proc.wait(timeout=15) == 0
+        finally:
+            link.close()
+    _assert_stopped_now(emulator.world)

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 from ego.errors import EgoError
 from ego.remote.auth import load_secret
 from ego.remote.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, RemoteServer, check_listen
+from ego.safety import TERMINATING_SIGNALS
 from ego.serial.link import Link
 from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES
 from ego.serial.transport import SerialTransport
@@ -133,7 +134,7 @@ def open_robot(port: str | None, firmware: str = "auto", camera: str | None = No
 
 
 def run(args: argparse.Namespace) -> int:
-    """Serve until SIGINT or SIGTERM, then stop the robot; the exit status."""
+    """Serve until a signal ends it (SIGINT, SIGTERM, SIGHUP...), then stop the robot."""
     if not logging.getLogger().handlers:
         logging.basicConfig(level=logging.INFO, format="%(asctime)s %(levelname)s %(message)s")
     listen = args.listen or [DEFAULT_LISTEN]
@@ -173,8 +174,12 @@ def run(args: argparse.Namespace) -> int:
 async def _serve(server: RemoteServer) -> None:
     loop = asyncio.get_running_loop()
     stop = asyncio.Event()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        with contextlib.suppress(NotImplementedError, RuntimeError):
+    # Every signal that would end the process (an ssh session dropping sends SIGHUP)
+    # stops the server first, which stops the robot; handlers set by others are kept.
+    for sig in (signal.SIGINT, *TERMINATING_SIGNALS):
+        if sig != signal.SIGINT and signal.getsignal(sig) is not signal.SIG_DFL:
+            continue
+        with contextlib.suppress(NotImplementedError, RuntimeError, ValueError):
             loop.add_signal_handler(sig, stop.set)
     try:
         await server.start()
