@@ -3,15 +3,34 @@
 from __future__ import annotations
 
 import argparse
+import math
 import signal
 import sys
+from collections.abc import Callable
 from types import FrameType
 
 from firmware_sim.dspic import FIRMWARE_ALIASES, FIRMWARES
-from firmware_sim.faults import FAULT_KINDS, FaultTimings, parse_fault
+from firmware_sim.faults import FAULT_KINDS, MAX_FAULT_S, FaultTimings, parse_fault
 from firmware_sim.server import Emulator
 
 __all__ = ["add_arguments", "build_parser", "main", "run"]
+
+
+def _bounded(low: float, high: float, unit: str) -> Callable[[str], float]:
+    """An argparse type: a finite number within ``low..high`` (NaN and inf refused)."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is not a number within {low:g}..{high:g}{unit}"
+            )
+        return value
+
+    return parse
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -30,7 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--processing-delay-us",
-        type=float,
+        type=_bounded(0, 1e6, " us"),
         default=0.0,
         help="extra dsPIC time per command, in microseconds (default: 0)",
     )
@@ -43,9 +62,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--seed", type=int, default=None, help="seed for noise and faults")
     parser.add_argument("--hardware", default="1.1", help="HW revision reported by V")
-    parser.add_argument("--delay-s", type=float, default=0.1, help="length of a delay fault")
-    parser.add_argument("--stall-s", type=float, default=1.0, help="length of a stall fault")
-    parser.add_argument("--replug-s", type=float, default=0.3, help="length of a disconnect")
+    parser.add_argument(
+        "--delay-s",
+        type=_bounded(0, MAX_FAULT_S, " s"),
+        default=0.1,
+        help="length of a delay fault",
+    )
+    parser.add_argument(
+        "--stall-s",
+        type=_bounded(0, MAX_FAULT_S, " s"),
+        default=1.0,
+        help="length of a stall fault",
+    )
+    parser.add_argument(
+        "--replug-s",
+        type=_bounded(0, MAX_FAULT_S, " s"),
+        default=0.3,
+        help="length of a disconnect",
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:

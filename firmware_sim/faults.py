@@ -46,11 +46,23 @@ class FaultSpec:
             raise ValueError(f"fault rate {self.rate} is outside 0..1")
 
 
+#: The longest a delay, stall or re-plug may last, and the last batch a fault may be
+#: planned at: beyond either, a "fault" only ever makes the emulator look dead.
+MAX_FAULT_S = 3600.0
+MAX_BATCH = 10**9
+
+
 @dataclass(frozen=True, slots=True)
 class FaultTimings:
     delay_s: float = 0.1
     stall_s: float = 1.0
     replug_s: float = 0.3
+
+    def __post_init__(self) -> None:
+        for name in ("delay_s", "stall_s", "replug_s"):
+            value = getattr(self, name)
+            if not 0.0 <= value <= MAX_FAULT_S:  # also refuses NaN
+                raise ValueError(f"{name} {value} is outside 0..{MAX_FAULT_S:g} s")
 
 
 def parse_fault(text: str) -> FaultSpec:
@@ -66,6 +78,8 @@ def parse_fault(text: str) -> FaultSpec:
         numbers = batches.split(",")
         if not all(n.strip().isdigit() and n.strip().isascii() for n in numbers):
             raise ValueError(f"bad fault {text!r}: batch numbers are whole numbers, like reset@500")
+        if any(len(n.strip()) > 10 or int(n) > MAX_BATCH for n in numbers):
+            raise ValueError(f"bad fault {text!r}: batch numbers go up to {MAX_BATCH}")
         try:
             return FaultSpec(kind.strip(), at_batches=frozenset(int(n) for n in numbers))
         except ValueError as exc:

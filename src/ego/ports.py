@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 
+from ego.errors import PortNotFoundError
 from ego.serial.protocol import DEFAULT_BAUD, PROFILES, Firmware
 from ego.serial.transport import SerialTransport, Transport
 
@@ -30,6 +31,11 @@ def resolve_port(port: str | os.PathLike[str] | None) -> str:
         raise TypeError(
             "port must be a string (a serial port, a pyserial URL, 'sim', tcp:// or udp://), "
             f"not {type(port).__name__}"
+        )
+    if port is not None and not port.strip():
+        raise PortNotFoundError(
+            f"port {port!r} is empty: give a serial port (/dev/ttyS0), a pyserial URL, "
+            "'sim', tcp://HOST:PORT or udp://HOST:PORT, or None for $EGO_PORT"
         )
     return port or os.environ.get("EGO_PORT") or DEFAULT_PORT
 

@@ -260,10 +260,10 @@ def namespace() -> Iterator[Namespace]:
             "modem_port": stack.enter_context(modem_device()).path,
         }
 
-        def config_file(text: str) -> str:
-            """A camera configuration file holding ``text``; its path."""
+        def config_file(text: str | bytes) -> str:
+            """A camera configuration file holding ``text`` (or raw bytes); its path."""
             path = tmp_path / "camera.conf"
-            path.write_text(text, encoding="utf-8")
+            path.write_bytes(text if isinstance(text, bytes) else text.encode("utf-8"))
             return str(path)
 
         yield Namespace(
@@ -271,6 +271,7 @@ def namespace() -> Iterator[Namespace]:
             Robot=ego.Robot,
             robot=robot,
             overo_robot=overo_robot,
+            overo_emulator_port=overo_emu.path,
             controller=controller,
             webots=ego.webots,
             overo=ego.overo,

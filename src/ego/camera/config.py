@@ -93,9 +93,17 @@ _INTEGER = re.compile(r"[+-]?[0-9]+")
 _DECIMAL = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 
 
+#: No setting needs more digits; Python refuses to convert past 4300 anyway.
+MAX_DIGITS = 12
+
+
 def _parse_int(path: str, number: int, key: str, text: str) -> int:
     if not _INTEGER.fullmatch(text):
         raise ConfigSyntaxError(path, number, f"{key} must be an integer, not {text!r}")
+    if len(text.lstrip("+-")) > MAX_DIGITS:
+        raise SettingOutOfRangeError(
+            path, number, f"{key} {text[:12]}... ({len(text)} digits) is far out of range"
+        )
     return int(text)
 
 
@@ -134,7 +142,7 @@ def parse_configuration(
                 )
             parsed = lowered in _TRUE
         elif key == "fov_rad":
-            if not _DECIMAL.fullmatch(value):
+            if not _DECIMAL.fullmatch(value) or len(value) > 32:
                 raise ConfigSyntaxError(path, number, f"fov_rad must be a number, not {value!r}")
             parsed = float(value)
             if not 0.0 < parsed < math.pi:
@@ -172,6 +180,12 @@ def read_configuration(
 ) -> CameraConfiguration:
     """Read and parse a configuration file (``OSError`` if it cannot be read)."""
     file = Path(path)
-    return parse_configuration(
-        file.read_text(encoding="utf-8"), str(file), current_rotation=current_rotation
-    )
+    data = file.read_bytes()
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise ConfigSyntaxError(
+            str(file), line, f"byte 0x{data[exc.start]:02x} is not UTF-8 text"
+        ) from exc
+    return parse_configuration(text, str(file), current_rotation=current_rotation)

@@ -39,6 +39,21 @@ log = logging.getLogger(__name__)
 DEFAULT_CAMERA = "/dev/video0"
 
 
+#: The longest deadman ego serve accepts: beyond a minute it no longer protects anyone.
+MAX_DEADLINE_MS = 60_000
+
+
+def _deadline_ms(text: str) -> int:
+    """An argparse type: whole milliseconds within 1..MAX_DEADLINE_MS."""
+    value = int(text) if text.strip().isdigit() and len(text.strip()) < 12 else -1
+    if not 1 <= value <= MAX_DEADLINE_MS:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a whole number of milliseconds within 1..{MAX_DEADLINE_MS} "
+            "(the deadman stops the motors when the client is silent this long)"
+        )
+    return value
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``ego serve``."""
     parser.add_argument(
@@ -68,7 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--deadline-ms",
-        type=int,
+        type=_deadline_ms,
         default=round(DEFAULT_DEADLINE_S * 1000),
         help="stop the motors when the client is silent this long (default: %(default)s)",
     )
@@ -141,8 +156,6 @@ def run(args: argparse.Namespace) -> int:
     try:
         secret = load_secret(args.secret_file) if args.secret_file else None
         check_listen(listen, secret)  # before the robot is touched
-        if args.deadline_ms <= 0:
-            raise ValueError(f"--deadline-ms {args.deadline_ms} must be positive")
     except (OSError, ValueError) as exc:
         print(f"ego serve: {exc}", file=sys.stderr)
         return 2

@@ -30,22 +30,36 @@ from ego.errors import (
 from ego.serial.port_holder import find_port_holder
 from ego.serial.protocol import DEFAULT_BAUD
 
-__all__ = ["SerialTransport", "Transport", "check_baudrate"]
+__all__ = ["MAX_BAUD", "MIN_BAUD", "SerialTransport", "Transport", "check_baudrate"]
 
 log = logging.getLogger(__name__)
 
 
-def check_baudrate(baudrate: object) -> int:
-    """``baudrate`` as a positive int, else TypeError or OutOfRangeError.
+#: The slowest line ego's timings hold at: the stop batch (D, ten L, E) must be confirmed
+#: within the link's timeouts (the e-puck's own lines run at 115200 and 230400).
+MIN_BAUD = 9600
+#: The fastest rate Linux serial drivers offer (B4000000); above, termios cannot say it.
+MAX_BAUD = 4_000_000
 
-    pyserial would open a port at 0 baud (which hangs a POSIX line up) and report a
-    negative rate as a port it cannot open.
+
+def check_baudrate(baudrate: object) -> int:
+    """``baudrate`` as an int within MIN_BAUD..MAX_BAUD, else TypeError or OutOfRangeError.
+
+    pyserial would open a port at 0 baud (which hangs a POSIX line up), report a negative
+    rate as a port it cannot open, and overflow on an absurd one.
     """
     if isinstance(baudrate, bool) or not isinstance(baudrate, numbers.Integral):
         raise TypeError(f"baud rate must be an int, not {type(baudrate).__name__}")
-    if baudrate <= 0:
-        raise OutOfRangeError(f"baud rate {baudrate} must be positive (the Overo's is 230400)")
-    return int(baudrate)
+    rate = int(baudrate)
+    if rate <= 0:
+        raise OutOfRangeError(f"baud rate {rate} must be positive (the Overo's is 230400)")
+    if not MIN_BAUD <= rate <= MAX_BAUD:
+        raise OutOfRangeError(
+            f"baud rate {rate} is outside {MIN_BAUD}..{MAX_BAUD}: below, the robot's stop "
+            "cannot be confirmed in time; the e-puck's lines run at 230400 (Overo) and "
+            "115200 (Bluetooth)"
+        )
+    return rate
 
 
 class Transport(abc.ABC):
