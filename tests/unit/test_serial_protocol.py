@@ -388,9 +388,10 @@ PROFILE_FORMATS = [
     (OVERO, OVERO_REPLY_FORMATS),
     (BLUETOOTH, BLUETOOTH_REPLY_FORMATS),
 ]
+PROFILE_IDS = ["webots", "overo", "bluetooth"]
 
 
-@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo", "bluetooth"])
+@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=PROFILE_IDS)
 @given(data=st.data())
 def test_encoded_batches_parse_back_to_the_same_requests(
     profile: Profile, formats: dict[str, str], data: st.DataObject
@@ -415,7 +416,7 @@ def value_for(fmt: str) -> st.SearchStrategy[tuple[float, ...]]:
     return st.tuples(*[element] * count)
 
 
-@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo", "bluetooth"])
+@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=PROFILE_IDS)
 @given(data=st.data())
 def test_packed_values_decode_back_to_themselves(
     profile: Profile, formats: dict[str, str], data: st.DataObject
@@ -434,7 +435,7 @@ def test_packed_values_decode_back_to_themselves(
     assert batch.decode(prefix + body) == expected
 
 
-@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=["webots", "overo", "bluetooth"])
+@pytest.mark.parametrize(("profile", "formats"), PROFILE_FORMATS, ids=PROFILE_IDS)
 @given(data=st.data())
 def test_reply_parser_fed_random_bytes_gives_values_or_a_length_error(
     profile: Profile, formats: dict[str, str], data: st.DataObject
