@@ -33,6 +33,17 @@ def _bounded(low: float, high: float, unit: str) -> Callable[[str], float]:
     return parse
 
 
+def _hex_word(text: str) -> int:
+    """An argparse type: a 16-bit word in hex (as V prints it)."""
+    try:
+        value = int(text, 16)
+    except ValueError:
+        value = -1
+    if not 0 <= value <= 0xFFFF:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a 16-bit word in hex (0..FFFF)")
+    return value
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--firmware",
@@ -44,8 +55,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--baud",
         type=int,
-        default=230400,
-        help="line rate used to pace the bytes (default: 230400)",
+        default=None,
+        help="line rate used to pace the bytes (default: the firmware's own: 230400 for "
+        "gctronic in Overo mode, 115200 over Bluetooth and for webots)",
     )
     parser.add_argument(
         "--processing-delay-us",
@@ -61,7 +73,40 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help=f"inject faults; KIND is one of {', '.join(FAULT_KINDS)}",
     )
     parser.add_argument("--seed", type=int, default=None, help="seed for noise and faults")
-    parser.add_argument("--hardware", default="1.1", help="HW revision reported by V")
+    parser.add_argument(
+        "--hardware-version",
+        type=_hex_word,
+        default=0xFFFF,
+        metavar="HEX",
+        help="the EEPROM word V reports as 'HW version: %%X' (default: FFFF, never written)",
+    )
+    parser.add_argument(
+        "--rev13",
+        action="store_true",
+        help="an e-puck revision 1.3: I2C accelerometer (a/A answer zeros in Overo mode), "
+        "battery ADC",
+    )
+    parser.add_argument(
+        "--selector",
+        type=int,
+        choices=range(16),
+        metavar="0..15",
+        default=None,
+        help="the rotary selector; gctronic: 10 (default) is Overo mode on UART2, any other "
+        "is Bluetooth mode",
+    )
+    parser.add_argument(
+        "--no-ground-module",
+        dest="ground_module",
+        action="store_false",
+        help="no floor-sensor board fitted: M reads 0xFFFF (Overo mode: M sends nothing anyway)",
+    )
+    parser.add_argument(
+        "--latency-ms",
+        type=_bounded(0, 10000, " ms"),
+        default=0.0,
+        help="extra delay each way, as a Bluetooth SPP link adds (a few ms; default 0)",
+    )
     parser.add_argument(
         "--delay-s",
         type=_bounded(0, MAX_FAULT_S, " s"),
@@ -102,7 +147,11 @@ def run(args: argparse.Namespace) -> int:
             faults=faults,
             seed=args.seed,
             timings=FaultTimings(args.delay_s, args.stall_s, args.replug_s),
-            hardware=args.hardware,
+            hardware_version=args.hardware_version,
+            rev13=args.rev13,
+            selector=args.selector,
+            ground_module=args.ground_module,
+            latency_s=args.latency_ms / 1000,
         )
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -49,18 +49,34 @@ class Emulator:
         self,
         firmware: str = "webots",
         *,
-        baud: int = 230400,
+        baud: int | None = None,
         processing_delay_s: float = 0.0,
         faults: Iterable[FaultSpec] = (),
         seed: int | None = None,
         timings: FaultTimings | None = None,
         world: World | None = None,
-        hardware: str = "1.1",
+        hardware_version: int = 0xFFFF,
+        rev13: bool = False,
+        selector: int | None = None,
+        ground_module: bool = True,
+        latency_s: float = 0.0,
     ) -> None:
+        self.world = world or World(seed=seed)
+        self.dspic = Dspic(
+            self.world,
+            firmware,
+            hardware_version,
+            rev13=rev13,
+            selector=selector,
+            ground_module=ground_module,
+        )
+        baud = self.dspic.line_baud if baud is None else baud
         if baud <= 0:
             raise ValueError(f"baud rate {baud} must be positive")
-        self.world = world or World(seed=seed)
-        self.dspic = Dspic(self.world, firmware, hardware)
+        if not 0.0 <= latency_s <= 10.0:
+            raise ValueError(f"latency {latency_s} s is outside 0..10 s")
+        #: A Bluetooth SPP link's own delay, each way (a few ms; 0 on a wire).
+        self.latency_s = latency_s
         self.plan = FaultPlan(faults, seed, timings or FaultTimings())
         self.baud = baud
         self.byte_s = 10.0 / baud
@@ -200,14 +216,20 @@ class Emulator:
             return  # a hung dsPIC hears nothing
         data, corrupted = self.plan.corrupt_chunk(data, self.dspic.batches + 1)
         # The last byte of this chunk has crossed the wire only after its line time.
-        arrived = max(now, self._in_free) + len(data) * self.byte_s
-        self._in_free = arrived
+        arrived = max(now, self._in_free) + len(data) * self.byte_s + self.latency_s
+        self._in_free = arrived - self.latency_s
         for emission in self.dspic.feed(data):
             if emission.kind == "reply":
                 self._answer(emission, arrived, corrupted)
                 corrupted = False
-            else:
-                self._schedule(emission.data, arrived)
+                continue
+            ready = arrived + emission.after_s
+            if emission.deaf_s:
+                # K: the dsPIC calibrates without reading the line; what arrives
+                # meanwhile is not heard (a real one keeps up to 64 bytes in a ring
+                # with no overflow check; dropping them all is the emulator's choice).
+                self._stalled_until = arrived + emission.deaf_s
+            self._schedule(emission.data, ready + self.latency_s)
 
     def _answer(self, emission: Emission, arrived: float, corrupted: bool) -> None:
         record = emission.record
@@ -215,7 +237,8 @@ class Emulator:
         kinds = self.plan.for_batch(record.index, has_reply=bool(emission.data))
         record.faults = (["corrupt"] if corrupted else []) + kinds
         self.history.append(record)
-        ready = arrived + self.processing_delay_s * (len(record.commands) + 1)
+        ready = arrived + self.processing_delay_s * (len(record.commands) + 1) + record.work_s
+        ready += self.latency_s
         if "reset" in kinds:
             self.dspic.reset()
             self._schedule(BANNER, ready)

@@ -59,6 +59,8 @@ FLOOR_SENSOR_OFFSETS_M = ((0.03, 0.012), (0.032, 0.0), (0.03, -0.012))
 MIC_OFFSETS_M = ((0.0, -0.03), (0.0, 0.03), (-0.03, 0.0))
 MIC_RATE_HZ = 16384
 MIC_SAMPLES = 100
+#: The ADC count of silence: the microphones' signal sits at mid-scale.
+MIC_MIDSCALE = 2048
 
 
 @dataclass(frozen=True, slots=True)
@@ -122,6 +124,25 @@ class _Body:
     leds: list[int] = field(default_factory=lambda: [0] * 10)
 
 
+#: e_acc.h GRAVITY: what one g reads as in A's magnitude, after e_acc_calibr.
+SPHERICAL_ONE_G = 768
+#: e_motors.c: a motor steps once every whole number of ticks of a 10 kHz timer.
+STEP_TIMER_HZ = 10000
+#: Asercom.c, 'b' on a rev 1.3: getBatteryValueRaw(), an ADC count. The source gives no
+#: figure for a charged battery; this one is inferred (about 3.9 V through the divider).
+BATTERY_RAW = 3012
+
+
+def stepping_rate(speed_steps: int) -> float:
+    """The rate a wheel really steps at for a commanded speed (e_motors.c).
+
+    The firmware clamps to +-1000 and steps every ``10000 // |v|`` timer ticks, so 950
+    runs at 1000 steps/s and 600 at 625.
+    """
+    v = max(-MAX_SPEED_STEPS, min(MAX_SPEED_STEPS, int(speed_steps)))
+    return 0.0 if v == 0 else math.copysign(STEP_TIMER_HZ / (STEP_TIMER_HZ // abs(v)), v)
+
+
 class World:
     """The emulator's ground truth; every method is thread-safe."""
 
@@ -145,7 +166,7 @@ class World:
         self._start = start or Pose(0.0, 0.0, 0.0)
         self._body = _Body(self._start.x_m, self._start.y_m, self._start.theta_rad)
         self._t = time.monotonic()
-        self.battery_raw = 3800
+        self.battery_raw = BATTERY_RAW
         #: Closest distance (m) between the body and any wall or block so far.
         self.closest_approach_m = math.inf
         self.distance_travelled_m = 0.0
@@ -190,11 +211,14 @@ class World:
             ]
 
     def set_led(self, index: int, value: int) -> None:
-        """protocol.md: led 0-7 ring, 8 body, 9 front; any other number sets all ring LEDs."""
+        """e_led.c: led 0-7 ring, 8 body, 9 front; any other number sets all ring LEDs.
+
+        A value of 0 switches off, 1 on, anything greater toggles.
+        """
         with self._lock:
             targets = [index] if 0 <= index <= 9 else list(range(8))
             for i in targets:
-                if value == 2:
+                if value > 1:
                     self._body.leds[i] ^= 1
                 else:
                     self._body.leds[i] = 1 if value else 0
@@ -223,12 +247,13 @@ class World:
                 return
             self._t = now
             b = self._body
-            vl = b.speed_steps[0] * METRES_PER_STEP
-            vr = b.speed_steps[1] * METRES_PER_STEP
+            left, right = (stepping_rate(v) for v in b.speed_steps)
+            vl = left * METRES_PER_STEP
+            vr = right * METRES_PER_STEP
             v = (vl + vr) / 2
             w = (vr - vl) / AXLE_M
-            b.steps[0] += b.speed_steps[0] * dt
-            b.steps[1] += b.speed_steps[1] * dt
+            b.steps[0] += left * dt
+            b.steps[1] += right * dt
             if abs(w) < 1e-9:
                 nx = b.x_m + v * dt * math.cos(b.theta_rad)
                 ny = b.y_m + v * dt * math.sin(b.theta_rad)
@@ -367,39 +392,67 @@ class World:
             refl = self.floor_reflectance(xs, ys)
             return [int(round(200 + 800 * r + self._noise(5.0))) for r in refl]
 
-    def accelerometer_raw(self) -> tuple[int, int, int]:
-        """ADC counts: 0 g near 2000, 800 counts a g; z sees gravity, x/y see motion.
+    def accelerometer_raw(
+        self, zero: int = ACC_ZERO, per_g: int = ACC_PER_G
+    ) -> tuple[int, int, int]:
+        """ADC counts: 0 g at ``zero``, ``per_g`` counts a g; z sees gravity, x/y see motion.
 
-        Webots' conversion (protocol.md) is x = -(g/800)(raw-2000), y and z = +(g/800)(raw-2000),
-        so x carries the lateral (centripetal) and y the forward acceleration.
+        Webots' conversion (docs/protocol.md) is x = -(g/800)(raw-2000), y and z =
+        +(g/800)(raw-2000), so x carries the lateral (centripetal) and y the forward
+        acceleration. An e-puck rev 1.3 read over Bluetooth gives 0 g at 2048 and about
+        750 counts a g (e_acc.c, e_get_acc_filtered).
         """
         with self._lock:
             self.advance()
-            k = ACC_PER_G / GRAVITY
-            x = ACC_ZERO - k * self._body.lateral_acc + self._noise(2.0)
-            y = ACC_ZERO + k * self._body.forward_acc + self._noise(2.0)
-            z = ACC_ZERO + ACC_PER_G + self._noise(2.0)
+            k = per_g / GRAVITY
+            x = zero - k * self._body.lateral_acc + self._noise(2.0)
+            y = zero + k * self._body.forward_acc + self._noise(2.0)
+            z = zero + per_g + self._noise(2.0)
             return (int(round(x)), int(round(y)), int(round(z)))
 
-    def accelerometer_spherical(self) -> tuple[float, float, float]:
-        """Magnitude (g), orientation (0-360 deg) and inclination (0-180 deg)."""
-        x, y, z = (v - ACC_ZERO for v in self.accelerometer_raw())
-        mag = math.sqrt(x * x + y * y + z * z)
-        orientation = math.degrees(math.atan2(y, x)) % 360.0
-        inclination = math.degrees(math.acos(z / mag)) if mag else 0.0
-        return (mag / ACC_PER_G, orientation, inclination)
+    def accelerometer_spherical(
+        self, zero: int = ACC_ZERO, per_g: int = ACC_PER_G
+    ) -> tuple[float, float, float]:
+        """(magnitude, orientation, inclination) as e_acc.c computes them, in float32.
+
+        The counts less the offsets measured at start-up (z's less one g of GRAVITY), the
+        magnitude in counts, and the angles with CST_RADIAN = 180/3.1415, so that they may
+        overshoot 0..360 and 0..180 a little; the orientation is 0 when the inclination
+        is under 5 or over 160 degrees.
+        """
+        raw = self.accelerometer_raw(zero, per_g)
+        f = np.float32
+        x, y = f(raw[0] - zero), f(raw[1] - zero)
+        # e_acc_calibr: centre_z = the reading at rest less GRAVITY (768, e_acc.h), so a
+        # robot at rest reads 768 on z whatever its accelerometer's own scale.
+        z = f(raw[2] - (zero + per_g - SPHERICAL_ONE_G))
+        k = f(180.0) / f(3.1415)
+        magnitude = np.sqrt(x * x + y * y + z * z, dtype=np.float32)
+        horizontal = np.sqrt(x * x + y * y, dtype=np.float32)
+        inclination = f(90.0) - f(np.arctan2(z, horizontal)) * k
+        if inclination < 5 or inclination > 160:
+            orientation = f(0.0)
+        else:
+            orientation = f(np.arctan2(x, y)) * k + f(180.0)
+        return (float(magnitude), float(orientation), float(inclination))
 
     def microphone_buffer(self) -> tuple[list[list[int]], int]:
-        """The last 100 samples of each microphone (16384 Hz) and the newest sample's index."""
+        """The circular buffers of the three microphones and the slot the ADC writes next.
+
+        e_ad_conv.c / e_micro.c: unsigned 12-bit samples around mid-scale (2048 is
+        silence) at 16384 Hz; the index (e_last_mic_scan_id) is the next slot to write,
+        which holds the oldest sample.
+        """
         with self._lock:
             self.advance()
             now = self._t
             b = self._body
             c, s = math.cos(b.theta_rad), math.sin(b.theta_rad)
             k = np.arange(MIC_SAMPLES)
-            newest = int(now * MIC_RATE_HZ) % MIC_SAMPLES
-            # Circular buffer: slot i holds the sample taken (newest - i) mod 100 ago.
-            age = (newest - k) % MIC_SAMPLES
+            written = int(now * MIC_RATE_HZ)
+            next_slot = written % MIC_SAMPLES
+            # Slot i was last written (next_slot - 1 - i) mod 100 samples ago.
+            age = (next_slot - 1 - k) % MIC_SAMPLES
             t = now - age / MIC_RATE_HZ
             buffers = []
             for f, left in MIC_OFFSETS_M:
@@ -409,8 +462,9 @@ class World:
                 wave = amp * np.sin(2 * np.pi * self.sound.frequency_hz * (t - d / 343.0))
                 if self.noise:
                     wave = wave + self._rng.normal(0.0, 3.0, MIC_SAMPLES)
-                buffers.append([int(v) for v in np.round(wave)])
-            return buffers, newest
+                counts = np.clip(np.round(MIC_MIDSCALE + wave), 0, 4095)
+                buffers.append([int(v) for v in counts])
+            return buffers, next_slot
 
     def microphone_amplitudes(self) -> list[int]:
         """Max - min over the last 100 samples of each microphone."""

@@ -36,7 +36,7 @@ def test_v_probe_detects_the_firmware(firmware: str, selector: int) -> None:
         try:
             assert link.info.firmware is Firmware(firmware)
             assert link.info.detected
-            assert link.info.hardware == "HW version: 1.1"
+            assert link.info.hardware_version == 0xFFFF  # Asercom.c: an unwritten EEPROM word
             if firmware == "gctronic":
                 assert link.info.selector == selector
         finally:
@@ -66,12 +66,14 @@ def test_forced_firmware_matching_the_robot_works(overo_emulator: Emulator) -> N
         link.close()
 
 
-def test_hardware_1_3_overo_refuses_the_accelerometer_it_would_read_as_zeros() -> None:
-    with Emulator("gctronic", seed=1, hardware="1.3") as emu:
+def test_rev_1_3_overo_refuses_the_accelerometer_it_would_read_as_zeros() -> None:
+    """Asercom.c: zeros for a/A in Overo mode on a rev 1.3, told at open by b's reply."""
+    with Emulator("gctronic", seed=1, rev13=True) as emu:
         link = Link(SerialTransport(emu.path), settings=FAST_LINK)
         try:
             assert link.info.firmware is Firmware.GCTRONIC
-            with pytest.raises(UnsupportedDeviceError, match=r"1\.3"):
+            assert link.profile.rev13 is True
+            with pytest.raises(UnsupportedDeviceError, match=r"rev 1\.3"):
                 encode_batch([req("a")], link.profile)
         finally:
             link.close()

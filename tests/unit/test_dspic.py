@@ -7,6 +7,7 @@ emulator prove something about the real robot.
 from __future__ import annotations
 
 import struct
+from typing import Any
 
 import pytest
 from hypothesis import given, settings
@@ -27,8 +28,8 @@ def batch(*letters: str, args: bytes = b"") -> bytes:
     return bytes([neg(head)]) + args + bytes(neg(c) for c in rest) + b"\x00"
 
 
-def make(firmware: str = "webots", hardware: str = "1.1") -> Dspic:
-    return Dspic(World(seed=3, noise=False), firmware, hardware)
+def make(firmware: str = "webots", **variant: Any) -> Dspic:
+    return Dspic(World(seed=3, noise=False), firmware, **variant)
 
 
 def replies(emissions: list[Emission]) -> list[Emission]:
@@ -106,9 +107,10 @@ def test_floor_sensors_are_silent_on_gctronic_overo() -> None:
 
 
 @pytest.mark.parametrize(
-    ("letter", "size"), [("a", 6), ("A", 12), ("E", 4), ("M", 6), ("Q", 4), ("u", 6), ("b", 2)]
+    ("letter", "size"), [("a", 6), ("A", 12), ("E", 4), ("M", 6), ("Q", 4), ("u", 6), ("b", 0)]
 )
-def test_each_sensor_reply_has_its_table_size_on_thesis(letter: str, size: int) -> None:
+def test_each_sensor_reply_has_its_table_size_on_webots(letter: str, size: int) -> None:
+    """firmware.c: each case's buffer[i++] count; no case 'b' (skipped: nothing sent)."""
     assert len(only_reply(make().feed(batch(letter)))) == size
 
 
@@ -156,11 +158,12 @@ def test_actuator_only_batch_answers_nothing() -> None:
     assert right <= -10
 
 
-def test_speeds_are_clamped_to_1000() -> None:
-    """protocol.md: "firmware clamps to +-1000"; E returns "last commanded speeds"."""
+def test_speeds_are_clamped_to_1000_but_e_echoes_what_was_asked() -> None:
+    """e_motors.c clamps to +-1000; Asercom.c 'E' sends speedl/speedr as D set them."""
     dspic = make()
     data = only_reply(dspic.feed(batch("D", "E", args=struct.pack("<2h", 1500, -32768))))
-    assert struct.unpack("<2h", data) == (1000, -1000)
+    assert struct.unpack("<2h", data) == (1500, -32768)
+    assert dspic.world.speeds == (1000, -1000)
 
 
 def test_unknown_command_bytes_are_skipped() -> None:
@@ -217,8 +220,8 @@ def test_led_value_two_toggles_and_other_numbers_set_the_whole_ring() -> None:
 
 
 def test_hardware_1_3_on_gctronic_overo_reads_zeros_from_the_accelerometer() -> None:
-    """protocol.md: "on hardware revision 1.3 a/A return zeros" (ego refuses them instead)."""
-    dspic = make("gctronic", hardware="1.3")
+    """Asercom.c 'a'/'A' with use_bt == 0: `if(isEpuckVersion1_3())` zeros (ego refuses them)."""
+    dspic = make("gctronic", rev13=True)
     assert only_reply(dspic.feed(batch("a", "A"))) == bytes(18)
     assert only_reply(make("gctronic").feed(batch("a"))) != bytes(6)
 
@@ -271,8 +274,12 @@ def test_bytes_split_anywhere_give_the_same_replies(cuts: list[int]) -> None:
     ],
 )
 def test_v_names_the_firmware_in_two_lines(firmware: str, version: str) -> None:
-    """protocol.md: "the ASCII V\\n command names the firmware (two reply lines ...)"."""
-    assert text(make(firmware, hardware="1.3").feed(b"V\n")) == [version, "HW version: 1.3"]
+    """Asercom.c 'V': the version line, then sprintf("HW version: %X", HWversion)."""
+    assert text(make(firmware, hardware_version=0x1300).feed(b"V\n")) == [
+        version,
+        "HW version: 1300",
+    ]
+    assert text(make(firmware).feed(b"V\n"))[1] == "HW version: FFFF"  # never written
 
 
 @pytest.mark.parametrize(("firmware", "selector"), [("webots", "c,3"), ("gctronic", "c,10")])
@@ -293,11 +300,17 @@ def test_s_stops_the_motors_and_turns_the_leds_off() -> None:
     assert dspic.world.leds == (0,) * 10
 
 
-def test_k_answers_lines_starting_with_k() -> None:
-    """protocol.md: "K (calibrate IR; replies k,...)"."""
-    lines = text(make().feed(b"K\n"))
-    assert lines
-    assert all(line.startswith("k,") for line in lines)
+@pytest.mark.parametrize(("firmware", "seconds"), [("gctronic", 1.0), ("webots", 1.5)])
+def test_k_answers_a_line_then_calibrates_deaf_then_its_last_line(
+    firmware: str, seconds: float
+) -> None:
+    """Asercom.c / firmware.c 'K': "k, Starting calibration - Remove any object in sensors
+    range", busy loops and the calibration (the line unread), "k, Calibration finished"."""
+    first, last = make(firmware).feed(b"K\n")
+    assert first.data == b"k, Starting calibration - Remove any object in sensors range\r\n"
+    assert (first.after_s, first.deaf_s) == (0.0, 0.0)
+    assert last.data == b"k, Calibration finished\r\n"
+    assert last.after_s == last.deaf_s == seconds
 
 
 def test_r_resets_and_prints_the_banner() -> None:
@@ -305,7 +318,8 @@ def test_r_resets_and_prints_the_banner() -> None:
     dspic = make()
     dspic.feed(batch("D", args=struct.pack("<2h", 200, 200)))
     out = dspic.feed(b"R\n")
-    assert [(e.kind, e.data) for e in out] == [("banner", BANNER)]
+    # Asercom.c 'R': uart_send_static_text("r\r\n") then RESET(), whose banner follows.
+    assert [(e.kind, e.data) for e in out] == [("banner", b"r\r\n" + BANNER)]
     assert dspic.world.speeds == (0, 0)
 
 

@@ -50,7 +50,7 @@ class AccelerometerMode(str, enum.Enum):
 class Spherical(NamedTuple):
     """The firmware's spherical acceleration, in its own units (docs/protocol.md, "A").
 
-    ``magnitude`` is in accelerometer counts (about 800 at 1 g); the angles are in the
+    ``magnitude`` is in accelerometer counts (768 at rest: e_acc.h GRAVITY); the angles are in the
     firmware's degrees, 0..360 and 0..180 give or take :data:`ANGLE_OVERSHOOT`.
     """
 
