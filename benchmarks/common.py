@@ -176,3 +176,7 @@ def _plain_progress(items: Iterable[Any], desc: str, total: int | None) -> Itera
         yield item
     if total:
         sys.stderr.write("\r" + " " * (len(desc) + 20) + "\r")
+
+#: The thesis measured the Overo line at 230400 baud with the command set of Table 4.1
+#: (the one Webots' firmware serves, M included); the emulator carries it at that rate.
+THESIS_LINE_BAUD = 230400

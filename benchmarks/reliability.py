@@ -22,7 +22,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 import ego
-from benchmarks.common import RESULTS, Table, progress
+from benchmarks.common import RESULTS, THESIS_LINE_BAUD, Table, progress
 from ego.devices.encoders import wrap_int16
 from ego.errors import EgoError
 from ego.serial import Batch, Command, LinkSettings, Request, SerialTransport, encode_batch
@@ -115,7 +115,9 @@ def soak(kinds: list[str], rate: float, steps: int, seed: int = 1, label: str = 
     result = SoakResult(label or "+".join(kinds), rate)
     rng = random.Random(seed)
     faults = [FaultSpec(kind, rate=rate) for kind in kinds]
-    with Emulator("webots", seed=seed, faults=faults, timings=SOAK_FAULTS) as emu:
+    with Emulator(
+        "webots", baud=THESIS_LINE_BAUD, seed=seed, faults=faults, timings=SOAK_FAULTS
+    ) as emu:
         robot = ego.Robot(
             transport=SerialTransport(emu.path), link_settings=SOAK_LINK, handle_signals=False
         )

@@ -23,7 +23,7 @@ import sys
 import threading
 import time
 
-from benchmarks.common import REPO, Table, interleaved
+from benchmarks.common import REPO, THESIS_LINE_BAUD, Table, interleaved
 from ego.remote.client import RemoteTransport
 from ego.remote.wire import MessageType, SequenceGuard, decode_frame, encode_frame
 from ego.serial.link import Link
@@ -109,7 +109,7 @@ def roundtrip_table(steps: int) -> Table:
     profile = PROFILES[Firmware.WEBOTS]
     batch = encode_batch(SENSORS, profile)
     servers = [_ServeProcess("tcp"), _ServeProcess("udp")]
-    emu = Emulator("webots", seed=1).start()
+    emu = Emulator("webots", baud=THESIS_LINE_BAUD, seed=1).start()
     links: dict[str, Link] = {}
     try:
         links["pty (direct)"] = Link(SerialTransport(emu.path), Firmware.WEBOTS)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 
-from benchmarks.common import Stats, Table, fmt, progress, thesis_csv
+from benchmarks.common import THESIS_LINE_BAUD, Stats, Table, fmt, progress, thesis_csv
 from ego.serial import Command, Firmware, Link, Request, SerialTransport, encode_batch
 from ego.serial.protocol import PROFILES, wire_time_s
 from firmware_sim import Emulator
@@ -106,7 +106,9 @@ def overhead_tables() -> list[Table]:
 
 def _link_rate(steps: int, processing_delay_us: float) -> tuple[Stats, float, int]:
     """Per-step round trips (s), us per byte, and bytes a step, over the emulated link."""
-    with Emulator("webots", seed=1, processing_delay_s=processing_delay_us * 1e-6) as emu:
+    with Emulator(
+        "webots", baud=THESIS_LINE_BAUD, seed=1, processing_delay_s=processing_delay_us * 1e-6
+    ) as emu:
         link = Link(SerialTransport(emu.path), firmware="webots")
         try:
             batch = encode_batch(worst_case_requests(), link.profile)

@@ -1,6 +1,6 @@
 """The dsPIC's asercom firmware, byte for byte, for both profiles (no I/O, no clock).
 
-Written from protocol.md independently of ``ego.serial.protocol``, so that a mistake in
+Written from docs/protocol.md independently of ``ego.serial.protocol``, so that a mistake in
 the library's tables shows up as a test failure instead of being mirrored here.
 Bytes go in with :meth:`Dspic.feed`; what the firmware would send comes out as a list
 of :class:`Emission` (the reply of a batch, U's 600 bytes sent at once, an ASCII line).

@@ -37,7 +37,7 @@ STEPS_PER_TURN = 1000
 MAX_SPEED_STEPS = 1000
 METRES_PER_STEP = 2 * math.pi * WHEEL_RADIUS_M / STEPS_PER_TURN
 GRAVITY = 9.81
-ACC_ZERO = 2000  # raw accelerometer counts at 0 g (protocol.md)
+ACC_ZERO = 2000  # raw accelerometer counts at 0 g (docs/protocol.md)
 ACC_PER_G = 800
 
 #: Webots' e-puck IR table: distance from the body (m) -> raw value.

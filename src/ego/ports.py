@@ -24,7 +24,7 @@ NETWORK_SCHEMES = ("tcp://", "udp://")
 
 
 def resolve_port(port: str | os.PathLike[str] | None) -> str:
-    """The argument, else ``EGO_PORT``, else ``/dev/ttyS0`` (api.md)."""
+    """The argument, else ``EGO_PORT``, else ``/dev/ttyS0``."""
     if isinstance(port, os.PathLike):
         port = os.fspath(port)
     if port is not None and not isinstance(port, str):

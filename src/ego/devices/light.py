@@ -11,7 +11,7 @@ __all__ = ["LightSensors"]
 
 
 class LightSensors(ArraySensor):
-    """Ambient light, 0..4095, **brighter is lower** (protocol.md).
+    """Ambient light, 0..4095, **brighter is lower** (docs/protocol.md).
 
     The stock Overo firmware sends 10 values; the two extra ones belong to the long-range
     IR sensors and are not light sensors, so only ls0..ls7 are kept.

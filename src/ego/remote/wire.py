@@ -316,7 +316,7 @@ def unpack_error(payload: bytes) -> tuple[str, str]:
     return str(name), str(message)
 
 
-#: ASCII commands relayed to the dsPIC, and how many reply lines each has (protocol.md:
+#: ASCII commands relayed to the dsPIC, and how many reply lines each has (docs/protocol.md:
 #: V answers two lines, K two, S and C one). R (reset) is not relayed: its banner would
 #: leave the server's link to reset itself.
 ASCII_REPLY_LINES: Mapping[str, int] = {"V": 2, "C": 1, "S": 1, "K": 2}

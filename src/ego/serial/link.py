@@ -1,7 +1,7 @@
 """One batch per step over a transport: exact-length replies, resynchronisation, bounded retries.
 
 The e-puck link has no checksum: the reply length is the only integrity check there is
-(protocol.md). So the link reads exactly the bytes a batch asks for, with a timeout,
+(docs/protocol.md). So the link reads exactly the bytes a batch asks for, with a timeout,
 watches for bytes left over after them, and never waits for a reply that the batch
 does not produce. On a short or overlong reply it resynchronises (a few zeros, then
 drains until the line is quiet) and sends the batch again, a bounded number of times,
@@ -49,7 +49,7 @@ __all__ = ["Link", "LinkSettings", "LinkStats"]
 
 log = logging.getLogger(__name__)
 
-#: protocol.md: "sending a few zeros is the way to resynchronise". Eight complete any
+#: docs/protocol.md: "sending a few zeros is the way to resynchronise". Eight complete any
 #: pending D/P arguments (4 bytes) and still end a batch.
 RESYNC_ZEROS = b"\x00" * 8
 #: Zeros cannot end an ASCII line: a desynchronised stream (a D misread as L, say) can
@@ -58,7 +58,7 @@ RESYNC_ZEROS = b"\x00" * 8
 #: instead skips it and takes the next byte as a line's first, so a harmless ``V`` line
 #: follows. Either way the dsPIC ends up idle, and the drain discards what it answered.
 RESYNC = RESYNC_ZEROS + b"\nV\n"
-#: How the answer to that ``V`` starts (protocol.md: ``v,Version ...``).
+#: How the answer to that ``V`` starts (docs/protocol.md: ``v,Version ...``).
 VERSION_REPLY = b"v,Version"
 
 
@@ -219,7 +219,7 @@ class Link:
             self._unreported_restart = True
             self.transport.write(command)
             replies = self._read_lines(lines, line_timeout_s)
-        # protocol.md: the reply "starts with the command's lower-case letter" (S answers
+        # docs/protocol.md: the reply "starts with the command's lower-case letter" (S answers
         # a bare "s", so no comma is required here).
         if replies and not replies[0].startswith(letter.lower()):
             raise ProtocolError(
@@ -314,7 +314,7 @@ class Link:
         self.stats.batches += 1
         self.stats.bytes_sent += len(batch.tx)
         if not batch.expects_reply:
-            # protocol.md: a batch that asks for nothing gets no reply: never wait.
+            # docs/protocol.md: a batch that asks for nothing gets no reply: never wait.
             return b""
         try:
             reply = self.transport.read_exactly(batch.reply_size, self.timeout_for(batch))

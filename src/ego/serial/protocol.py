@@ -1,6 +1,6 @@
 """The dsPIC's binary protocol as data and pure functions: requests in bytes out, and back.
 
-Nothing here does I/O, so every quirk of protocol.md is tested on bytes alone:
+Nothing here does I/O, so every quirk of docs/protocol.md is tested on bytes alone:
 
 * a command byte is the negative of an ASCII letter, ``(-ord(c)) & 0xFF``;
 * a batch ends with 0x00, and only then does the dsPIC answer, all replies back to
@@ -78,7 +78,7 @@ def wire_time_s(n_bytes: int, baud: int = DEFAULT_BAUD) -> float:
 
 
 class Command(enum.IntEnum):
-    """Wire bytes of the binary commands (protocol.md, thesis Table 4.1)."""
+    """Wire bytes of the binary commands (docs/protocol.md, thesis Table 4.1)."""
 
     ACCELEROMETER_RAW = 0x9F  # a
     ACCELEROMETER_SPHERICAL = 0xBF  # A
@@ -347,7 +347,7 @@ class Batch:
             raise ExtraBytesError(
                 f"reply of {len(view)} bytes, the batch asks for {self.reply_size}"
             )
-        # protocol.md: U's 600 bytes arrive before the rest of the batch's replies.
+        # docs/protocol.md: U's 600 bytes arrive before the rest of the batch's replies.
         offset = 0
         prefixes: list[tuple[float, ...]] = []
         for fmt in self._formats:

@@ -169,7 +169,7 @@ def port_busy_error(port: str) -> PortBusyError:
 
 
 class SerialTransport(Transport):
-    """Any pyserial port or URL, 8N1 without flow control (protocol.md: Line)."""
+    """Any pyserial port or URL, 8N1 without flow control (docs/protocol.md: Line)."""
 
     def __init__(self, url: str, baudrate: int = DEFAULT_BAUD) -> None:
         self.baudrate: int = check_baudrate(baudrate)
