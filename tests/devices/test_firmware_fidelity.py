@@ -215,3 +215,27 @@ def test_each_line_opens_at_its_firmware_rate(
 ) -> None:
     """firmware.c: e_init_uart1() at 115200 only; Asercom.c: UART2 at 230400 in selector 10."""
     assert default_baud(port, firmware) == baud
+
+
+def test_the_webots_face_reads_the_stock_firmwares_battery_flag() -> None:
+    """Asercom.c 'b': [BATT_LOW, 0] on a robot older than rev 1.3; Webots' battery sensor
+    calls read it where the firmware has it."""
+    from ego import runtime
+    from ego.controller import Robot
+    from firmware_sim import Emulator
+
+    with Emulator("gctronic", seed=1) as emu:
+        runtime.set_options(runtime.RunOptions(port=emu.path))
+        try:
+            robot = Robot()
+            try:
+                assert math.isnan(robot.batterySensorGetValue())
+                robot.batterySensorEnable(32)
+                assert robot.batterySensorGetSamplingPeriod() == 32
+                robot.step(32)
+                assert robot.batterySensorGetValue() == 1.0
+                assert robot.core.battery.low is False
+            finally:
+                robot.cleanup()
+        finally:
+            runtime.set_options(runtime.RunOptions())

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import math
 from typing import ClassVar, TypeVar
 
 from ego import runtime
@@ -138,6 +139,27 @@ class Robot:
         if self._core.port.startswith(NETWORK_SCHEMES):
             return self.MODE_REMOTE_CONTROL
         return self.MODE_CROSS_COMPILATION
+
+    # The battery, where the firmware serves it (docs/protocol.md, quirk "b": GCtronic's
+    # stock firmware only). On Webots' firmware enabling it raises UnsupportedDeviceError.
+    def batterySensorEnable(self, samplingPeriod: int) -> None:
+        self._core.battery.enable(samplingPeriod)
+
+    def batterySensorDisable(self) -> None:
+        self._core.battery.disable()
+
+    def batterySensorGetSamplingPeriod(self) -> int:
+        return self._core.battery.sampling_period() or 0
+
+    def batterySensorGetValue(self) -> float:
+        """The raw ADC count on an e-puck rev 1.3, else the low-battery flag (1: fine).
+
+        Webots gives the battery's energy in joules, which no e-puck firmware measures;
+        NaN before the first sample, as Webots returns before its first step.
+        """
+        if not self._core.battery.has_values:
+            return math.nan
+        return self._core.battery.value
 
     def cleanup(self) -> None:
         """Stop the robot and close the link (also done at exit)."""
