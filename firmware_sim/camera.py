@@ -18,16 +18,11 @@ faces +x, counter-clockwise positive); ``world.arena.half_size_m`` and ``.wall_r
 
 from __future__ import annotations
 
-import errno
 import math
-from typing import Any, Final, Protocol
+from typing import Any, Final, NamedTuple, Protocol
 
 import numpy as np
 import numpy.typing as npt
-
-from ego.camera.config import MAX_SIZE, MIN_SIZE
-from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
-from ego.errors import CameraCaptureError, CameraError
 
 __all__ = [
     "BACKGROUND_RGB",
@@ -39,6 +34,13 @@ __all__ = [
     "rgb888_to_rgb565",
 ]
 
+#: The sensor's smallest and largest frame (the PO3030/PO6030 windows on the Overo).
+MIN_SIZE: Final = (32, 32)
+MAX_SIZE: Final = (640, 480)
+#: The raw formats this camera delivers: RGB565, little-endian (V4L2 RGBP) or big-endian.
+PIXEL_FORMATS: Final = ("RGB565", "RGB565_BE")
+#: The image controls a camera driver offers; the renderer accepts and ignores them.
+CONTROLS: Final = ("brightness", "contrast", "saturation", "auto_white_balance")
 CAMERA_HEIGHT_M: Final = 0.03  # the lens above the floor
 CAMERA_FORWARD_M: Final = 0.03  # the lens ahead of the body's centre
 DEFAULT_FOV_RAD: Final = 0.84
@@ -159,8 +161,17 @@ def rgb888_to_rgb565(image: Image) -> npt.NDArray[np.uint16]:
     return ((r << 11) | (g << 5) | b).astype(np.uint16)
 
 
+class Granted(NamedTuple):
+    """The frame geometry the camera agreed to (the fields a V4L2 driver reports)."""
+
+    width: int
+    height: int
+    stride_bytes: int
+
+
 class SimulatedSource:
-    """The emulator's camera: a :class:`~ego.camera.source.FrameSource` rendering ``world``.
+    """The emulator's camera: a frame source rendering ``world`` (the shape ego's camera
+    sources have: open, read_frame, set_control, close), written apart from ego.
 
     Grants any size in 32x32..640x480 (larger or smaller asks are clamped, as a driver
     adjusts them), RGB565 in either byte order. Brightness, contrast, saturation and
@@ -172,27 +183,26 @@ class SimulatedSource:
     def __init__(self, world: Any, *, fov_rad: float = DEFAULT_FOV_RAD) -> None:
         self.world = world
         self.fov_rad = fov_rad
-        self._format: GrantedFormat | None = None
-        self._pixel_format = PixelFormat.RGB565
+        self._format: Granted | None = None
+        self._pixel_format = "RGB565"
         self._controls: dict[str, int] = {}
         self.frames_rendered = 0
 
-    def open(self, width: int, height: int, pixel_format: PixelFormat) -> GrantedFormat:
-        pixel_format = PixelFormat(pixel_format)
-        if pixel_format not in (PixelFormat.RGB565, PixelFormat.RGB565_BE):
-            raise CameraCaptureError(
-                errno.EINVAL, f"the simulated camera delivers RGB565 only, not {pixel_format.value}"
-            )
+    def open(self, width: int, height: int, pixel_format: str) -> Granted:
+        """Deliver ``width`` x ``height`` frames (clamped to the sensor) in ``pixel_format``."""
+        name = str(getattr(pixel_format, "value", pixel_format))
+        if name not in PIXEL_FORMATS:
+            raise ValueError(f"the simulated camera delivers RGB565 only, not {name}")
         width = min(max(int(width), MIN_SIZE[0]), MAX_SIZE[0])
         height = min(max(int(height), MIN_SIZE[1]), MAX_SIZE[1])
-        self._pixel_format = pixel_format
-        self._format = GrantedFormat(width, height, 2 * width)
+        self._pixel_format = name
+        self._format = Granted(width, height, 2 * width)
         return self._format
 
     def render(self) -> Image:
         """The current view, upright RGB888 (what the camera shows after its rotation)."""
         if self._format is None:
-            raise CameraError("the simulated camera is not open: call open() first")
+            raise RuntimeError("the simulated camera is not open: call open() first")
         return render_rgb888(
             self.world, self._format.width, self._format.height, fov_rad=self.fov_rad
         )
@@ -200,12 +210,14 @@ class SimulatedSource:
     def read_frame(self) -> bytes:
         """A raw frame: RGB565, upside down like the real mounting."""
         codes = rgb888_to_rgb565(self.render())[::-1, ::-1]
-        dtype = "<u2" if self._pixel_format is PixelFormat.RGB565 else ">u2"
+        dtype = "<u2" if self._pixel_format == "RGB565" else ">u2"
         self.frames_rendered += 1
         return codes.astype(dtype).tobytes()
 
     def set_control(self, name: str, value: int) -> int:
-        self._controls[check_control_name(name)] = int(value)
+        if name not in CONTROLS:
+            raise KeyError(f"unknown camera control {name!r}; the controls are {CONTROLS}")
+        self._controls[name] = int(value)
         return int(value)
 
     def set_fov_rad(self, fov_rad: float) -> float:

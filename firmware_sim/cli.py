@@ -127,9 +127,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(prog: str = "python -m firmware_sim") -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="python -m firmware_sim",
+        prog=prog,
         description="Emulated e-puck dsPIC on a pseudo-terminal. Prints the port's path "
         "as the first line of standard output, then serves until killed.",
     )
@@ -173,5 +173,5 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def main(argv: list[str] | None = None) -> int:
-    return run(build_parser().parse_args(argv))
+def main(argv: list[str] | None = None, prog: str = "python -m firmware_sim") -> int:
+    return run(build_parser(prog).parse_args(argv))

@@ -9,6 +9,7 @@ import subprocess
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from ego import __version__, runtime
 from ego.errors import EgoError
@@ -49,9 +50,12 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _cmd_sim(args: argparse.Namespace) -> int:
-    from firmware_sim.cli import run
+    from ego.backends import find_backend
 
-    return run(args)
+    # The emulator's own command line, reached through its backend (ego.backends): the
+    # library never imports the emulator.
+    backend: Any = find_backend("sim")
+    return int(backend.main(args.args, prog="ego sim"))
 
 
 def _cmd_serve(args: argparse.Namespace) -> int:
@@ -120,10 +124,13 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("args", nargs=argparse.REMAINDER, help="arguments for the controller")
     run.set_defaults(func=_cmd_run)
 
-    sim = sub.add_parser("sim", help="serve the emulated dsPIC on a pty (prints its path)")
-    from firmware_sim.cli import add_arguments as add_sim_arguments
-
-    add_sim_arguments(sim)
+    sim = sub.add_parser(
+        "sim",
+        help="serve the emulated dsPIC on a pty (prints its path; ego sim -h for its options)",
+        add_help=False,
+        prefix_chars="\0",  # every argument, -h included, goes to the emulator's parser
+    )
+    sim.add_argument("args", nargs=argparse.REMAINDER)
     sim.set_defaults(func=_cmd_sim)
 
     serve = sub.add_parser("serve", help="let a PC drive this robot over TCP or UDP")

@@ -1,4 +1,4 @@
-"""Where to connect: a port name or URL becomes a transport ("sim" is handled by Robot)."""
+"""Where to connect: the port a Robot opens when none is named, and its line rate."""
 
 from __future__ import annotations
 
@@ -6,21 +6,16 @@ import os
 
 from ego.errors import PortNotFoundError
 from ego.serial.protocol import DEFAULT_BAUD, PROFILES, Firmware
-from ego.serial.transport import SerialTransport, Transport
 
 __all__ = [
     "BLUETOOTH_PORT_PREFIX",
     "DEFAULT_PORT",
-    "NETWORK_SCHEMES",
     "default_baud",
-    "open_transport",
     "resolve_port",
 ]
 
 #: The Overo's UART to the dsPIC.
 DEFAULT_PORT = "/dev/ttyS0"
-#: ego's own remote protocol (``ego serve``); pyserial's ``socket://`` stays a raw byte pipe.
-NETWORK_SCHEMES = ("tcp://", "udp://")
 
 
 def resolve_port(port: str | os.PathLike[str] | None) -> str:
@@ -38,15 +33,6 @@ def resolve_port(port: str | os.PathLike[str] | None) -> str:
             "'sim', tcp://HOST:PORT or udp://HOST:PORT, or None for $EGO_PORT"
         )
     return port or os.environ.get("EGO_PORT") or DEFAULT_PORT
-
-
-def open_transport(port: str, baudrate: int = DEFAULT_BAUD, secret: str | None = None) -> Transport:
-    """A transport for ``port``: a remote robot for tcp:// and udp://, else any pyserial URL."""
-    if port.startswith(NETWORK_SCHEMES):
-        from ego.remote.client import RemoteTransport  # the network stack only when asked
-
-        return RemoteTransport.from_url(port, secret=secret)
-    return SerialTransport(port, baudrate)
 
 
 #: Where Linux puts a Bluetooth serial link (rfcomm bind / rfcomm connect).

@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 import logging
-import os
 import time
 import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 from types import TracebackType
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+from ego.backends import Opened, open_port
 from ego.devices.accelerometer import Accelerometer
 from ego.devices.base import MAX_PERIOD_MS, Device, check_int
 from ego.devices.battery import Battery
@@ -30,16 +30,15 @@ from ego.errors import (
     UnknownDeviceError,
     UnsupportedDeviceError,
 )
-from ego.ports import NETWORK_SCHEMES, default_baud, open_transport, resolve_port
+from ego.ports import resolve_port
 from ego.safety import install_signal_handlers, register, send_stop
 from ego.scheduler import StepClock
 from ego.serial.link import Link, LinkSettings
 from ego.serial.protocol import Firmware, encode_batch
-from ego.serial.transport import SerialTransport, Transport, check_baudrate
+from ego.serial.transport import Transport, check_baudrate
 
 if TYPE_CHECKING:
     from ego.camera import Camera, FrameSource
-    from firmware_sim import Emulator
 
 __all__ = ["SIM_PORT", "Robot", "close_all_robots"]
 
@@ -86,21 +85,25 @@ class Robot:
         self._closed = True  # until the link is up, close() has nothing to stop
         if baudrate is not None:
             baudrate = check_baudrate(baudrate)
-        self._emulator: Emulator | None = None
         if transport is None:
             self.port = resolve_port(port)
-            chosen = Firmware.choose(firmware)
-            if self.port == SIM_PORT:
-                chosen = chosen or Firmware.WEBOTS
-            baudrate = baudrate or default_baud(self.port, chosen)
-            transport = self._open(self.port, chosen, baudrate, secret, seed)
+            # The backend of the port's scheme (ego.backends) opens the link and knows
+            # its own options: the emulator's seed, the network's secret, the camera.
+            self._opened = open_port(
+                self.port,
+                baudrate=baudrate,
+                firmware=Firmware.choose(firmware),
+                secret=secret,
+                seed=seed,
+                camera_device=camera_device,
+            )
         else:
             self.port = transport.name
+            self._opened = Opened(transport)
         try:
-            self.link = Link(transport, firmware, link_settings)
+            self.link = Link(self._opened.transport, firmware, link_settings)
         except BaseException:
-            transport.close()
-            self._stop_emulator()
+            self._opened.close()
             raise
         self._closed = False
         self._lost = False
@@ -108,7 +111,7 @@ class Robot:
         # Everything the stop and the close need, held apart from the Robot so that a
         # finalizer can stop the wheels when the Robot is dropped without close(), or
         # when the interpreter exits with it still open.
-        self._parts = _Parts(self.link, self.clock, self._emulator)
+        self._parts = _Parts(self.link, self.clock, self._opened)
         self._finalizer = weakref.finalize(self, self._parts.close)
         profile = self.link.profile
         self.motors = Motors(profile)
@@ -135,7 +138,6 @@ class Robot:
         )
         self._camera: Camera | None = None
         self._camera_source = camera_source
-        self._camera_device = camera_device or os.environ.get("EGO_CAMERA", "/dev/video0")
         self._time_ms = 0
         self.steps = 0
         self._listeners: list[Callable[[Robot], None]] = []
@@ -145,28 +147,17 @@ class Robot:
             install_signal_handlers()
         log.info("robot on %s, firmware %s", self.port, self.link.info.firmware)
 
-    def _open(
-        self,
-        port: str,
-        firmware: Firmware | None,
-        baudrate: int,
-        secret: str | None,
-        seed: int | None,
-    ) -> Transport:
-        if port != SIM_PORT:
-            return open_transport(port, baudrate, secret)
-        from firmware_sim import Emulator  # only the emulator's users pay for it
-
-        fw = firmware or Firmware.WEBOTS
-        self._emulator = Emulator(fw.value, baud=baudrate, seed=seed).start()
-        return SerialTransport(self._emulator.path, baudrate)
-
     # -- devices ---------------------------------------------------------------------
 
     @property
-    def emulator(self) -> Emulator | None:
-        """The built-in emulator when ``port="sim"`` (its world is the ground truth), else None."""
-        return self._emulator
+    def remote(self) -> bool:
+        """Whether this robot is driven over a network (through ``ego serve``)."""
+        return self._opened.remote
+
+    @property
+    def emulator(self) -> Any:
+        """The emulator behind a simulated robot (its world is the ground truth), else None."""
+        return self._opened.ground_truth
 
     @property
     def camera(self) -> Camera:
@@ -179,19 +170,9 @@ class Robot:
         return self._camera
 
     def _default_camera_source(self) -> FrameSource:
-        if self._emulator is not None:
-            from firmware_sim.camera import SimulatedSource
-
-            return SimulatedSource(self._emulator.world)
-        if self.port.startswith(NETWORK_SCHEMES):
-            from ego.remote.client import RemoteFrameSource
-
-            return RemoteFrameSource(self.link.transport)
-        if self._camera_device == "none":  # as `ego serve` reads it
-            raise CameraError("this robot has no camera (EGO_CAMERA=none)")
-        from ego.camera import V4L2Source
-
-        return V4L2Source(self._camera_device)
+        if self._opened.camera is None:
+            raise CameraError(f"this robot has no camera ({self.port}; EGO_CAMERA=none?)")
+        return self._opened.camera()
 
     def device(self, name: str) -> Device:
         """The family serving the Webots device ``name`` ("ps3", "left wheel motor"...)."""
@@ -352,10 +333,6 @@ class Robot:
             self.leds.all_off()
         self._finalizer()
 
-    def _stop_emulator(self) -> None:
-        if self._emulator is not None:
-            self._emulator.stop()
-
     def __enter__(self) -> Robot:
         return self
 
@@ -381,7 +358,7 @@ class _Parts:
 
     link: Link
     clock: StepClock
-    emulator: Emulator | None
+    opened: Opened
     camera: Camera | None = None
     lost: bool = False
 
@@ -396,8 +373,7 @@ class _Parts:
             self.camera.close()
         self.clock.close()
         self.link.close()
-        if self.emulator is not None:
-            self.emulator.stop()
+        self.opened.close()
 
 
 _OPEN_ROBOTS: weakref.WeakSet[Robot] = weakref.WeakSet()

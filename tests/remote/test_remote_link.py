@@ -7,6 +7,7 @@ import time
 import pytest
 from remote_helpers import ConnectFactory, ServeFactory, wait_for
 
+from ego.backends import open_port
 from ego.errors import (
     LinkTimeoutError,
     PortNotFoundError,
@@ -14,7 +15,6 @@ from ego.errors import (
     RobotResetError,
     UnsupportedDeviceError,
 )
-from ego.ports import open_transport
 from ego.remote.client import RemoteTransport
 from ego.serial.protocol import Command, Firmware, Request, encode_batch
 from firmware_sim import FaultTimings
@@ -137,9 +137,9 @@ def test_robot_restart_comes_back_as_robot_reset(
     assert len(batch.decode(link.exchange(batch))[0]) == 8  # the next step works
 
 
-def test_open_transport_dispatches_network_urls(serve: ServeFactory, kind: str) -> None:
+def test_network_urls_go_to_the_remote_backend(serve: ServeFactory, kind: str) -> None:
     served = serve(kinds=(kind,))
-    transport = open_transport(served.url)
+    transport = open_port(served.url).transport
     try:
         assert isinstance(transport, RemoteTransport)
         assert transport.name == served.url

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import pytest
 
+from ego.backends import open_port, scheme_of
 from ego.errors import PortNotFoundError
-from ego.ports import DEFAULT_PORT, open_transport, resolve_port
+from ego.ports import DEFAULT_PORT, resolve_port
 from ego.serial.transport import SerialTransport
 
 
@@ -25,11 +26,28 @@ def test_overo_uart_is_the_default(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_pyserial_urls_open_a_serial_transport() -> None:
-    with open_transport("loop://", baudrate=115200) as transport:
+    opened = open_port("loop://", baudrate=115200)
+    with opened.transport as transport:
         assert isinstance(transport, SerialTransport)
         assert transport.baudrate == 115200
 
 
 def test_missing_port_is_port_not_found() -> None:
     with pytest.raises(PortNotFoundError, match="/dev/does-not-exist"):
-        open_transport("/dev/does-not-exist")
+        open_port("/dev/does-not-exist")
+
+
+@pytest.mark.parametrize(
+    ("port", "scheme"),
+    [("/dev/ttyS0", "serial"), ("socket://h:1", "serial"), ("loop://", "serial"),
+     ("tcp://robot:4242", "tcp"), ("udp://robot:4242", "udp"), ("sim", "sim")],
+)  # fmt: skip
+def test_each_port_goes_to_the_backend_of_its_scheme(port: str, scheme: str) -> None:
+    assert scheme_of(port) == scheme
+
+
+def test_an_unknown_backend_says_what_is_missing() -> None:
+    from ego.backends import find_backend
+
+    with pytest.raises(PortNotFoundError, match="no backend serves 'zenoh'"):
+        find_backend("zenoh")

@@ -21,7 +21,6 @@ from ego.controller.devices import (
     whole_steps,
 )
 from ego.errors import UnknownDeviceError
-from ego.ports import NETWORK_SCHEMES
 from ego.robot import Robot as CoreRobot
 
 __all__ = ["DifferentialWheels", "Robot"]
@@ -136,7 +135,7 @@ class Robot:
 
     def getMode(self) -> int:
         """Cross-compilation on the robot; remote control over tcp:// or udp://."""
-        if self._core.port.startswith(NETWORK_SCHEMES):
+        if self._core.remote:
             return self.MODE_REMOTE_CONTROL
         return self.MODE_CROSS_COMPILATION
 

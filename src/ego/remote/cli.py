@@ -25,8 +25,7 @@ from ego.remote.auth import load_secret
 from ego.remote.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, RemoteServer, check_listen
 from ego.safety import TERMINATING_SIGNALS
 from ego.serial.link import Link
-from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES
-from ego.serial.transport import SerialTransport
+from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmware
 
 if TYPE_CHECKING:
     from ego.camera.source import FrameSource
@@ -111,39 +110,25 @@ class ServedRobot:
 
 
 def open_robot(port: str | None, firmware: str = "auto", camera: str | None = None) -> ServedRobot:
-    """The robot on ``port`` ("sim" starts an emulator) and its camera, ready to serve."""
+    """The robot on ``port`` (any backend's: "sim" starts an emulator) and its camera."""
+    from ego.backends import open_port
     from ego.ports import resolve_port
 
-    where = resolve_port(port)
-    closers: list[Callable[[], None]] = []
-    emulator = None
+    chosen = Firmware.choose(firmware)
+    opened = open_port(resolve_port(port), firmware=chosen, camera_device=camera)
     try:
-        if where == "sim":
-            from firmware_sim import Emulator
-
-            emulator = Emulator("webots" if firmware == "auto" else firmware).start()
-            closers.append(emulator.stop)
-            where = emulator.path
-        transport = SerialTransport(where)
-        closers.insert(0, transport.close)
-        link = Link(transport, None if firmware == "auto" else firmware)
+        link = Link(opened.transport, chosen)
     except BaseException:
-        for close in closers:
-            close()
+        opened.close()
         raise
-    robot = ServedRobot(link, closers=closers)
+    robot = ServedRobot(link, closers=[opened.close])
     device = camera or os.environ.get("EGO_CAMERA")
-    if device == "none":
-        return robot
-    if emulator is not None and device is None:
-        from firmware_sim.camera import SimulatedSource
-
-        robot.camera = SimulatedSource(emulator.world)
-    elif device is not None or os.path.exists(DEFAULT_CAMERA):
-        from ego.camera import V4L2Source
-
-        robot.camera = V4L2Source(device or DEFAULT_CAMERA)
-    if robot.camera is not None:
+    # Serve the backend's camera: a simulated one always, a V4L2 device when named or
+    # present (a robot without its camera board serves none rather than fail).
+    wanted = opened.ground_truth is not None or device is not None
+    present = wanted or os.path.exists(DEFAULT_CAMERA)
+    if device != "none" and opened.camera is not None and present:
+        robot.camera = opened.camera()
         robot.closers.insert(0, robot.camera.close)
     return robot
 

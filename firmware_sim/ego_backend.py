@@ -1,0 +1,78 @@
+"""The ``sim`` backend of ego: the emulator behind a Robot, declared as an entry point.
+
+This module is the one place where the emulator meets the library (it hands ego a
+transport on the emulator's pty, the rendered camera, and the emulator itself as ground
+truth); every other module of ``firmware_sim`` is written apart from ego, which is what
+makes the emulator a check on the library. ego finds it through the ``ego.backends``
+entry point group (pyproject.toml) and never imports ``firmware_sim``.
+"""
+
+from __future__ import annotations
+
+import errno
+from typing import Any
+
+from ego.backends import Opened
+from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
+from ego.errors import CameraCaptureError, CameraError
+from ego.serial.protocol import Firmware
+from ego.serial.transport import SerialTransport
+from firmware_sim.camera import SimulatedSource
+from firmware_sim.cli import main as cli_main
+from firmware_sim.server import Emulator
+
+__all__ = ["SimBackend", "SimulatedCamera"]
+
+
+class SimulatedCamera:
+    """The emulator's rendered camera as an ego frame source: ego's types and errors."""
+
+    def __init__(self, source: SimulatedSource) -> None:
+        self.source = source
+
+    def open(self, width: int, height: int, pixel_format: PixelFormat) -> GrantedFormat:
+        try:
+            return GrantedFormat(*self.source.open(width, height, pixel_format.value))
+        except ValueError as exc:
+            raise CameraCaptureError(errno.EINVAL, str(exc)) from exc
+
+    def read_frame(self) -> bytes:
+        try:
+            return self.source.read_frame()
+        except RuntimeError as exc:
+            raise CameraError(str(exc)) from exc
+
+    def set_control(self, name: str, value: int) -> int:
+        return self.source.set_control(check_control_name(name), value)
+
+    def set_fov_rad(self, fov_rad: float) -> float:
+        return self.source.set_fov_rad(fov_rad)
+
+    def close(self) -> None:
+        self.source.close()
+
+    def __repr__(self) -> str:
+        return repr(self.source)
+
+
+class SimBackend:
+    """``Robot("sim", seed=..., firmware=...)``: a fresh emulator for this robot."""
+
+    def open(
+        self, port: str, *, baudrate: int | None, firmware: Firmware | None, **options: Any
+    ) -> Opened:
+        name = (firmware or Firmware.WEBOTS).value
+        emulator = Emulator(name, baud=baudrate, seed=options.get("seed")).start()
+        try:
+            transport = SerialTransport(emulator.path, emulator.baud)
+        except BaseException:
+            emulator.stop()
+            raise
+        world = emulator.world
+        camera = lambda: SimulatedCamera(SimulatedSource(world))  # noqa: E731
+        return Opened(transport, camera, emulator, [emulator.stop])
+
+    @staticmethod
+    def main(argv: list[str], prog: str = "ego sim") -> int:
+        """``ego sim ARGS``: the emulator's own command line."""
+        return cli_main(argv, prog)

@@ -1,0 +1,168 @@
+"""Backends by URL scheme: where a Robot's link, camera and ground truth come from.
+
+As pyserial picks a port class by URL and python-can an interface by name, ``Robot(port)``
+picks a backend by the port's scheme, and only here:
+
+============  ==========================================================================
+scheme        backend
+============  ==========================================================================
+(none)        a serial port or any pyserial URL (``/dev/ttyS0``, ``/dev/rfcomm0``,
+              ``socket://``, ``loop://``, ``spy://``): :class:`SerialBackend`
+``tcp``       a robot served by ``ego serve``, over TCP: :class:`RemoteBackend`
+``udp``       the same over UDP
+``sim``       the dsPIC emulator, found through the ``ego.backends`` entry point that
+              the ``firmware_sim`` package declares (ego itself never imports it)
+============  ==========================================================================
+
+A new backend (Bluetooth discovery, a distributed engine, another robot) is one module
+with a class that has :meth:`Backend.open`, registered under the ``ego.backends`` entry
+point group or with :func:`register`; nothing in ``Robot`` changes.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from importlib.metadata import entry_points
+from typing import TYPE_CHECKING, Any, Protocol
+
+from ego.errors import PortNotFoundError
+from ego.serial.protocol import Firmware
+from ego.serial.transport import SerialTransport, Transport
+
+if TYPE_CHECKING:
+    from ego.camera import FrameSource
+
+__all__ = [
+    "ENTRY_POINT_GROUP",
+    "Backend",
+    "Opened",
+    "RemoteBackend",
+    "SerialBackend",
+    "find_backend",
+    "open_port",
+    "register",
+    "scheme_of",
+]
+
+#: Where packages declare backends: ``[project.entry-points."ego.backends"] sim = ...``.
+ENTRY_POINT_GROUP = "ego.backends"
+#: The Overo's camera, unless EGO_CAMERA names another device (or "none").
+DEFAULT_CAMERA_DEVICE = "/dev/video0"
+
+
+@dataclass
+class Opened:
+    """What a backend opened for a Robot."""
+
+    transport: Transport
+    #: Makes the robot's camera source when it is first used; None: this robot has none.
+    camera: Callable[[], FrameSource] | None = None
+    #: The simulator behind a simulated robot (its world is the ground truth), else None.
+    ground_truth: Any = None
+    #: Releases what the backend started beside the transport (an emulator thread).
+    closers: list[Callable[[], None]] = field(default_factory=list)
+    #: Whether the robot is driven over a network (Webots' MODE_REMOTE_CONTROL).
+    remote: bool = False
+
+    def close(self) -> None:
+        """Close the transport and everything beside it; idempotent."""
+        self.transport.close()
+        while self.closers:
+            self.closers.pop()()
+
+
+class Backend(Protocol):
+    """Opens the link to one kind of robot; each backend takes the options it knows."""
+
+    def open(self, port: str, *, baudrate: int | None, firmware: Firmware | None,
+             **options: Any) -> Opened: ...  # fmt: skip
+
+
+def camera_device(options: dict[str, Any]) -> str:
+    """The V4L2 device asked for: the option, else EGO_CAMERA, else the Overo's."""
+    named = options.get("camera_device") or os.environ.get("EGO_CAMERA")
+    return str(named or DEFAULT_CAMERA_DEVICE)
+
+
+class SerialBackend:
+    """A serial port or pyserial URL at the firmware's line rate (docs/protocol.md, Line)."""
+
+    def open(self, port: str, *, baudrate: int | None, firmware: Firmware | None,
+             **options: Any) -> Opened:  # fmt: skip
+        from ego.ports import default_baud
+
+        transport = SerialTransport(port, baudrate or default_baud(port, firmware))
+        device = camera_device(options)
+        if device == "none":
+            return Opened(transport)
+
+        def camera() -> FrameSource:
+            from ego.camera import V4L2Source
+
+            return V4L2Source(device)
+
+        return Opened(transport, camera)
+
+
+class RemoteBackend:
+    """A robot served by ``ego serve`` (``tcp://HOST:PORT``, ``udp://HOST:PORT``)."""
+
+    def open(self, port: str, *, baudrate: int | None, firmware: Firmware | None,
+             **options: Any) -> Opened:  # fmt: skip
+        from ego.remote.client import RemoteFrameSource, RemoteTransport
+
+        transport = RemoteTransport.from_url(port, secret=options.get("secret"))
+        return Opened(transport, lambda: RemoteFrameSource(transport), remote=True)
+
+
+_REGISTRY: dict[str, Callable[[], Backend]] = {
+    "serial": SerialBackend,
+    "tcp": RemoteBackend,
+    "udp": RemoteBackend,
+}
+
+
+def register(scheme: str, factory: Callable[[], Backend]) -> None:
+    """Serve ``scheme://...`` ports with the backend ``factory()`` makes."""
+    _REGISTRY[scheme] = factory
+
+
+def scheme_of(port: str) -> str:
+    """The backend scheme of a port: ``sim``, ``tcp``, ``udp``... or ``serial``."""
+    if port in _REGISTRY or port == "sim":  # a bare name: "sim"
+        return port
+    scheme, sep, _ = port.partition("://")
+    if sep and (scheme in _REGISTRY or _declared(scheme) is not None):
+        return scheme
+    return "serial"  # a path, or a URL pyserial handles (socket://, loop://, spy://)
+
+
+def _declared(scheme: str) -> Any:
+    found = entry_points(group=ENTRY_POINT_GROUP, name=scheme)
+    return next(iter(found), None)
+
+
+def find_backend(scheme: str) -> Backend:
+    """The backend for ``scheme``: built in, registered, or declared by an installed package."""
+    factory = _REGISTRY.get(scheme)
+    if factory is None:
+        declared = _declared(scheme)
+        if declared is None:
+            raise PortNotFoundError(
+                f"no backend serves {scheme!r} ports: is the package that provides it "
+                f"installed? (known: {', '.join(sorted(_REGISTRY))})"
+            )
+        factory = declared.load()
+        _REGISTRY[scheme] = factory
+    return factory()
+
+
+def open_port(
+    port: str, *, baudrate: int | None = None, firmware: Firmware | None = None, **options: Any
+) -> Opened:
+    """Open ``port`` with the backend its scheme names."""
+    return find_backend(scheme_of(port)).open(
+        port, baudrate=baudrate, firmware=firmware, **options
+    )
