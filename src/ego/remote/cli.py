@@ -20,6 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from ego.backends import DEFAULT_CAMERA_DEVICE, open_port
 from ego.errors import EgoError
 from ego.remote.auth import load_secret
 from ego.remote.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, RemoteServer, check_listen
@@ -33,9 +34,6 @@ if TYPE_CHECKING:
 __all__ = ["ServedRobot", "add_arguments", "open_robot", "run"]
 
 log = logging.getLogger(__name__)
-
-#: The Overo's camera.
-DEFAULT_CAMERA = "/dev/video0"
 
 
 #: The longest deadman ego serve accepts: beyond a minute it no longer protects anyone.
@@ -90,7 +88,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--camera",
         metavar="DEVICE",
         default=None,
-        help=f"video device to serve (default: $EGO_CAMERA, else {DEFAULT_CAMERA} if it "
+        help=f"video device to serve (default: $EGO_CAMERA, else {DEFAULT_CAMERA_DEVICE} if it "
         "exists; the emulator's camera with --port sim); 'none' serves no camera",
     )
 
@@ -111,7 +109,6 @@ class ServedRobot:
 
 def open_robot(port: str | None, firmware: str = "auto", camera: str | None = None) -> ServedRobot:
     """The robot on ``port`` (any backend's: "sim" starts an emulator) and its camera."""
-    from ego.backends import open_port
     from ego.ports import resolve_port
 
     chosen = Firmware.choose(firmware)
@@ -126,7 +123,7 @@ def open_robot(port: str | None, firmware: str = "auto", camera: str | None = No
     # Serve the backend's camera: a simulated one always, a V4L2 device when named or
     # present (a robot without its camera board serves none rather than fail).
     wanted = opened.ground_truth is not None or device is not None
-    present = wanted or os.path.exists(DEFAULT_CAMERA)
+    present = wanted or os.path.exists(DEFAULT_CAMERA_DEVICE)
     if device != "none" and opened.camera is not None and present:
         robot.camera = opened.camera()
         robot.closers.insert(0, robot.camera.close)
