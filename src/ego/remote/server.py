@@ -82,8 +82,9 @@ from ego.remote.wire import (
     unpack_fetch,
     unpack_json,
 )
+from ego.safety import send_stop
 from ego.serial.link import Link
-from ego.serial.protocol import Command, Request, encode_batch, parse_batch
+from ego.serial.protocol import parse_batch
 
 if TYPE_CHECKING:
     from ego.camera.source import FrameSource
@@ -827,16 +828,8 @@ class RemoteServer:
                 await loop.run_in_executor(self._camera_thread, self.frame_source.close)
 
     def _stop_robot(self) -> None:
-        """``D 0 0`` and ``L k 0`` for every LED; a trailing ``E`` makes the dsPIC answer,
-        which confirms it heard the whole batch (an actuator-only batch gets no reply)."""
-        profile = self.link.profile
-        requests = [Request(Command.SET_SPEED, (0, 0))]
-        requests += [Request(Command.SET_LED, (led, 0)) for led in profile.leds]
-        requests.append(Request(Command.GET_SPEED))
-        batch = encode_batch(requests, profile)
-        speeds = batch.decode(self.link.exchange(batch))[-1]
-        if tuple(speeds) != (0, 0):
-            raise ProtocolError(f"the robot still reports speeds {speeds} after the stop")
+        """The confirmed stop batch, the same one a Robot sends (ego.safety.send_stop)."""
+        send_stop(self.link)
 
 
 class ServerThread:
