@@ -64,6 +64,21 @@ def _cmd_serve(args: argparse.Namespace) -> int:
     return run(args)
 
 
+def _cmd_secret(args: argparse.Namespace) -> int:
+    from ego.remote.auth import new_secret, write_secret
+
+    if args.out is None:
+        print(new_secret())
+        return 0
+    try:
+        write_secret(args.out)
+    except FileExistsError:
+        print(f"ego secret: {args.out} exists; it is not overwritten", file=sys.stderr)
+        return 1
+    print(f"ego secret: wrote a new secret to {args.out} (mode 600)", file=sys.stderr)
+    return 0
+
+
 def _cmd_bench(args: argparse.Namespace) -> int:
     root = Path(__file__).resolve().parents[2]
     if not (root / "benchmarks" / "__main__.py").is_file():
@@ -141,6 +156,14 @@ def build_parser() -> argparse.ArgumentParser:
     else:
         add_serve_arguments(serve)
     serve.set_defaults(func=_cmd_serve)
+
+    secret = sub.add_parser(
+        "secret", help="make a random shared secret for ego serve (32 bytes, URL-safe)"
+    )
+    secret.add_argument(
+        "--out", metavar="FILE", default=None, help="write it to FILE, mode 600 (new files only)"
+    )
+    secret.set_defaults(func=_cmd_secret)
 
     bench = sub.add_parser("bench", help="reproduce the thesis' tables (benchmarks/)")
     bench.add_argument(

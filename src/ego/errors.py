@@ -32,6 +32,7 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     └── RemoteError (ConnectionError)
         ├── AuthenticationError                  wrong or missing shared secret
         ├── RobotBusyError                       another client already controls the robot
+        ├── InsecureSecretError (ValueError)     a secret too short, or a file others can read
         └── FrameError (ValueError)              a malformed or oversized network frame
             └── VersionMismatchError             a frame of another ego protocol version
     EgoWarning (UserWarning)
@@ -57,6 +58,7 @@ __all__ = [
     "FrameError",
     "FrameSizeError",
     "ImageFormatError",
+    "InsecureSecretError",
     "LinkError",
     "LinkLostError",
     "LinkTimeoutError",
@@ -215,6 +217,10 @@ class AuthenticationError(RemoteError):
 
 class RobotBusyError(RemoteError):
     """Another client already controls this robot."""
+
+
+class InsecureSecretError(RemoteError, ValueError):
+    """A shared secret too short to resist guessing, or kept where others can read it."""
 
 
 class FrameError(RemoteError, ValueError):

@@ -50,7 +50,7 @@ DOC = Path(__file__).resolve().parents[2] / "docs" / "bad_input.md"
 HEADER = ["call", "raises", "message"]
 PENDING_HEADING = "awaiting a fix"
 #: The shared secret of the served robot.
-SECRET = "s3cret"
+SECRET = "s3cret-s3cret-s3cret"
 #: The emulator's banner is 4 ms of line time: 20 ms of quiet after it is plenty.
 FAST_OPEN = LinkSettings(resync_quiet_s=0.02)
 

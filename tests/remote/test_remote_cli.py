@@ -83,6 +83,7 @@ def test_serving_off_loopback_without_a_secret_is_refused_before_the_robot_opens
 def test_empty_secret_file_is_refused(tmp_path: Path) -> None:
     secret = tmp_path / "secret"
     secret.write_text("\n")
+    secret.chmod(0o600)
     process = _serve(tmp_path, "--port", "sim", "--secret-file", str(secret))
     _, err = process.communicate(timeout=20)
     assert process.returncode == 2

@@ -142,13 +142,15 @@ def test_second_client_is_refused_while_the_first_controls(
 
 
 def test_wrong_secret_is_refused(serve: ServeFactory, connect: ConnectFactory, kind: str) -> None:
-    served = serve(kinds=(kind,), secret="s3cret", require_secret=True, auth_failure_delay_s=0.0)
+    served = serve(
+        kinds=(kind,), secret="s3cret-s3cret-s3cret", require_secret=True, auth_failure_delay_s=0.0
+    )
     with pytest.raises(AuthenticationError, match="wrong shared secret"):
-        RemoteTransport.from_url(served.url, secret="guess")
+        RemoteTransport.from_url(served.url, secret="a-wrong-guess-of-16+")
     with pytest.raises(AuthenticationError, match="requires a shared secret"):
         RemoteTransport.from_url(served.url, secret="")
     assert served.server.controller is None
-    link = connect(served.url, secret="s3cret")
+    link = connect(served.url, secret="s3cret-s3cret-s3cret")
     _drive(link, 0, 0, 0)
     assert served.server.stats.refused == 1
 
@@ -156,10 +158,10 @@ def test_wrong_secret_is_refused(serve: ServeFactory, connect: ConnectFactory, k
 def test_busy_robot_with_a_secret_does_not_name_its_controller(
     serve: ServeFactory, connect: ConnectFactory
 ) -> None:
-    served = serve(kinds=("tcp",), secret="s3cret")
-    connect(served.url, secret="s3cret")
+    served = serve(kinds=("tcp",), secret="s3cret-s3cret-s3cret")
+    connect(served.url, secret="s3cret-s3cret-s3cret")
     with pytest.raises(RobotBusyError, match="another client") as info:
-        RemoteTransport.from_url(served.url, secret="s3cret")
+        RemoteTransport.from_url(served.url, secret="s3cret-s3cret-s3cret")
     assert "127.0.0.1" not in str(info.value).split(": ", 1)[1]
 
 
@@ -202,7 +204,9 @@ def test_client_refuses_a_server_that_cannot_prove_the_secret() -> None:
     try:
         with pytest.raises(AuthenticationError, match="could not prove"):
             RemoteTransport.from_url(
-                f"udp://127.0.0.1:{sock.getsockname()[1]}", secret="s3cret", heartbeat=False
+                f"udp://127.0.0.1:{sock.getsockname()[1]}",
+                secret="s3cret-s3cret-s3cret",
+                heartbeat=False,
             )
     finally:
         thread.join(timeout=3)

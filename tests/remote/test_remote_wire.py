@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ego.errors import FrameError
+from ego.errors import FrameError, InsecureSecretError
 from ego.remote.auth import (
     check_proof,
     client_proof,
@@ -17,7 +17,9 @@ from ego.remote.auth import (
     is_loopback,
     load_secret,
     new_nonce,
+    new_secret,
     server_proof,
+    write_secret,
 )
 from ego.remote.wire import (
     HEADER,
@@ -320,19 +322,56 @@ def test_loopback_addresses_are_told_apart(host: str, loopback: bool) -> None:
 def test_secret_file_is_read_without_its_newline(tmp_path: os.PathLike[str]) -> None:
     path = os.path.join(tmp_path, "secret")
     with open(path, "w") as f:
-        f.write("s3cret\n")
+        f.write("s3cret-s3cret-s3cret\n")
     os.chmod(path, 0o600)
-    assert load_secret(path) == b"s3cret"
+    assert load_secret(path) == b"s3cret-s3cret-s3cret"
 
 
 def test_empty_secret_file_is_refused(tmp_path: os.PathLike[str]) -> None:
     path = os.path.join(tmp_path, "secret")
     with open(path, "w") as f:
         f.write("\n")
+    os.chmod(path, 0o600)
     with pytest.raises(ValueError, match="empty"):
         load_secret(path)
 
 
+@pytest.mark.parametrize("mode", [0o640, 0o604, 0o620, 0o660])
+def test_a_secret_file_others_may_touch_is_refused_as_ssh_does(
+    tmp_path: os.PathLike[str], mode: int
+) -> None:
+    path = os.path.join(tmp_path, "secret")
+    with open(path, "w") as f:
+        f.write("a-secret-long-enough-to-pass\n")
+    os.chmod(path, mode)
+    with pytest.raises(InsecureSecretError, match=f"mode {mode:03o}.*chmod 600"):
+        load_secret(path)
+
+
+def test_a_fifo_as_the_secret_file_is_refused_without_hanging(
+    tmp_path: os.PathLike[str],
+) -> None:
+    path = os.path.join(tmp_path, "secret")
+    os.mkfifo(path, 0o600)
+    with pytest.raises(InsecureSecretError, match="not a regular file"):
+        load_secret(path)  # a plain open() would wait for a writer forever
+
+
+@pytest.mark.parametrize("secret", ["x", "fifteen-bytes!!", b"\x00" * 15])
+def test_a_secret_under_16_bytes_is_refused(secret: str | bytes) -> None:
+    with pytest.raises(InsecureSecretError, match=r"too short.*ego secret"):
+        coerce_secret(secret)
+
+
+def test_ego_secret_writes_a_new_private_file_once(tmp_path: os.PathLike[str]) -> None:
+    path = os.path.join(tmp_path, "made")
+    made = write_secret(path)
+    assert len(made) >= 40 and oct(os.stat(path).st_mode & 0o777) == "0o600"
+    assert load_secret(path) == made.encode()
+    with pytest.raises(FileExistsError):
+        write_secret(path)
+    assert new_secret() != new_secret()
+
 def test_empty_secret_means_none() -> None:
     assert coerce_secret("") is None
-    assert coerce_secret("abc") == b"abc"
+    assert coerce_secret("abcdefghijklmnop") == b"abcdefghijklmnop"

@@ -19,6 +19,8 @@ import os
 import secrets
 import stat
 
+from ego.errors import InsecureSecretError
+
 __all__ = [
     "NONCE_SIZE",
     "check_proof",
@@ -27,8 +29,10 @@ __all__ = [
     "is_loopback",
     "load_secret",
     "new_nonce",
+    "new_secret",
     "secret_from_environment",
     "server_proof",
+    "write_secret",
 ]
 
 log = logging.getLogger(__name__)
@@ -62,27 +66,64 @@ def check_proof(expected: bytes, received: bytes) -> bool:
     return hmac.compare_digest(expected, received)
 
 
+#: The shortest secret accepted: 128 bits of a random one resist any online guessing.
+MIN_SECRET_BYTES = 16
+
+
 def coerce_secret(secret: str | bytes | None) -> bytes | None:
-    """The secret as bytes (text is UTF-8); None or empty means no secret."""
+    """The secret as bytes (text is UTF-8); None or empty means no secret.
+
+    A secret shorter than MIN_SECRET_BYTES is refused (InsecureSecretError).
+    """
     if secret is None:
         return None
     raw = secret.encode() if isinstance(secret, str) else bytes(secret)
+    if raw and len(raw) < MIN_SECRET_BYTES:
+        raise InsecureSecretError(
+            f"a shared secret of {len(raw)} bytes is too short: use at least "
+            f"{MIN_SECRET_BYTES} ('ego secret' makes one)"
+        )
     return raw or None
 
 
 def load_secret(path: str) -> bytes:
     """The secret in file ``path``, without its trailing newline.
 
-    Raises ValueError for an empty file; warns when other users may read it.
+    As ssh does with its keys, a file other users may read or write is refused, and so
+    is anything but a regular file (a FIFO would hang the start-up): ValueError for an
+    empty file, InsecureSecretError for the rest.
     """
-    with open(path, "rb") as f:
-        mode = os.fstat(f.fileno()).st_mode
-        raw = f.read().strip()
+    # O_NONBLOCK: opening a FIFO must not wait for a writer before it can be refused.
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    with os.fdopen(fd, "rb") as f:
+        info = os.fstat(f.fileno())
+        if not stat.S_ISREG(info.st_mode):
+            raise InsecureSecretError(f"secret file {path!r} is not a regular file")
+        if info.st_mode & (stat.S_IRWXG | stat.S_IRWXO):
+            raise InsecureSecretError(
+                f"secret file {path!r} is accessible by other users "
+                f"(mode {stat.S_IMODE(info.st_mode):03o}): chmod 600 it"
+            )
+        raw = f.read(4096).strip()
     if not raw:
         raise ValueError(f"secret file {path!r} is empty")
-    if mode & (stat.S_IRGRP | stat.S_IROTH):
-        log.warning("secret file %s is readable by other users (chmod 600 it)", path)
-    return raw
+    secret = coerce_secret(raw)
+    assert secret is not None
+    return secret
+
+
+def new_secret() -> str:
+    """A fresh random secret: 32 bytes from the system's generator, URL-safe text."""
+    return secrets.token_urlsafe(32)
+
+
+def write_secret(path: str) -> str:
+    """Write a new secret to ``path`` (created with mode 600, never overwritten); it."""
+    secret = new_secret()
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    with os.fdopen(fd, "w") as f:
+        f.write(secret + "\n")
+    return secret
 
 
 def secret_from_environment() -> bytes | None:
