@@ -8,10 +8,20 @@
 
 from ego import errors
 from ego.devices.leds import LedValue
+from ego.group import RobotGroup
 from ego.robot import SIM_PORT, Robot
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Firmware
 
 __version__ = "0.1.0"
 
-__all__ = ["SIM_PORT", "Firmware", "LedValue", "LinkSettings", "Robot", "__version__", "errors"]
+__all__ = [
+    "SIM_PORT",
+    "Firmware",
+    "LedValue",
+    "LinkSettings",
+    "Robot",
+    "RobotGroup",
+    "__version__",
+    "errors",
+]

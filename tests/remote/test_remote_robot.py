@@ -13,7 +13,7 @@ import ego
 import ego.examples
 from ego import runtime
 from ego.camera import Camera
-from ego.remote.group import RobotGroup, step_all
+from ego.group import RobotGroup, step_all
 from ego.runner import run_controller
 from ego.serial.link import LinkSettings
 from firmware_sim.camera import SimulatedSource

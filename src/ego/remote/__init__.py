@@ -12,8 +12,8 @@ On the PC, the same controller as on the robot::
 The network stack is imported only when a tcp:// or udp:// port is opened.
 """
 
+from ego.group import RobotGroup, step_all  # kept here for the controllers that import it so
 from ego.remote.client import RemoteFrameSource, RemoteTransport
-from ego.remote.group import RobotGroup, step_all
 from ego.remote.server import RemoteServer, ServerThread
 from ego.remote.wire import DEFAULT_PORT, MAX_PAYLOAD, PROTOCOL_VERSION
 

@@ -1,4 +1,4 @@
-"""Several robots from one PC: one step of each, together, each robot behind its own server.
+"""Several robots stepped together: one step of each, whatever backend each one is on.
 
 Each robot's step (its network round trip, then the wait to the end of its step) runs in
 a thread of its own, so ten robots step in about the time of one, not ten.
