@@ -79,10 +79,21 @@ def _cmd_secret(args: argparse.Namespace) -> int:
     return 0
 
 
+def _checkout() -> Path:
+    """The source checkout whose benchmarks ``ego bench`` runs: the working directory or a
+    parent of it first, else the one this package was installed from in editable mode."""
+    here = Path.cwd().resolve()
+    for root in (here, *here.parents, Path(__file__).resolve().parents[2]):
+        if (root / "benchmarks" / "__main__.py").is_file() and (root / "src" / "ego").is_dir():
+            return root
+    raise EgoError(
+        "ego bench runs the benchmarks of a source checkout: run it inside one "
+        "(benchmarks/ beside src/ego/)"
+    )
+
+
 def _cmd_bench(args: argparse.Namespace) -> int:
-    root = Path(__file__).resolve().parents[2]
-    if not (root / "benchmarks" / "__main__.py").is_file():
-        raise EgoError("ego bench runs from a source checkout (benchmarks/ beside src/)")
+    root = _checkout()
     cmd = [sys.executable, "-m", "benchmarks", *(["--quick"] if args.quick else [])]
     cmd += [arg for section in args.only for arg in ("--only", section)]
     cmd += ["--out", args.out] if args.out else []
