@@ -254,6 +254,7 @@ class Robot:
             self._camera.update(now)
         self._time_ms += step_ms
         self.steps += 1
+        self.link.transport.waiting_until(time.monotonic() + step_ms / 1000.0)
         self.clock.wait(step_ms)
         for listener in self._listeners:
             listener(self)

@@ -317,3 +317,23 @@ def test_welcome_names_the_firmware_and_deadline(serve: ServeFactory) -> None:
     raw.close()
     assert welcome["firmware"] == "webots"
     assert welcome["deadline_s"] == 0.4
+
+
+def test_a_long_step_keeps_control_but_a_hung_controller_trips_the_deadman(
+    serve: ServeFactory, kind: str
+) -> None:
+    """Heartbeats come from the step loop: during a 1 s step the session lives; a
+    controller stuck in its own code (no step) lets the deadman stop the robot."""
+    import ego
+
+    served = serve(kinds=(kind,), deadline_s=DEADLINE_S)
+    with ego.Robot(served.url, handle_signals=False) as robot:
+        robot.motors.set_speed(250, 250)
+        assert robot.step(1000) == 0  # three deadlines long, waited out inside step()
+        assert served.server.stats.deadman_stops == 0
+        assert served.emu.world.speeds == (250, 250)
+        hung_at = time.monotonic()
+        elapsed = wait_for(lambda: served.emu.world.speeds == (0, 0), 3.0)  # "hung"
+        assert served.server.stats.deadman_stops == 1
+        assert elapsed <= DEADLINE_S + 0.3, elapsed
+        assert time.monotonic() - hung_at < 3.0

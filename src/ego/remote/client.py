@@ -11,9 +11,12 @@ with no special case in the robot:
   served by ``read_line``;
 * the resynchronisation zeros the link sends after a fault are not forwarded: the
   server's own link has resynchronised the serial line before answering;
-* while open, a heartbeat thread pings the server whenever the controller is quiet, so
-  a controller with a 1 s step is not taken for a dead one (the server stops the robot
-  after ``deadline_s`` of silence); ``close`` says goodbye.
+* while the controller waits out a step (:meth:`waiting_until`, which ``Robot.step``
+  calls), a heartbeat thread pings the server when the line is quiet, so that a
+  controller with a 1 s step is not taken for a dead one; once the controller stops
+  stepping (it hangs, or loops without calling step), the pings stop too and the
+  server's deadman stops the robot after ``deadline_s``. Before the first step nothing
+  drives the robot, and the pings go on. ``close`` says goodbye.
 
 Over UDP each request is retransmitted with the same sequence number, a bounded number
 of times, until its reply comes; replies to anything else are discarded.
@@ -25,6 +28,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import math
 import socket
 import threading
 import time
@@ -166,6 +170,9 @@ class RemoteTransport(Transport):
         self._rx = bytearray()
         self._lock = threading.Lock()
         self._last_activity = 0.0
+        #: Until when the heartbeat may keep the session alive (time.monotonic()): no
+        #: limit until the controller's first step, then the end of each step's wait.
+        self._alive_until = math.inf
         self._beat_stop = threading.Event()
         self._beat_thread: threading.Thread | None = None
         self._open()
@@ -517,9 +524,13 @@ class RemoteTransport(Transport):
 
     # -- heartbeat -------------------------------------------------------------------------
 
+    def waiting_until(self, deadline_s: float) -> None:
+        self._alive_until = deadline_s
+
     def _beat(self) -> None:
         """Ping the server if nothing was sent for a while (called by the heartbeat thread)."""
-        if time.monotonic() - self._last_activity < self.deadline_s / 4:
+        now = time.monotonic()
+        if now - self._last_activity < self.deadline_s / 4 or now > self._alive_until:
             return
         if not self._lock.acquire(blocking=False):
             return  # a request is under way: that is activity enough

@@ -88,6 +88,15 @@ class Transport(abc.ABC):
     def close(self) -> None:
         """Release the line; calling it twice is harmless."""
 
+    def waiting_until(self, deadline_s: float) -> None:
+        """The controller waits out its step until ``deadline_s`` (time.monotonic()).
+
+        A serial line needs nothing; a network transport keeps its session alive until
+        then, and only then: a controller that stops stepping must let the server's
+        deadman stop the robot.
+        """
+        return  # a serial line has no session to keep alive
+
     def reopen(self) -> None:
         """Open the line again after it was lost (a re-plugged port). Default: cannot."""
         raise LinkLostError(f"{self.name}: this transport cannot reconnect")
