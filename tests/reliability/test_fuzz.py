@@ -22,6 +22,7 @@ from fakes import INSTANT_LINK, ScriptedTransport
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+import ego
 from ego.camera.config import CameraConfiguration, parse_configuration, size_range
 from ego.camera.convert import ROTATIONS
 from ego.camera.source import CONTROLS
@@ -36,6 +37,7 @@ from ego.errors import (
     ShortReplyError,
     UnknownSettingError,
 )
+from ego.remote.client import error_from_reply
 from ego.remote.wire import (
     ASCII_REPLY_LINES,
     HEADER,
@@ -443,8 +445,10 @@ def test_a_payload_parser_gives_a_valid_value_or_frame_error(
 @FUZZ
 @given(payload=st.binary(max_size=64))
 def test_an_error_payload_always_names_a_class_and_a_message(payload: bytes) -> None:
-    name, message = unpack_error(payload)
-    assert isinstance(name, str) and isinstance(message, str)
+    name, message, fields = unpack_error(payload)
+    assert isinstance(name, str) and isinstance(message, str) and isinstance(fields, dict)
+    error = error_from_reply(payload, "fuzz")  # never a TypeError, whatever the class
+    assert isinstance(error, ego.errors.EgoError)
 
 
 @FUZZ

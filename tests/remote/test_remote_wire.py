@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ego.errors import FrameError, InsecureSecretError
+from ego.errors import ConfigSyntaxError, FrameError, InsecureSecretError, PortBusyError
 from ego.remote.auth import (
     check_proof,
     client_proof,
@@ -21,6 +21,7 @@ from ego.remote.auth import (
     server_proof,
     write_secret,
 )
+from ego.remote.client import error_from_reply
 from ego.remote.wire import (
     HEADER,
     MAGIC,
@@ -34,6 +35,7 @@ from ego.remote.wire import (
     VersionMismatchError,
     decode_frame,
     encode_frame,
+    error_fields,
     next_seq,
     pack_ascii,
     pack_error,
@@ -255,6 +257,7 @@ def test_error_payload_round_trips_and_garbage_becomes_remote_error() -> None:
     assert unpack_error(pack_error("LinkTimeoutError", "3 of 16 bytes")) == (
         "LinkTimeoutError",
         "3 of 16 bytes",
+        {},
     )
     assert unpack_error(b"\xff\xfe")[0] == "RemoteError"
 
@@ -372,6 +375,31 @@ def test_ego_secret_writes_a_new_private_file_once(tmp_path: os.PathLike[str]) -
         write_secret(path)
     assert new_secret() != new_secret()
 
+
 def test_empty_secret_means_none() -> None:
     assert coerce_secret("") is None
     assert coerce_secret("abcdefghijklmnop") == b"abcdefghijklmnop"
+
+
+@pytest.mark.parametrize(
+    ("error", "attributes"),
+    [
+        (
+            ConfigSyntaxError("camera.conf", 3, "width must be an integer"),
+            {"path": "camera.conf", "line_number": 3},
+        ),
+        (VersionMismatchError("version 9", 9, 4, 7), {"peer_version": 9, "seq": 4, "session": 7}),
+        (PortBusyError("port held", holder_pid=1234), {"holder_pid": 1234}),
+    ],
+)
+def test_errors_cross_the_network_as_their_class_with_their_fields(
+    error: Exception, attributes: dict[str, object]
+) -> None:
+    """Classes whose constructors take more than a message used to crash the client with
+    TypeError; now each is rebuilt as itself, fields included."""
+    payload = pack_error(type(error).__name__, str(error), error_fields(error))
+    rebuilt = error_from_reply(payload, "tcp://robot:4242")
+    assert type(rebuilt) is type(error)
+    assert str(rebuilt) == f"tcp://robot:4242: {error}"
+    for key, value in attributes.items():
+        assert getattr(rebuilt, key) == value

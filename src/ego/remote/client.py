@@ -96,10 +96,20 @@ _ERROR_CLASSES: dict[str, type[EgoError]] = {
 
 
 def error_from_reply(payload: bytes, where: str) -> EgoError:
-    """The ego error an ERROR reply names (RemoteError for a name we do not know)."""
-    name, message = unpack_error(payload)
+    """The ego error an ERROR reply names, with its attributes (RemoteError if unknown).
+
+    Built without calling the class's constructor, whose arguments differ from class to
+    class (ConfigSyntaxError takes a path and a line): the message and the attributes
+    the server sent are set as they were.
+    """
+    name, message, fields = unpack_error(payload)
     cls = _ERROR_CLASSES.get(name, RemoteError)
-    return cls(f"{where}: {message}")
+    error = cls.__new__(cls)
+    BaseException.__init__(error, f"{where}: {message}")
+    for key, value in fields.items():
+        if not key.startswith("_"):
+            setattr(error, key, value)
+    return error
 
 
 @dataclass(slots=True)

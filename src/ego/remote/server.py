@@ -74,6 +74,7 @@ from ego.remote.wire import (
     Verdict,
     decode_frame,
     encode_frame,
+    error_fields,
     pack_error,
     pack_json,
     parse_url,
@@ -455,7 +456,7 @@ class RemoteServer:
 
     def _send_error(self, peer: _Peer, frame: Frame, exc: Exception) -> None:
         self.stats.errors[type(exc).__name__] += 1
-        payload = pack_error(type(exc).__name__, str(exc))
+        payload = pack_error(type(exc).__name__, str(exc), error_fields(exc))
         peer.send(encode_frame(MessageType.ERROR, frame.seq, payload, frame.session))
 
     async def _serve(self, peer: _Peer, frame: Frame) -> None:
@@ -680,7 +681,7 @@ class RemoteServer:
             self.stats.errors[type(exc).__name__] += 1
             if not isinstance(exc, FrameError | ProtocolError | UnsupportedDeviceError):
                 log.warning("%s: %s failed: %s", session.peer.label, frame.type.name, exc)
-            return MessageType.ERROR, pack_error(type(exc).__name__, str(exc))
+            return MessageType.ERROR, pack_error(type(exc).__name__, str(exc), error_fields(exc))
         except Exception as exc:
             self.stats.errors["internal"] += 1
             log.exception("%s: %s failed", session.peer.label, frame.type.name)

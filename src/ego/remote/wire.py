@@ -59,6 +59,7 @@ __all__ = [
     "Verdict",
     "decode_frame",
     "encode_frame",
+    "error_fields",
     "next_seq",
     "pack_ascii",
     "pack_error",
@@ -302,18 +303,29 @@ def unpack_json(payload: bytes) -> dict[str, Any]:
     return obj
 
 
-def pack_error(name: str, message: str) -> bytes:
-    """An ERROR payload: the ego error class to raise on the client, and its message."""
-    return pack_json({"error": name, "message": message})
+def pack_error(name: str, message: str, fields: Mapping[str, object] | None = None) -> bytes:
+    """An ERROR payload: the ego error class to raise on the client, its message, and the
+    attributes the error carries beyond it (``holder_pid``, ``path``...), as JSON."""
+    return pack_json({"error": name, "message": message, "fields": dict(fields or {})})
 
 
-def unpack_error(payload: bytes) -> tuple[str, str]:
+def error_fields(exc: BaseException) -> dict[str, object]:
+    """The JSON-able attributes an error carries beyond its message, for pack_error."""
+    return {
+        key: value
+        for key, value in vars(exc).items()
+        if not key.startswith("_") and isinstance(value, (str, int, float, bool, type(None)))
+    }
+
+
+def unpack_error(payload: bytes) -> tuple[str, str, dict[str, object]]:
     try:
         obj = unpack_json(payload)
         name, message = obj["error"], obj["message"]
-    except (FrameError, KeyError):
-        return "RemoteError", f"malformed error reply {payload[:80]!r}"
-    return str(name), str(message)
+        fields = obj.get("fields", {})
+    except (FrameError, KeyError, AttributeError):
+        return "RemoteError", f"malformed error reply {payload[:80]!r}", {}
+    return str(name), str(message), fields if isinstance(fields, dict) else {}
 
 
 #: ASCII commands relayed to the dsPIC, and how many reply lines each has (docs/protocol.md:
