@@ -24,7 +24,6 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from importlib.metadata import entry_points
 from typing import TYPE_CHECKING, Any, Protocol
 
 from ego.errors import PortNotFoundError
@@ -140,6 +139,10 @@ def scheme_of(port: str) -> str:
 
 
 def _declared(scheme: str) -> Any:
+    # Imported here: importlib.metadata costs the Overo ~4 MB and is needed only for a
+    # scheme that is not built in.
+    from importlib.metadata import entry_points
+
     found = entry_points(group=ENTRY_POINT_GROUP, name=scheme)
     return next(iter(found), None)
 
