@@ -337,3 +337,43 @@ def test_a_long_step_keeps_control_but_a_hung_controller_trips_the_deadman(
         assert served.server.stats.deadman_stops == 1
         assert elapsed <= DEADLINE_S + 0.3, elapsed
         assert time.monotonic() - hung_at < 3.0
+
+
+def test_the_throttle_doubles_per_host_caps_and_forgets() -> None:
+    from ego.remote.auth import FailureThrottle
+
+    throttle = FailureThrottle(base_s=0.2, max_s=1.0, window_s=60.0)
+    assert [throttle.failed("10.0.0.9", t) for t in range(4)] == [0.2, 0.4, 0.8, 1.0]
+    assert throttle.failed("10.0.0.7", 4.0) == 0.2  # another host starts afresh
+    assert throttle.failed("10.0.0.9", 100.0) == 0.2  # a quiet minute forgets
+
+
+def test_parallel_guesses_are_answered_one_at_a_time_and_slower_each_time(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    """Online guessing: wrong proofs from parallel connections queue behind each other,
+    each answered later than the one before; the right secret is not delayed after them."""
+    base_s, guesses = 0.02, 6
+    served = serve(
+        kinds=("tcp",), secret="s3cret-s3cret-s3cret", require_secret=True,
+        auth_failure_delay_s=base_s,
+    )  # fmt: skip
+    refused: list[BaseException] = []
+
+    def guess() -> None:
+        try:
+            RemoteTransport.from_url(served.url, secret="a-wrong-guess-of-16+")
+        except AuthenticationError as exc:
+            refused.append(exc)
+
+    started = time.monotonic()
+    threads = [threading.Thread(target=guess) for _ in range(guesses)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(timeout=30)
+    elapsed = time.monotonic() - started
+    assert len(refused) == guesses
+    assert elapsed >= 0.9 * sum(base_s * 2**i for i in range(guesses))  # 1.26 s, not 0.02
+    link = connect(served.url, secret="s3cret-s3cret-s3cret")
+    _drive(link, 0, 0, 0)

@@ -23,6 +23,7 @@ from ego.errors import InsecureSecretError
 
 __all__ = [
     "NONCE_SIZE",
+    "FailureThrottle",
     "check_proof",
     "client_proof",
     "coerce_secret",
@@ -142,3 +143,29 @@ def is_loopback(host: str) -> bool:
         return ipaddress.ip_address(host).is_loopback
     except ValueError:
         return False  # a name that may resolve anywhere: treat it as off loopback
+
+
+class FailureThrottle:
+    """How long a wrong proof's answer waits: the brake on online guessing (no I/O).
+
+    Each source host's recent failures double its delay (``base_s``, then 2x, 4x...,
+    at most ``max_s``), forgotten after ``window_s`` without one; the server answers
+    failures one at a time, so that parallel connections cannot add their guesses up:
+    at most ``1 / base_s`` wrong proofs a second in all, far fewer from any one host.
+    A correct proof is never delayed.
+    """
+
+    def __init__(self, base_s: float = 0.2, max_s: float = 5.0, window_s: float = 60.0) -> None:
+        self.base_s = base_s
+        self.max_s = max_s
+        self.window_s = window_s
+        self._recent: dict[str, tuple[int, float]] = {}  # host -> (failures, last one)
+
+    def failed(self, host: str, now_s: float) -> float:
+        """Record a wrong proof from ``host``; the delay before it is answered."""
+        count, last = self._recent.get(host, (0, now_s))
+        count = 1 if now_s - last > self.window_s else count + 1
+        self._recent[host] = (count, now_s)
+        if len(self._recent) > 4096:  # many hosts: forget the ones quiet for a window
+            self._recent = {h: v for h, v in self._recent.items() if now_s - v[1] <= self.window_s}
+        return min(self.max_s, self.base_s * 2 ** (count - 1)) if self.base_s else 0.0

@@ -53,6 +53,7 @@ from ego.errors import (
 )
 from ego.remote.auth import (
     NONCE_SIZE,
+    FailureThrottle,
     check_proof,
     client_proof,
     coerce_secret,
@@ -189,9 +190,11 @@ def check_listen(
 class _Peer(abc.ABC):
     """Where replies go: a TCP connection, or a UDP address."""
 
-    def __init__(self, key: object, label: str, max_datagram: int | None) -> None:
+    def __init__(self, key: object, label: str, max_datagram: int | None, host: str) -> None:
         self.key = key
         self.label = label
+        #: The address it comes from, for the per-source brake on guessing.
+        self.host = host
         #: Replies bigger than this go out in PARTs (None: a stream, no limit).
         self.max_datagram = max_datagram
 
@@ -207,7 +210,8 @@ class _TcpPeer(_Peer):
     def __init__(self, transport: asyncio.Transport) -> None:
         addr = transport.get_extra_info("peername")
         label = f"tcp {addr[0]}:{addr[1]}" if isinstance(addr, tuple) else "tcp ?"
-        super().__init__(("tcp", id(transport)), label, None)
+        host = str(addr[0]) if isinstance(addr, tuple) else "?"
+        super().__init__(("tcp", id(transport)), label, None, host)
         self.transport = transport
 
     def send(self, data: bytes) -> None:
@@ -220,7 +224,7 @@ class _TcpPeer(_Peer):
 
 class _UdpPeer(_Peer):
     def __init__(self, transport: asyncio.DatagramTransport, addr: Any, chunk: int) -> None:
-        super().__init__(("udp", addr), f"udp {addr[0]}:{addr[1]}", chunk)
+        super().__init__(("udp", addr), f"udp {addr[0]}:{addr[1]}", chunk, str(addr[0]))
         self.transport = transport
         self.addr = addr
 
@@ -343,6 +347,9 @@ class RemoteServer:
         self.chunk_size = chunk_size
         self.handshake_timeout_s = handshake_timeout_s
         self.auth_failure_delay_s = auth_failure_delay_s
+        self._throttle = FailureThrottle(base_s=auth_failure_delay_s)
+        #: Wrong proofs are answered one at a time (see FailureThrottle).
+        self._failure_lock: asyncio.Lock | None = None
         self.stats = ServerStats()
         self.urls: list[str] = []
         self._controller: _Session | None = None
@@ -549,7 +556,11 @@ class RemoteServer:
             if not check_proof(expected, proof):
                 self.stats.refused += 1
                 log.warning("%s: refused, wrong shared secret", peer.label)
-                await asyncio.sleep(self.auth_failure_delay_s)  # slows down guessing
+                delay = self._throttle.failed(peer.host, time.monotonic())
+                if self._failure_lock is None:
+                    self._failure_lock = asyncio.Lock()
+                async with self._failure_lock:  # one failure answered at a time, in all
+                    await asyncio.sleep(delay)
                 # Forgotten only now: a UDP retransmission meanwhile is told WORKING, not
                 # "no handshake in progress", so the client learns the real reason.
                 if self._pending.get(peer.key) is session:
