@@ -377,3 +377,28 @@ def test_parallel_guesses_are_answered_one_at_a_time_and_slower_each_time(
     assert elapsed >= 0.9 * sum(base_s * 2**i for i in range(guesses))  # 1.26 s, not 0.02
     link = connect(served.url, secret="s3cret-s3cret-s3cret")
     _drive(link, 0, 0, 0)
+
+
+def test_idle_and_surplus_connections_are_dropped_and_the_client_still_gets_in(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    """Slowloris and a socket flood: connections that never hand shake are dropped after
+    the handshake timeout, those beyond the half-open cap at once; the client connects."""
+    from ego.remote.server import MAX_UNAUTHENTICATED
+
+    served = serve(kinds=("tcp",), handshake_timeout_s=0.3)
+    host, port = served.url.removeprefix("tcp://").rsplit(":", 1)
+    idle = [socket.create_connection((host, int(port)), timeout=5) for _ in range(80)]
+    try:
+        wait_for(lambda: served.server.stats.dropped >= 80 - MAX_UNAUTHENTICATED, 2.0)
+        link = connect(served.url)  # the cap evicts the oldest idle one for it
+        _drive(link, 0, 0, 0)
+        wait_for(lambda: served.server.stats.dropped >= 80, 3.0)
+        for sock in idle:
+            sock.settimeout(2.0)
+            assert sock.recv(1) == b""  # the server hung up on every idle connection
+        assert served.server.controller is not None  # but not on the client
+        assert not served.server.half_open
+    finally:
+        for sock in idle:
+            sock.close()

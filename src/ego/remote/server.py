@@ -166,6 +166,9 @@ class ServerStats:
     sessions: int = 0
     #: Times the robot was stopped because its client went silent or away.
     deadman_stops: int = 0
+    #: TCP connections dropped unheard: over the half-open cap, or never in control in
+    #: time (a slow or idle handshake).
+    dropped: int = 0
     errors: collections.Counter[str] = field(default_factory=collections.Counter)
 
 
@@ -185,6 +188,11 @@ def check_listen(
             "(ego serve --secret-file FILE) or listen on 127.0.0.1"
         )
     return endpoints
+
+
+#: Half-open TCP connections kept at once: far more than honest clients (one controller,
+#: a few refused), far fewer than the 1024 file descriptors a process usually has.
+MAX_UNAUTHENTICATED = 64
 
 
 class _Peer(abc.ABC):
@@ -261,6 +269,23 @@ class _TcpProtocol(asyncio.Protocol):
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         assert isinstance(transport, asyncio.Transport)
         self.peer = _TcpPeer(transport)
+        server = self.server
+        if len(server.half_open) >= server.max_unauthenticated:
+            # More half-open connections than any real client needs: the oldest goes,
+            # quietly. A flood then churns through its own sockets, while a client's
+            # handshake, a millisecond long, completes between two evictions.
+            _, oldest = server.half_open.popitem(last=False)
+            server.stats.dropped += 1
+            oldest.abort()
+        server.half_open[self.peer.key] = transport
+        # A connection that has not become the controller in time is dropped (slowloris).
+        asyncio.get_running_loop().call_later(server.handshake_timeout_s, self._expire)
+
+    def _expire(self) -> None:
+        peer = self.peer
+        if peer is not None and not self.server.controls(peer) and not peer.transport.is_closing():
+            self.server.stats.dropped += 1
+            peer.close()
 
     def data_received(self, data: bytes) -> None:
         assert self.peer is not None
@@ -276,6 +301,7 @@ class _TcpProtocol(asyncio.Protocol):
 
     def connection_lost(self, exc: Exception | None) -> None:
         if self.peer is not None:
+            self.server.half_open.pop(self.peer.key, None)
             self.server.peer_lost(self.peer)
 
 
@@ -346,6 +372,12 @@ class RemoteServer:
         self.frame_encoder = frame_encoder
         self.chunk_size = chunk_size
         self.handshake_timeout_s = handshake_timeout_s
+        #: TCP connections open but not (yet) in control, oldest first; beyond the cap
+        #: the oldest is dropped.
+        self.half_open: collections.OrderedDict[object, asyncio.Transport] = (
+            collections.OrderedDict()
+        )
+        self.max_unauthenticated = MAX_UNAUTHENTICATED
         self.auth_failure_delay_s = auth_failure_delay_s
         self._throttle = FailureThrottle(base_s=auth_failure_delay_s)
         #: Wrong proofs are answered one at a time (see FailureThrottle).
@@ -373,6 +405,10 @@ class RemoteServer:
     def controller(self) -> str | None:
         """Who controls the robot now ("tcp 127.0.0.1:50312"), or None."""
         return self._controller.peer.label if self._controller else None
+
+    def controls(self, peer: _Peer) -> bool:
+        """Whether ``peer`` is the client that controls the robot."""
+        return self._controller is not None and self._controller.peer.key == peer.key
 
     # -- lifecycle -------------------------------------------------------------------------
 
@@ -602,6 +638,7 @@ class RemoteServer:
         session.guard.done(frame.seq, data)
         session.last_heard = time.monotonic()
         self._controller = session
+        self.half_open.pop(peer.key, None)  # in control: never dropped as half-open
         self.stats.sessions += 1
         log.info("%s controls the robot (session %08x)", peer.label, session.id)
         peer.send(data)
