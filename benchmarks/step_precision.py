@@ -64,7 +64,9 @@ def _background(work: Callable[[threading.Event], None] | None) -> Iterator[None
 def measure(condition: str, lo_ms: int, hi_ms: int, samples: int, seed: int = 1) -> list[float]:
     """Relative errors |measured - asked| / asked of ``samples`` steps drawn from lo..hi ms."""
     import ego
+    from ego.scheduler import tune_for_stepping
 
+    tune_for_stepping()  # as ego run does for a controller
     rng = random.Random(seed)
     errors: list[float] = []
     with (

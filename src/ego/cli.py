@@ -30,13 +30,18 @@ def _positive(text: str) -> float:
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     from ego.demo import run_demo
+    from ego.scheduler import tune_for_stepping
 
+    tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
     run_demo(args.duration, args.firmware, args.seed)
     return 0
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
     from ego.runner import run_controller
+    from ego.scheduler import tune_for_stepping
+
+    tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
 
     options = runtime.RunOptions(
         port=args.port,

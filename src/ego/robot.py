@@ -80,7 +80,7 @@ class Robot:
         seed: int | None = None,
         camera_source: FrameSource | None = None,
         camera_device: str | None = None,
-        handle_signals: bool = True,
+        handle_signals: bool = False,
     ) -> None:
         self._closed = True  # until the link is up, close() has nothing to stop
         if baudrate is not None:

@@ -3,9 +3,14 @@
 Each step's deadline is the previous one plus the step, so a late wake-up does not
 push every later step back. The wait sleeps until shortly before the deadline and
 spins the rest, because ``time.sleep`` on Linux overshoots by 50-100 us, which is 5-10 %
-of a 1 ms step; the stepping thread also asks Linux for a 1 us timer slack instead of
-the default 50 us. An overrun (the step's work took longer than the step) re-anchors
+of a 1 ms step. An overrun (the step's work took longer than the step) re-anchors
 the deadline to now instead of rushing the following steps to catch up.
+
+Two settings make short steps precise but belong to the whole process, so a clock never
+changes them by itself (library manners): :func:`tune_for_stepping` asks Linux for a
+1 us timer slack on the calling thread instead of the default 50 us, and shortens the
+interpreter's thread switch interval. ``ego run`` and ``ego demo`` call it; a program of
+your own may.
 """
 
 from __future__ import annotations
@@ -17,7 +22,7 @@ import threading
 import time
 from collections.abc import Callable
 
-__all__ = ["StepClock"]
+__all__ = ["StepClock", "tune_for_stepping"]
 
 log = logging.getLogger(__name__)
 
@@ -38,7 +43,7 @@ class StepClock:
         spin_s: float = 0.0004,
         clock: Callable[[], float] = time.perf_counter,
         sleep: Callable[[float], None] = time.sleep,
-        switch_interval_s: float | None = 0.0002,
+        switch_interval_s: float | None = None,
     ) -> None:
         self.spin_s = spin_s
         self._clock = clock
@@ -48,7 +53,7 @@ class StepClock:
         self.worst_overrun_s = 0.0
         # Another Python thread (a camera capture, say) keeps the interpreter lock for up to
         # the switch interval, 5 ms by default, before a woken step may run: a 1 ms step
-        # needs it much shorter. Restored when the last open clock closes.
+        # needs it much shorter. Only when asked; restored when the last such clock closes.
         self._shortened = switch_interval_s is not None
         if switch_interval_s is not None:
             _shorten_switch_interval(switch_interval_s)
@@ -56,7 +61,6 @@ class StepClock:
     def begin(self) -> None:
         """Anchor the first deadline at the start of the first step."""
         if self._deadline is None:
-            _tighten_timer_slack()
             self._deadline = self._clock()
 
     def wait(self, step_ms: float) -> bool:
@@ -106,6 +110,22 @@ def _tighten_timer_slack() -> None:
         libc.prctl(PR_SET_TIMERSLACK, ctypes.c_ulong(TIMER_SLACK_NS), 0, 0, 0)
     except (OSError, AttributeError):  # no libc to ask: keep the default slack
         log.debug("could not set the timer slack")
+
+
+#: The switch interval ``ego run`` uses: a 1 ms step waits at most this for the GIL.
+STEPPING_SWITCH_INTERVAL_S = 0.0002
+
+
+def tune_for_stepping() -> None:
+    """Make the calling thread's steps precise: 1 us timer slack, a 0.2 ms switch interval.
+
+    Both are process settings (the slack is the calling thread's, the interval the
+    interpreter's), so only a program that owns the process asks for them: ``ego run``
+    and ``ego demo`` do, before the controller starts.
+    """
+    _tighten_timer_slack()
+    if sys.getswitchinterval() > STEPPING_SWITCH_INTERVAL_S:
+        sys.setswitchinterval(STEPPING_SWITCH_INTERVAL_S)
 
 
 _lock = threading.Lock()

@@ -35,7 +35,8 @@ def webots_robot():
 def plain_robot():
     import ego
 
-    robot = ego.Robot()
+    # A library Robot leaves signals alone unless asked (ego run asks for its controller).
+    robot = ego.Robot(handle_signals=True)
     robot.motors.set_speed(300, -300)
     robot.leds.set(1, 1)
     robot.leds.set(8, 1)
