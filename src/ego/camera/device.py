@@ -15,13 +15,11 @@ import numpy.typing as npt
 from ego.camera.config import read_configuration, size_range
 from ego.camera.convert import (
     ROTATIONS,
-    ByteOrder,
     YuvFormula,
-    rgb565_to_rgb888,
     rgb888_to_bgra,
-    yuyv_to_rgb888,
 )
 from ego.camera.encode import save_image
+from ego.camera.frames import frame_to_rgb888
 from ego.camera.source import (
     CONTROLS,
     FieldOfViewControl,
@@ -238,27 +236,9 @@ class Camera:
         ih, iw = self._image_shape()
         if self._rgb is None or self._rgb.shape != (ih, iw, 3):
             self._rgb = np.empty((ih, iw, 3), dtype=np.uint8)
-        if self._pixel_format is PixelFormat.YUYV:
-            yuyv_to_rgb888(
-                raw,
-                granted.width,
-                granted.height,
-                self._rotation,
-                self.yuv_formula,
-                stride_bytes=granted.stride_bytes,
-                out=self._rgb,
-            )
-        else:
-            order: ByteOrder = "big" if self._pixel_format is PixelFormat.RGB565_BE else "little"
-            rgb565_to_rgb888(
-                raw,
-                granted.width,
-                granted.height,
-                self._rotation,
-                order,
-                stride_bytes=granted.stride_bytes,
-                out=self._rgb,
-            )
+        frame_to_rgb888(
+            raw, granted, self._pixel_format, self._rotation, self.yuv_formula, out=self._rgb
+        )
         del raw  # the source may reuse the buffer once we let go
         self._frames += 1
         return self.image
