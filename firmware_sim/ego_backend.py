@@ -1,7 +1,7 @@
 """The ``sim`` backend of ego: the emulator behind a Robot, declared as an entry point.
 
 This module is the one place where the emulator meets the library (it hands ego a
-transport on the emulator's pty, the rendered camera, and the emulator itself as ground
+channel on the emulator's pty, the rendered camera, and the emulator itself as ground
 truth); every other module of ``firmware_sim`` is written apart from ego, which is what
 makes the emulator a check on the library. ego finds it through the ``ego.backends``
 entry point group (pyproject.toml) and never imports ``firmware_sim``.
@@ -12,9 +12,10 @@ from __future__ import annotations
 import errno
 from typing import Any
 
-from ego.backends import Opened
+from ego.backends import Opened, open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
 from ego.errors import CameraCaptureError, CameraError
+from ego.serial.link import LinkSettings
 from ego.serial.protocol import Firmware
 from ego.serial.transport import SerialTransport
 from firmware_sim.camera import SimulatedSource
@@ -56,21 +57,35 @@ class SimulatedCamera:
 
 
 class SimBackend:
-    """``Robot("sim", seed=..., firmware=...)``: a fresh emulator for this robot."""
+    """``Robot("sim", seed=..., firmware=...)``: a fresh emulator for this robot.
+
+    Options: ``seed`` (the world's), ``baudrate`` (default: the firmware's line rate),
+    ``link_settings``, and any of the Emulator's own (``hardware_version``, ``rev13``,
+    ``selector``, ``ground_module``, ``latency_s``).
+    """
 
     def open(
-        self, port: str, *, baudrate: int | None, firmware: Firmware | None, **options: Any
+        self,
+        port: str,
+        *,
+        firmware: Firmware | None,
+        baudrate: int | None = None,
+        seed: int | None = None,
+        link_settings: LinkSettings | None = None,
+        **emulator_options: Any,
     ) -> Opened:
         name = (firmware or Firmware.WEBOTS).value
-        emulator = Emulator(name, baud=baudrate, seed=options.get("seed")).start()
+        emulator = Emulator(name, baud=baudrate, seed=seed, **emulator_options).start()
         try:
-            transport = SerialTransport(emulator.path, emulator.baud)
+            channel = open_link(
+                SerialTransport(emulator.path, emulator.baud), firmware, link_settings
+            )
         except BaseException:
             emulator.stop()
             raise
         world = emulator.world
         camera = lambda: SimulatedCamera(SimulatedSource(world))  # noqa: E731
-        return Opened(transport, camera, emulator, [emulator.stop])
+        return Opened(channel, camera, emulator, [emulator.stop])
 
     @staticmethod
     def main(argv: list[str], prog: str = "ego sim") -> int:

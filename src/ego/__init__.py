@@ -23,6 +23,7 @@ def __getattr__(name: str) -> object:
         return RobotGroup
     raise AttributeError(f"module 'ego' has no attribute {name!r}")
 
+
 __all__ = [
     "SIM_PORT",
     "Firmware",

@@ -11,6 +11,7 @@ from types import TracebackType
 from typing import TYPE_CHECKING, Any
 
 from ego.backends import Opened, open_port
+from ego.channel import Channel
 from ego.devices.accelerometer import Accelerometer
 from ego.devices.base import MAX_PERIOD_MS, Device, check_int
 from ego.devices.battery import Battery
@@ -33,9 +34,7 @@ from ego.errors import (
 from ego.ports import resolve_port
 from ego.safety import install_signal_handlers, register, send_stop
 from ego.scheduler import StepClock
-from ego.serial.link import Link, LinkSettings
 from ego.serial.protocol import Firmware, encode_batch
-from ego.serial.transport import Transport, check_baudrate
 
 if TYPE_CHECKING:
     from ego.camera import Camera, FrameSource
@@ -63,48 +62,39 @@ class Robot:
 
     ``port`` is a serial port or any pyserial URL, ``"sim"`` for the built-in emulator,
     or ``tcp://host:port`` / ``udp://host:port`` for a robot served by ``ego serve``;
-    without one, ``EGO_PORT``, else ``/dev/ttyS0``. Leaving the ``with`` block, an
-    exception, SIGINT or SIGTERM stops the motors and turns the LEDs off before the
-    port closes.
+    without one, ``EGO_PORT``, else ``/dev/ttyS0``. The port's backend
+    (:mod:`ego.backends`) takes the ``options`` it knows: ``firmware`` for all (None:
+    detect it), ``baudrate``, ``link_settings`` and ``camera_device`` for a serial port,
+    ``seed`` for the emulator, ``secret`` for the network. ``channel`` instead steps
+    through a :class:`~ego.channel.Channel` opened elsewhere.
+
+    Leaving the ``with`` block, an exception, or dropping the Robot stops the motors and
+    turns the LEDs off before the port closes. ``handle_signals`` also turns every
+    signal that would end the process into an exit that does the same; it changes the
+    process's signal handlers, so it is off unless asked for (``ego run`` asks).
     """
 
     def __init__(
         self,
         port: str | None = None,
         *,
-        transport: Transport | None = None,
-        firmware: Firmware | str | None = None,
-        baudrate: int | None = None,
-        link_settings: LinkSettings | None = None,
-        secret: str | None = None,
-        seed: int | None = None,
+        channel: Channel | None = None,
         camera_source: FrameSource | None = None,
-        camera_device: str | None = None,
         handle_signals: bool = False,
+        **options: Any,
     ) -> None:
-        self._closed = True  # until the link is up, close() has nothing to stop
-        if baudrate is not None:
-            baudrate = check_baudrate(baudrate)
-        if transport is None:
+        self._closed = True  # until the channel is up, close() has nothing to stop
+        if channel is None:
             self.port = resolve_port(port)
-            # The backend of the port's scheme (ego.backends) opens the link and knows
-            # its own options: the emulator's seed, the network's secret, the camera.
-            self._opened = open_port(
-                self.port,
-                baudrate=baudrate,
-                firmware=Firmware.choose(firmware),
-                secret=secret,
-                seed=seed,
-                camera_device=camera_device,
-            )
+            firmware = Firmware.choose(options.pop("firmware", None))
+            self._opened = open_port(self.port, firmware=firmware, **options)
+        elif options:
+            raise ValueError(f"options {sorted(options)} are for a port, not a given channel")
         else:
-            self.port = transport.name
-            self._opened = Opened(transport)
-        try:
-            self.link = Link(self._opened.transport, firmware, link_settings)
-        except BaseException:
-            self._opened.close()
-            raise
+            self.port = channel.name
+            self._opened = Opened(channel)
+        #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.channel).
+        self.link: Channel = self._opened.channel
         self._closed = False
         self._lost = False
         self.clock = StepClock()
@@ -254,7 +244,7 @@ class Robot:
             self._camera.update(now)
         self._time_ms += step_ms
         self.steps += 1
-        self.link.transport.waiting_until(time.monotonic() + step_ms / 1000.0)
+        self.link.waiting_until(time.monotonic() + step_ms / 1000.0)
         self.clock.wait(step_ms)
         for listener in self._listeners:
             listener(self)
@@ -357,7 +347,7 @@ class Robot:
 class _Parts:
     """What a robot must stop and release, without a reference back to the Robot."""
 
-    link: Link
+    link: Channel
     clock: StepClock
     opened: Opened
     camera: Camera | None = None

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Protocol
 from ego.serial.protocol import Command, Request, encode_batch
 
 if TYPE_CHECKING:
-    from ego.serial.link import Link
+    from ego.channel import Channel
 
 __all__ = [
     "TERMINATING_SIGNALS",
@@ -56,7 +56,7 @@ def stop_requests(leds: tuple[int, ...]) -> list[Request]:
     ]
 
 
-def send_stop(link: Link) -> None:
+def send_stop(link: Channel) -> None:
     """Send the stop batch until the dsPIC confirms its speeds are (0, 0).
 
     The batch ends with ``E``, so the stop is known to have been heard; it raises

@@ -1,4 +1,4 @@
-"""Backends by URL scheme: where a Robot's link, camera and ground truth come from.
+"""Backends by URL scheme: where a Robot's channel, camera and ground truth come from.
 
 As pyserial picks a port class by URL and python-can an interface by name, ``Robot(port)``
 picks a backend by the port's scheme, and only here:
@@ -14,9 +14,12 @@ scheme        backend
               the ``firmware_sim`` package declares (ego itself never imports it)
 ============  ==========================================================================
 
-A new backend (Bluetooth discovery, a distributed engine, another robot) is one module
-with a class that has :meth:`Backend.open`, registered under the ``ego.backends`` entry
-point group or with :func:`register`; nothing in ``Robot`` changes.
+Each backend opens a :class:`~ego.channel.Channel` (the seam under ``Robot``) and takes
+the options it knows: a serial port its baud rate and link settings, the emulator its
+seed, the network its secret. A new backend (Bluetooth discovery, a distributed engine,
+another robot) is one module with a class that has :meth:`Backend.open`, registered under
+the ``ego.backends`` entry point group or with :func:`register`; nothing in ``Robot``
+changes.
 """
 
 from __future__ import annotations
@@ -28,10 +31,12 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from ego.errors import PortNotFoundError
 from ego.serial.protocol import Firmware
-from ego.serial.transport import SerialTransport, Transport
 
 if TYPE_CHECKING:
     from ego.camera import FrameSource
+    from ego.channel import Channel
+    from ego.serial.link import Link, LinkSettings
+    from ego.serial.transport import Transport
 
 __all__ = [
     "ENTRY_POINT_GROUP",
@@ -40,6 +45,7 @@ __all__ = [
     "RemoteBackend",
     "SerialBackend",
     "find_backend",
+    "open_link",
     "open_port",
     "register",
     "scheme_of",
@@ -55,65 +61,99 @@ DEFAULT_CAMERA_DEVICE = "/dev/video0"
 class Opened:
     """What a backend opened for a Robot."""
 
-    transport: Transport
+    channel: Channel
     #: Makes the robot's camera source when it is first used; None: this robot has none.
     camera: Callable[[], FrameSource] | None = None
     #: The simulator behind a simulated robot (its world is the ground truth), else None.
     ground_truth: Any = None
-    #: Releases what the backend started beside the transport (an emulator thread).
+    #: Releases what the backend started beside the channel (an emulator thread).
     closers: list[Callable[[], None]] = field(default_factory=list)
     #: Whether the robot is driven over a network (Webots' MODE_REMOTE_CONTROL).
     remote: bool = False
 
     def close(self) -> None:
-        """Close the transport and everything beside it; idempotent."""
-        self.transport.close()
+        """Close the channel and everything beside it; idempotent."""
+        self.channel.close()
         while self.closers:
             self.closers.pop()()
 
 
 class Backend(Protocol):
-    """Opens the link to one kind of robot; each backend takes the options it knows."""
+    """Opens the channel to one kind of robot; each backend takes the options it knows.
 
-    def open(self, port: str, *, baudrate: int | None, firmware: Firmware | None,
-             **options: Any) -> Opened: ...  # fmt: skip
+    ``firmware`` forces a firmware profile (None: detect it); a backend raises TypeError
+    for an option it does not know, so a misspelt one never passes unnoticed.
+    """
 
-
-def camera_device(options: dict[str, Any]) -> str:
-    """The V4L2 device asked for: the option, else EGO_CAMERA, else the Overo's."""
-    named = options.get("camera_device") or os.environ.get("EGO_CAMERA")
-    return str(named or DEFAULT_CAMERA_DEVICE)
+    @property
+    def open(self) -> Callable[..., Opened]:
+        """``open(port, *, firmware, **options) -> Opened``, each with its own options."""
+        ...
 
 
 class SerialBackend:
     """A serial port or pyserial URL at the firmware's line rate (docs/protocol.md, Line)."""
 
-    def open(self, port: str, *, baudrate: int | None, firmware: Firmware | None,
-             **options: Any) -> Opened:  # fmt: skip
+    def open(
+        self,
+        port: str,
+        *,
+        firmware: Firmware | None,
+        baudrate: int | None = None,
+        link_settings: LinkSettings | None = None,
+        camera_device: str | None = None,
+    ) -> Opened:
         from ego.ports import default_baud
+        from ego.serial.transport import SerialTransport, check_baudrate
 
-        transport = SerialTransport(port, baudrate or default_baud(port, firmware))
-        device = camera_device(options)
+        baud = check_baudrate(baudrate) if baudrate is not None else default_baud(port, firmware)
+        channel = open_link(SerialTransport(port, baud), firmware, link_settings)
+        device = camera_device or os.environ.get("EGO_CAMERA") or DEFAULT_CAMERA_DEVICE
         if device == "none":
-            return Opened(transport)
+            return Opened(channel)
 
         def camera() -> FrameSource:
             from ego.camera import V4L2Source
 
             return V4L2Source(device)
 
-        return Opened(transport, camera)
+        return Opened(channel, camera)
+
+
+def open_link(
+    transport: Transport, firmware: Firmware | None, settings: LinkSettings | None = None
+) -> Link:
+    """A Link over ``transport``; the transport is closed if the dsPIC cannot be reached."""
+    from ego.serial.link import Link
+
+    try:
+        return Link(transport, firmware, settings)
+    except BaseException:
+        transport.close()
+        raise
 
 
 class RemoteBackend:
     """A robot served by ``ego serve`` (``tcp://HOST:PORT``, ``udp://HOST:PORT``)."""
 
-    def open(self, port: str, *, baudrate: int | None, firmware: Firmware | None,
-             **options: Any) -> Opened:  # fmt: skip
-        from ego.remote.client import RemoteFrameSource, RemoteTransport
+    def open(
+        self,
+        port: str,
+        *,
+        firmware: Firmware | None,
+        secret: str | bytes | None = None,
+        link_settings: LinkSettings | None = None,
+        **connection: Any,
+    ) -> Opened:
+        from ego.remote.client import RemoteChannel
 
-        transport = RemoteTransport.from_url(port, secret=options.get("secret"))
-        return Opened(transport, lambda: RemoteFrameSource(transport), remote=True)
+        channel = RemoteChannel.from_url(port, secret, settings=link_settings, **connection)
+        if firmware is not None and channel.info.firmware is not firmware:
+            channel.close()
+            raise PortNotFoundError(
+                f"{port} serves a robot with the {channel.info.firmware} firmware, not {firmware}"
+            )
+        return Opened(channel, channel.frame_source, remote=True)
 
 
 _REGISTRY: dict[str, Callable[[], Backend]] = {
@@ -162,10 +202,12 @@ def find_backend(scheme: str) -> Backend:
     return factory()
 
 
-def open_port(
-    port: str, *, baudrate: int | None = None, firmware: Firmware | None = None, **options: Any
-) -> Opened:
-    """Open ``port`` with the backend its scheme names."""
-    return find_backend(scheme_of(port)).open(
-        port, baudrate=baudrate, firmware=firmware, **options
-    )
+def open_port(port: str, *, firmware: Firmware | None = None, **options: Any) -> Opened:
+    """Open ``port`` with the backend its scheme names, passing it ``options``."""
+    backend = find_backend(scheme_of(port))
+    try:
+        return backend.open(port, firmware=firmware, **options)
+    except TypeError as exc:
+        if "unexpected keyword argument" not in str(exc):
+            raise
+        raise ValueError(f"{scheme_of(port)} ports take no such option: {exc}") from None

@@ -1,4 +1,4 @@
-"""Remote control: ``ego serve`` on the robot, and the robot as a transport on the PC.
+"""Remote control: ``ego serve`` on the robot, and the robot as a channel on the PC.
 
 On the robot (or beside an emulator)::
 
@@ -13,18 +13,20 @@ The network stack is imported only when a tcp:// or udp:// port is opened.
 """
 
 from ego.group import RobotGroup, step_all  # kept here for the controllers that import it so
-from ego.remote.client import RemoteFrameSource, RemoteTransport
-from ego.remote.server import RemoteServer, ServerThread
+from ego.remote.client import RemoteChannel, RemoteFrameSource
+from ego.remote.server import Server, ServerThread
+from ego.remote.session import Session
 from ego.remote.wire import DEFAULT_PORT, MAX_PAYLOAD, PROTOCOL_VERSION
 
 __all__ = [
     "DEFAULT_PORT",
     "MAX_PAYLOAD",
     "PROTOCOL_VERSION",
+    "RemoteChannel",
     "RemoteFrameSource",
-    "RemoteServer",
-    "RemoteTransport",
     "RobotGroup",
+    "Server",
     "ServerThread",
+    "Session",
     "step_all",
 ]

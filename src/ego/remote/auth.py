@@ -160,12 +160,20 @@ class FailureThrottle:
         self.max_s = max_s
         self.window_s = window_s
         self._recent: dict[str, tuple[int, float]] = {}  # host -> (failures, last one)
+        #: When the failure answered last is answered: the next one waits its turn.
+        self._free_at = 0.0
 
     def failed(self, host: str, now_s: float) -> float:
-        """Record a wrong proof from ``host``; the delay before it is answered."""
+        """Record a wrong proof from ``host``; how long to wait before answering it.
+
+        Failures are answered one after the other: each waits for the one before it,
+        then its own delay.
+        """
         count, last = self._recent.get(host, (0, now_s))
         count = 1 if now_s - last > self.window_s else count + 1
         self._recent[host] = (count, now_s)
         if len(self._recent) > 4096:  # many hosts: forget the ones quiet for a window
             self._recent = {h: v for h, v in self._recent.items() if now_s - v[1] <= self.window_s}
-        return min(self.max_s, self.base_s * 2 ** (count - 1)) if self.base_s else 0.0
+        own = min(self.max_s, self.base_s * 2 ** (count - 1)) if self.base_s else 0.0
+        self._free_at = max(now_s, self._free_at) + own
+        return self._free_at - now_s

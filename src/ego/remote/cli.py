@@ -21,11 +21,11 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from ego.backends import DEFAULT_CAMERA_DEVICE, open_port
+from ego.channel import Channel
 from ego.errors import EgoError
 from ego.remote.auth import load_secret
-from ego.remote.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, RemoteServer, check_listen
+from ego.remote.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, Server, check_listen
 from ego.safety import TERMINATING_SIGNALS
-from ego.serial.link import Link
 from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmware
 
 if TYPE_CHECKING:
@@ -95,9 +95,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 @dataclass
 class ServedRobot:
-    """What ``ego serve`` opened: the link, the camera, and how to close them all."""
+    """What ``ego serve`` opened: the channel, the camera, and how to close them all."""
 
-    link: Link
+    channel: Channel
     camera: FrameSource | None = None
     closers: list[Callable[[], None]] = field(default_factory=list)
 
@@ -111,14 +111,12 @@ def open_robot(port: str | None, firmware: str = "auto", camera: str | None = No
     """The robot on ``port`` (any backend's: "sim" starts an emulator) and its camera."""
     from ego.ports import resolve_port
 
-    chosen = Firmware.choose(firmware)
-    opened = open_port(resolve_port(port), firmware=chosen, camera_device=camera)
-    try:
-        link = Link(opened.transport, chosen)
-    except BaseException:
-        opened.close()
-        raise
-    robot = ServedRobot(link, closers=[opened.close])
+    resolved = resolve_port(port)
+    # Only a device named on the command line goes to the backend (the emulator has no
+    # V4L2 devices, and says so when given one).
+    options = {"camera_device": camera} if camera not in (None, "none") else {}
+    opened = open_port(resolved, firmware=Firmware.choose(firmware), **options)
+    robot = ServedRobot(opened.channel, closers=[opened.close])
     device = camera or os.environ.get("EGO_CAMERA")
     # Serve the backend's camera: a simulated one always, a V4L2 device when named or
     # present (a robot without its camera board serves none rather than fail).
@@ -147,8 +145,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"ego serve: {exc}", file=sys.stderr)
         return 1
     try:
-        server = RemoteServer(
-            robot.link,
+        server = Server(
+            robot.channel,
             listen=listen,
             secret=secret,
             deadline_s=args.deadline_ms / 1000,
@@ -166,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-async def _serve(server: RemoteServer) -> None:
+async def _serve(server: Server) -> None:
     loop = asyncio.get_running_loop()
     stop = asyncio.Event()
     # Every signal that would end the process (an ssh session dropping sends SIGHUP)
@@ -179,7 +177,7 @@ async def _serve(server: RemoteServer) -> None:
     try:
         await server.start()
         print(
-            f"ego serve: {server.link.transport.name} ({server.link.profile.firmware} firmware) "
+            f"ego serve: {server.channel.name} ({server.channel.profile.firmware} firmware) "
             f"on {', '.join(server.urls)}",
             file=sys.stderr,
             flush=True,

@@ -1,16 +1,24 @@
-"""ego's remote protocol on the wire: framed, checksummed, sequenced messages (no I/O).
+"""ego's remote protocol on the wire: framed, authenticated, sequenced messages (no I/O).
 
 Every message, over TCP or UDP, is one frame::
 
     offset  size  field
     0       2     magic  b"EG"
     2       1     protocol version (PROTOCOL_VERSION)
-    3       1     message type (MessageType)
+    3       1     message type (MessageType), with bit 0x80 set when the frame is sealed
     4       4     session id, u32 little-endian (0 before the handshake)
     8       4     sequence number, u32 (1, 2, ... per session; 0 = unsolicited)
     12      4     payload length, u32 (at most MAX_PAYLOAD)
     16      n     payload
-    16+n    4     CRC32 of bytes 0 .. 16+n
+    16+n    4|16  CRC32 of bytes 0 .. 16+n, or, sealed, the frame's MAC
+
+Once a handshake with a shared secret is done, every frame of the session is *sealed*:
+its trailer is the first 16 bytes of HMAC-SHA256, under the session key
+(:func:`ego.remote.handshake.session_key`), of a direction byte (``C`` client to server,
+``S`` server to client) and bytes 0 .. 16+n. The MAC covers the type, session, sequence
+number and payload, so nothing can be injected, rewritten or reflected back; the
+sequence numbers (:class:`SequenceGuard`) make a replayed frame stale. Without a secret
+(loopback only) the trailer is a CRC32, which catches corruption and nothing else.
 
 The header layout is frozen across protocol versions, so that a peer speaking another
 version is told so in a frame it can still read. The client is stop-and-wait: it sends
@@ -28,6 +36,8 @@ requests, each an ordinary sequenced request.
 from __future__ import annotations
 
 import enum
+import hashlib
+import hmac
 import json
 import re
 import struct
@@ -44,15 +54,18 @@ __all__ = [
     "DEFAULT_PORT",
     "FETCH",
     "HEADER",
+    "MAC_SIZE",
     "MAGIC",
     "MAX_DATAGRAM",
     "MAX_PAYLOAD",
+    "MAX_PREAUTH_PAYLOAD",
     "OVERHEAD",
     "PART",
     "PROTOCOL_VERSION",
     "REQUEST_TYPES",
     "RESPONSE_TYPES",
     "Frame",
+    "FrameKey",
     "FrameReader",
     "MessageType",
     "SequenceGuard",
@@ -67,6 +80,7 @@ __all__ = [
     "pack_json",
     "pack_part",
     "parse_url",
+    "peek_session",
     "seq_after",
     "split_reply",
     "unpack_ascii",
@@ -77,14 +91,22 @@ __all__ = [
 ]
 
 MAGIC = b"EG"
-PROTOCOL_VERSION = 1
+PROTOCOL_VERSION = 2
 #: magic, version, type, session, sequence number, payload length.
 HEADER = struct.Struct("<2sBBIII")
 _CRC = struct.Struct("<I")
-#: Bytes a frame adds to its payload.
+#: Bytes of a sealed frame's MAC (HMAC-SHA256 truncated to 128 bits, as in TLS and IPsec).
+MAC_SIZE = 16
+#: Bit of the type byte that marks a sealed frame.
+SEALED = 0x80
+#: Bytes a frame adds to its payload (an unsealed one; a sealed one adds SEALED_OVERHEAD).
 OVERHEAD = HEADER.size + _CRC.size
+SEALED_OVERHEAD = HEADER.size + MAC_SIZE
 #: Largest payload accepted: 1 MiB holds a 640x480 RGB888 camera frame (921,600 bytes).
 MAX_PAYLOAD = 1 << 20
+#: Largest payload of a frame from a peer that has not authenticated: a HELLO or an
+#: AUTH is a few hundred bytes, so a stranger never makes the server buffer more.
+MAX_PREAUTH_PAYLOAD = 1024
 #: Largest UDP payload over IPv4.
 MAX_DATAGRAM = 65507
 #: Datagram size the server splits big replies into (camera frames over UDP).
@@ -97,9 +119,9 @@ _U32 = 0xFFFFFFFF
 class MessageType(enum.IntEnum):
     """What a frame carries. Requests go client to server, responses come back."""
 
-    HELLO = 1  # JSON {client, nonce}; OK: JSON {nonce, auth, deadline_s}
-    AUTH = 2  # JSON {proof}; OK: JSON {proof, firmware, ...}
-    STEP = 3  # one binary batch; OK: exactly its reply bytes (maybe none)
+    HELLO = 1  # JSON {client, nonce[, cookie]}; OK: JSON {nonce, auth, proof...} or COOKIE
+    AUTH = 2  # JSON {proof}; OK (sealed): JSON {firmware, ...}
+    STEP = 3  # messages.pack_step(requests); OK: exactly the batch's reply bytes
     ASCII = 4  # pack_ascii(letter, lines); OK: the reply lines, each ending \r\n
     PING = 5  # heartbeat; OK: empty
     BYE = 6  # goodbye; OK: empty
@@ -108,10 +130,12 @@ class MessageType(enum.IntEnum):
     CAMERA_CONTROL = 9  # JSON {name, value}; OK: JSON {value}
     CAMERA_CLOSE = 10  # OK: empty
     FETCH = 11  # pack_fetch(seq, offset); answered by a PART
+    INFO = 12  # OK: JSON of the firmware the server's link talks to (after a restart)
     OK = 64
     ERROR = 65  # pack_error(class name, message)
     PART = 66  # pack_part(type, total, offset, data): a slice of a big reply
     WORKING = 67  # the request is still running: wait, do not give up
+    COOKIE = 68  # JSON {cookie}: say HELLO again with it (UDP: proves the address)
 
 
 REQUEST_TYPES = frozenset(t for t in MessageType if t < MessageType.OK)
@@ -128,41 +152,102 @@ class Frame:
     session: int = 0
 
 
-def encode_frame(type_: MessageType, seq: int, payload: bytes = b"", session: int = 0) -> bytes:
-    """The bytes of one frame; ValueError for a payload over :data:`MAX_PAYLOAD`."""
+class FrameKey:
+    """A session key and the directions it seals and opens frames in.
+
+    The client seals with direction ``C`` and opens ``S``; the server the reverse, so a
+    frame cannot be reflected back to its sender.
+    """
+
+    __slots__ = ("_key", "opens", "seals")
+
+    def __init__(self, key: bytes, *, server: bool) -> None:
+        self._key = key
+        self.seals, self.opens = (b"S", b"C") if server else (b"C", b"S")
+
+    def mac(self, direction: bytes, data: bytes | memoryview) -> bytes:
+        digest = hmac.new(self._key, direction, hashlib.sha256)
+        digest.update(data)
+        return digest.digest()[:MAC_SIZE]
+
+    def __repr__(self) -> str:
+        return f"<FrameKey seals {self.seals!r}>"  # never the key
+
+
+def encode_frame(
+    type_: MessageType,
+    seq: int,
+    payload: bytes = b"",
+    session: int = 0,
+    key: FrameKey | None = None,
+) -> bytes:
+    """The bytes of one frame, sealed with ``key`` if given; ValueError for a payload over
+    :data:`MAX_PAYLOAD`."""
     if len(payload) > MAX_PAYLOAD:
         raise ValueError(f"payload of {len(payload)} bytes exceeds the {MAX_PAYLOAD}-byte limit")
-    head = HEADER.pack(MAGIC, PROTOCOL_VERSION, type_, session, seq, len(payload))
+    code = type_ | SEALED if key is not None else type_
+    head = HEADER.pack(MAGIC, PROTOCOL_VERSION, code, session, seq, len(payload))
+    if key is not None:
+        return b"".join((head, payload, key.mac(key.seals, head + payload)))
     crc = zlib.crc32(payload, zlib.crc32(head))
     return b"".join((head, payload, _CRC.pack(crc)))
 
 
-def _check_header(data: bytes | bytearray | memoryview) -> tuple[int, int, int, int, int]:
+def _check_header(
+    data: bytes | bytearray | memoryview, max_payload: int = MAX_PAYLOAD
+) -> tuple[int, int, int, int, int]:
     magic, version, type_, session, seq, length = HEADER.unpack_from(data)
     if magic != MAGIC:
         raise FrameError(f"not an ego frame: magic {bytes(magic)!r}, expected {MAGIC!r}")
-    if length > MAX_PAYLOAD:
-        raise FrameError(f"frame of {length} payload bytes exceeds the {MAX_PAYLOAD}-byte limit")
+    if length > max_payload:
+        raise FrameError(f"frame of {length} payload bytes exceeds the {max_payload}-byte limit")
     return version, type_, session, seq, length
 
 
-def decode_frame(data: bytes | bytearray | memoryview) -> Frame:
+def _frame_size(type_: int, length: int) -> int:
+    return (SEALED_OVERHEAD if type_ & SEALED else OVERHEAD) + length
+
+
+def peek_session(data: bytes | bytearray | memoryview) -> int | None:
+    """The session id in a datagram's header (to find its key), or None if too short."""
+    if len(data) < HEADER.size:
+        return None
+    return int(HEADER.unpack_from(data)[3])
+
+
+def decode_frame(
+    data: bytes | bytearray | memoryview,
+    key: FrameKey | None = None,
+    max_payload: int = MAX_PAYLOAD,
+) -> Frame:
     """Exactly one frame (a datagram, or a frame cut out of a stream).
 
-    Raises FrameError for anything else: too short, wrong magic, oversized, a length
-    that disagrees with the data, a CRC mismatch, an unknown type; and its subclass
+    With ``key``, the frame must be sealed by the other side with it; without, it must
+    not be sealed. Raises FrameError for anything else: too short, wrong magic,
+    oversized, a length that disagrees with the data, a bad CRC or MAC, an unsealed
+    frame where a sealed one is due, an unknown type; and its subclass
     VersionMismatchError for an intact frame of another protocol version.
     """
     view = memoryview(data).cast("B")
     if len(view) < OVERHEAD:
         raise FrameError(f"frame of {len(view)} bytes is shorter than the {OVERHEAD}-byte minimum")
-    version, type_, session, seq, length = _check_header(view)
-    if len(view) != OVERHEAD + length:
-        raise FrameError(f"frame of {len(view)} bytes, its header announces {OVERHEAD + length}")
+    version, type_, session, seq, length = _check_header(view, max_payload)
+    if len(view) != _frame_size(type_, length):
+        raise FrameError(
+            f"frame of {len(view)} bytes, its header announces {_frame_size(type_, length)}"
+        )
     end = HEADER.size + length
-    (crc,) = _CRC.unpack_from(view, end)
-    if zlib.crc32(view[:end]) != crc:
-        raise FrameError("frame CRC mismatch: corrupted in transit")
+    if type_ & SEALED:
+        if key is None:
+            raise FrameError("a sealed frame outside an authenticated session")
+        if not hmac.compare_digest(key.mac(key.opens, view[:end]), view[end:]):
+            raise FrameError("frame MAC mismatch: forged, altered or from another session")
+    else:
+        (crc,) = _CRC.unpack_from(view, end)
+        if zlib.crc32(view[:end]) != crc:
+            raise FrameError("frame CRC mismatch: corrupted in transit")
+        if key is not None:
+            raise FrameError("an unsealed frame in an authenticated session")
     if version != PROTOCOL_VERSION:
         raise VersionMismatchError(
             f"peer speaks ego remote protocol version {version}, this side speaks "
@@ -172,7 +257,7 @@ def decode_frame(data: bytes | bytearray | memoryview) -> Frame:
             session,
         )
     try:
-        mtype = MessageType(type_)
+        mtype = MessageType(type_ & ~SEALED)
     except ValueError:
         raise FrameError(f"unknown message type {type_}") from None
     return Frame(mtype, seq, bytes(view[HEADER.size : end]), session)
@@ -182,12 +267,17 @@ class FrameReader:
     """Frames cut out of a byte stream (TCP), fed in pieces of any size.
 
     A bad header leaves no way to find the next frame, so after the first FrameError the
-    reader stays broken and raises it again: the connection must be closed.
+    reader stays broken and raises it again: the connection must be closed. ``key``
+    (set once the handshake is done) is the key every later frame must be sealed with;
+    ``max_payload`` bounds what a peer may make the reader buffer (small until it has
+    authenticated).
     """
 
-    def __init__(self) -> None:
+    def __init__(self, max_payload: int = MAX_PAYLOAD) -> None:
         self._buf = bytearray()
         self._error: FrameError | None = None
+        self.key: FrameKey | None = None
+        self.max_payload = max_payload
 
     def feed(self, data: bytes) -> list[Frame]:
         """The frames completed by ``data``, in order (raises FrameError as above)."""
@@ -199,13 +289,13 @@ class FrameReader:
             while len(self._buf) >= HEADER.size:
                 # Checked before the payload arrives: an oversized length is refused
                 # without buffering it.
-                length = _check_header(self._buf)[4]
-                total = OVERHEAD + length
+                _, type_, _, _, length = _check_header(self._buf, self.max_payload)
+                total = _frame_size(type_, length)
                 if len(self._buf) < total:
                     break
                 chunk = bytes(self._buf[:total])
                 del self._buf[:total]
-                frames.append(decode_frame(chunk))
+                frames.append(decode_frame(chunk, self.key, self.max_payload))
         except FrameError as exc:
             self._error = exc
             self._buf.clear()
@@ -387,7 +477,7 @@ def unpack_fetch(payload: bytes) -> tuple[int, int]:
 
 def split_reply(type_: MessageType, payload: bytes, offset: int, chunk_size: int) -> bytes:
     """The PART payload carrying ``payload[offset:]`` that fits a ``chunk_size`` datagram."""
-    room = chunk_size - OVERHEAD - PART.size
+    room = chunk_size - SEALED_OVERHEAD - PART.size
     if room <= 0:
         raise ValueError(f"chunk size {chunk_size} leaves no room for data")
     if not 0 <= offset < len(payload):

@@ -132,6 +132,14 @@ class Link:
         self._unreported_restart = False  # at open there is no state to re-apply
 
     @property
+    def name(self) -> str:
+        return self.transport.name
+
+    def waiting_until(self, deadline_s: float) -> None:
+        """The owner waits out a step (the Channel seam); the transport may care."""
+        self.transport.waiting_until(deadline_s)
+
+    @property
     def profile(self) -> Profile:
         """The wire formats of the firmware in use (re-detected after a restart)."""
         return self.info.profile
@@ -240,7 +248,7 @@ class Link:
                 replies.append(text)
         return replies
 
-    def calibrate_proximity(self) -> None:
+    def calibrate_proximity(self) -> list[str]:
         """The ASCII ``K``: calibrate the IR sensors, sending nothing until it is done.
 
         docs/protocol.md, quirk "K": the dsPIC answers a first line at once, then spends
@@ -255,6 +263,7 @@ class Link:
                 f"{self.transport.name}: the IR calibration did not finish within {wait_s:.1f} s "
                 f"(got {replies!r})"
             )
+        return replies
 
     # -- binary batches ----------------------------------------------------------------
 

@@ -1,0 +1,73 @@
+"""The seam under :class:`~ego.robot.Robot`: one batch per step, ASCII commands, a close.
+
+A ``Robot`` talks to its dsPIC through a :class:`Channel` and through nothing else. The
+serial :class:`~ego.serial.link.Link` is one: it speaks the bytes of
+docs/protocol.md over a byte transport (a serial port, a pty, a pyserial URL). The
+network client :class:`~ego.remote.client.RemoteChannel` is another: it carries the
+same batches, as lists of requests, to ``ego serve``, which runs them on its own link
+and returns their reply bytes, or the ego error they met, with its fields. Backends
+(:mod:`ego.backends`) open a channel for a port's scheme; ``tests/contract`` holds the
+suite every channel passes.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
+
+if TYPE_CHECKING:
+    from ego.serial.firmware import FirmwareInfo
+    from ego.serial.link import LinkStats
+    from ego.serial.protocol import Batch, Profile
+
+__all__ = ["Channel"]
+
+
+@runtime_checkable
+class Channel(Protocol):
+    """What a Robot needs of the way to its dsPIC."""
+
+    @property
+    def name(self) -> str:
+        """Where the channel goes ("/dev/ttyS0", "tcp://robot:4242"), for messages."""
+        ...
+
+    @property
+    def info(self) -> FirmwareInfo:
+        """What answers at the other end: the firmware, its profile and version."""
+        ...
+
+    @property
+    def stats(self) -> LinkStats:
+        """Batches, retries, faults: what the channel met (Robot counts implausible replies)."""
+        ...
+
+    @property
+    def profile(self) -> Profile:
+        """The wire format of the firmware at the other end (``info.profile``)."""
+        ...
+
+    def exchange(self, batch: Batch) -> bytes:
+        """Run one batch; exactly its ``reply_size`` reply bytes (b'' when it asks none).
+
+        Raises RobotResetError when the robot restarted (``info`` is then up to date and
+        the owner re-applies its state), LinkLostError when the way is gone for good,
+        and the link's other errors after its own bounded retries.
+        """
+        ...
+
+    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
+        """One ASCII command (``V``, ``C``, ``S``...); up to ``lines`` reply lines."""
+        ...
+
+    def calibrate_proximity(self) -> list[str]:
+        """The ASCII ``K``, waiting out the calibration; its reply lines."""
+        ...
+
+    def waiting_until(self, deadline_s: float) -> None:
+        """The owner waits out a step until ``deadline_s`` (time.monotonic()); a network
+        channel keeps its session alive that long and no longer."""
+        ...
+
+    def close(self) -> None:
+        """Release the way to the robot; idempotent (the owner stops the robot first)."""
+        ...
