@@ -1,38 +1,28 @@
 """Integer device tags, as ``wb_robot_get_device`` returns them, for the C-style faces.
 
-The tag of a name is fixed (its place in :data:`DEVICE_NAMES`, from 1), so ``ego.webots``
-and ``ego.overo`` agree on it; 0 is never a valid tag, as in Webots.
+The tag of a name is fixed (its row's place in :mod:`ego.devices.table`, from 1), so
+``ego.webots`` and ``ego.overo`` agree on it; 0 is never a valid tag, as in Webots. This
+module is the table's C-style alias.
 """
 
 from __future__ import annotations
 
+from ego.devices.table import DEVICES, find, spec_of_tag
 from ego.errors import UnknownDeviceError
 
 __all__ = ["DEVICE_NAMES", "name_of", "tag_of"]
 
-DEVICE_NAMES: tuple[str, ...] = (
-    *(f"ps{i}" for i in range(10)),
-    *(f"gs{i}" for i in range(3)),
-    *(f"ls{i}" for i in range(8)),
-    "accelerometer",
-    "left wheel motor",
-    "right wheel motor",
-    "left wheel sensor",
-    "right wheel sensor",
-    *(f"led{i}" for i in range(10)),
-    *(f"mic{i}" for i in range(3)),
-    "camera",
-)
-_TAGS = {name: i + 1 for i, name in enumerate(DEVICE_NAMES)}
+#: The names of the devices with a tag, in tag order (from :data:`ego.devices.table.DEVICES`).
+DEVICE_NAMES: tuple[str, ...] = tuple(s.name for s in DEVICES)
 
 
 def tag_of(name: str) -> int:
-    try:
-        return _TAGS[name]
-    except KeyError:
+    found = find(name)
+    if found is None or found.tag is None:
         raise UnknownDeviceError(
             f"no device named {name!r}; valid names: {', '.join(DEVICE_NAMES)}"
-        ) from None
+        )
+    return found.tag
 
 
 def name_of(tag: int | str) -> str:
@@ -40,9 +30,4 @@ def name_of(tag: int | str) -> str:
     if isinstance(tag, str):
         tag_of(tag)
         return tag
-    if isinstance(tag, bool) or not isinstance(tag, int) or not 1 <= tag <= len(DEVICE_NAMES):
-        raise UnknownDeviceError(
-            f"device tag {tag!r} is not one of 1..{len(DEVICE_NAMES)} "
-            "(the tags wb_robot_get_device returns)"
-        )
-    return DEVICE_NAMES[tag - 1]
+    return spec_of_tag(tag).name
