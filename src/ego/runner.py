@@ -8,40 +8,44 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import ego.controller
-from ego import default_robot, runtime
+from ego.default_robot import FaceContext, activate
+from ego.runtime import RunOptions
 from ego.safety import RobotKeeper, install_signal_handlers
 
 __all__ = ["run_controller"]
 
 
-def run_controller(path: str | Path, options: runtime.RunOptions, argv: Sequence[str] = ()) -> None:
+def run_controller(path: str | Path, options: RunOptions, argv: Sequence[str] = ()) -> None:
     """Execute the controller file at ``path`` as ``__main__`` with ego as its ``controller``.
 
     As Webots does, the controller's own folder is on ``sys.path`` and ``sys.argv`` holds
     its arguments. Whatever way it ends, every robot it opened is stopped and closed:
     the run holds each one strongly until then, since the controller's globals (and with
     them its robots) are torn down in no particular order when the script ends.
+
+    The run's ``options`` go to the controller through a :class:`FaceContext` of its own,
+    active while it runs: its ``Robot()`` and ``wb_robot_init()`` read them there, and
+    they do not outlive the run.
     """
     script = Path(path)
     if not script.is_file():
         raise FileNotFoundError(f"controller file {str(script)!r} does not exist")
-    runtime.set_options(options)
     saved_module = sys.modules.get("controller")
     saved_argv, saved_path = sys.argv[:], sys.path[:]
     sys.modules["controller"] = ego.controller
     sys.argv = [str(script), *argv]
     sys.path.insert(0, str(script.resolve().parent))
     install_signal_handlers()
+    context = FaceContext(options)
     try:
-        with RobotKeeper():
+        with RobotKeeper(), activate(context):
             try:
                 runpy.run_path(str(script), run_name="__main__")
             finally:
-                default_robot.close()
+                context.close()
     finally:
         sys.argv, sys.path[:] = saved_argv, saved_path
         if saved_module is None:
             sys.modules.pop("controller", None)
         else:
             sys.modules["controller"] = saved_module
-        runtime.set_options(runtime.RunOptions())

@@ -1,8 +1,10 @@
 """How a controller run is set up when the controller itself cannot say: ``ego run`` fills it.
 
 A Webots controller constructs ``Robot()`` with no arguments; the port, a time limit and
-progress listeners therefore come from here (set by ``ego run`` / ``ego demo``), or from
-``EGO_PORT``.
+progress listeners therefore come from the run's :class:`RunOptions` (made by ``ego run``
+/ ``ego demo``, held by the current :class:`ego.default_robot.FaceContext`), or from
+``EGO_PORT``. This module holds no state of its own: :func:`current` and
+:func:`set_options` read and change the current face context's options.
 """
 
 from __future__ import annotations
@@ -30,14 +32,24 @@ class RunOptions:
     #: Called with each core Robot a face creates (progress displays subscribe here).
     on_robot: list[Callable[[Robot], None]] = field(default_factory=list)
 
+    def time_is_up(self, time_s: float) -> bool:
+        """Whether a controller at ``time_s`` of controller time has used up ``duration_s``.
 
-_options = RunOptions()
+        The one cutoff of ``ego run --duration``: the Webots ``Robot.step`` and the
+        C-style faces' step both end the run (returning -1) once this is true.
+        """
+        return self.duration_s is not None and time_s >= self.duration_s - 1e-9
 
 
 def current() -> RunOptions:
-    return _options
+    """The options of the current face context (:func:`ego.default_robot.current_context`)."""
+    from ego.default_robot import current_context
+
+    return current_context().options
 
 
 def set_options(options: RunOptions) -> None:
-    global _options
-    _options = options
+    """Give the current face context ``options`` (its robot, if any, stays open)."""
+    from ego.default_robot import current_context
+
+    current_context().options = options

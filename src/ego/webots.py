@@ -269,26 +269,24 @@ def wb_light_sensor_get_value(tag: Tag) -> float:
 
 # -- remote control (appendix C.12.2) ------------------------------------------------------
 
-_failed = False
-
 
 def wbr_init(args: str | None = None) -> int:
     """Connect to the robot at ``args`` (a port or tcp://, udp:// URL); 1 on success, 0 not."""
-    global _failed
+    context = default_robot.current_context()
     try:
-        default_robot.open_robot(args)
+        context.open_robot(args)
     except EgoError as exc:
         log.warning("wbr_init(%r) failed: %s", args, exc)  # the caller only sees 0
-        _failed = True
+        context.failed = True
         return 0
-    _failed = False
+    context.failed = False
     return 1
 
 
 def wbr_robot_step(ms: int) -> int:
-    global _failed
-    result = wb_robot_step(ms)
-    _failed = _failed or result == -1
+    context = default_robot.current_context()
+    result = context.step(ms)
+    context.failed = context.failed or result == -1
     return result
 
 
@@ -301,4 +299,4 @@ def wbr_stop_actuators() -> None:
 
 
 def wbr_has_failed() -> bool:
-    return _failed
+    return default_robot.current_context().failed

@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 
 from ego.devices.base import Sensor
 from ego.devices.motors import MAX_SPEED_RAD_S, rad_s_to_steps
+from ego.devices.position_control import position_speed
+from ego.devices.table import find, spec
 from ego.errors import EgoError, OutOfRangeError
 
 if TYPE_CHECKING:
@@ -130,8 +132,7 @@ class PositionSensor(_SampledDevice):
     def getValue(self) -> float:
         if not self._readable():
             return _NAN
-        left, right = self._core.encoders.radians
-        return left if self._name.startswith("left") else right
+        return self._core.encoders.radians[spec(self._name).index]
 
 
 class Motor(Device):
@@ -141,9 +142,14 @@ class Motor(Device):
     using the step counters, as Webots' position control does.
     """
 
-    def __init__(self, core: CoreRobot, name: str) -> None:
+    def __init__(
+        self, core: CoreRobot, name: str, *, basic_time_step_ms: float | None = None
+    ) -> None:
         super().__init__(core, name)
-        self._side = 0 if name.startswith("left") else 1
+        self._side = spec(name).index
+        #: The encoders' sampling period when position control enables them (ms); None:
+        #: the current face context's basic time step.
+        self._period_ms = basic_time_step_ms
         self._velocity = MAX_SPEED_RAD_S
         self._target = 0.0  # Webots' default: position control towards 0 rad
 
@@ -174,7 +180,7 @@ class Motor(Device):
             raise TypeError(f"position must be a number of rad or inf, not {position!r}")
         self._target = float(position)
         if not math.isinf(self._target) and not self._core.encoders.enabled:
-            self._core.encoders.enable(int(_position_period(self._core)))
+            self._core.encoders.enable(int(self._position_period_ms()))
         self._apply()
 
     def _apply(self) -> None:
@@ -188,26 +194,23 @@ class Motor(Device):
         self._core.motors.set_speed(speeds[0], speeds[1])
 
     def _position_speed(self) -> int:
-        """Steps/s towards the target: full velocity far away, proportional near it."""
+        """Steps/s towards the target (:func:`ego.devices.position_control.position_speed`)."""
         if not self._core.encoders.has_values:
             return 0
         current = self._core.encoders.radians[self._side]
-        error = self._target - current
-        if abs(error) < 2 * math.pi / 1000:  # within one step
-            return 0
-        speed = min(abs(self._velocity), 5.0 * abs(error))
-        return round(rad_s_to_steps(math.copysign(speed, error)))
+        return position_speed(self._target, current, self._velocity)
+
+    def _position_period_ms(self) -> float:
+        if self._period_ms is not None:
+            return self._period_ms
+        from ego.default_robot import current_context
+
+        return current_context().options.basic_time_step_ms
 
     def step_update(self) -> None:
         """Position control: recompute the speed after each step."""
         if not math.isinf(self._target):
             self._apply()
-
-
-def _position_period(core: CoreRobot) -> float:
-    from ego import runtime
-
-    return runtime.current().basic_time_step_ms
 
 
 class LED(Device):
@@ -284,20 +287,21 @@ class Camera(_SampledDevice):
     imageGetGrey = imageGetGray
 
 
+#: The view class of each kind of :mod:`ego.devices.table` that Webots' e-puck has.
+_VIEWS: dict[str, type[Device]] = {
+    "DistanceSensor": DistanceSensor,
+    "LightSensor": LightSensor,
+    "LED": LED,
+    "Motor": Motor,
+    "PositionSensor": PositionSensor,
+    "Accelerometer": Accelerometer,
+    "Camera": Camera,
+}
+
+
 def view_class(name: str) -> type[Device] | None:
     """The Webots class of a device name; None for ego's names Webots has no device for (mics)."""
-    if name.startswith(("ps", "gs")):
-        return DistanceSensor
-    if name.startswith("ls"):
-        return LightSensor
-    if name.startswith("led"):
-        return LED
-    if name.endswith("wheel motor"):
-        return Motor
-    if name.endswith("wheel sensor"):
-        return PositionSensor
-    if name == "accelerometer":
-        return Accelerometer
-    if name == "camera":
-        return Camera
-    return None
+    found = find(name)
+    if found is None or not found.webots_device:
+        return None
+    return _VIEWS.get(found.kind)

@@ -6,7 +6,6 @@ import logging
 import math
 from typing import ClassVar, TypeVar
 
-from ego import runtime
 from ego.controller.devices import (
     LED,
     Accelerometer,
@@ -20,8 +19,10 @@ from ego.controller.devices import (
     view_class,
     whole_steps,
 )
+from ego.default_robot import current_context
 from ego.errors import UnknownDeviceError
 from ego.robot import Robot as CoreRobot
+from ego.runtime import RunOptions
 
 __all__ = ["DifferentialWheels", "Robot"]
 
@@ -44,8 +45,10 @@ class Robot:
     MODE_CROSS_COMPILATION: ClassVar[int] = 1
     MODE_REMOTE_CONTROL: ClassVar[int] = 2
 
-    def __init__(self) -> None:
-        options = runtime.current()
+    def __init__(self, *, options: RunOptions | None = None) -> None:
+        """``options`` None: the current face context's (what ``ego run`` was given)."""
+        if options is None:
+            options = current_context().options
         self._options = options
         self._core = CoreRobot(options.port, firmware=options.firmware, seed=options.seed)
         self._devices: dict[str, Device] = {}
@@ -60,8 +63,7 @@ class Robot:
 
     def step(self, duration: int) -> int:
         """One time step of ``duration`` ms; -1 when the run ends or the link is lost."""
-        limit = self._options.duration_s
-        if limit is not None and self._core.time_s >= limit - 1e-9:
+        if self._options.time_is_up(self._core.time_s):
             self._core.close()
             return -1
         result = self._core.step(duration)
@@ -78,9 +80,12 @@ class Robot:
                 raise UnknownDeviceError(
                     f"no device named {name!r}; valid names: {', '.join(self._device_names())}"
                 )
-            device = cls(self._core, name)
-            if isinstance(device, Motor):
-                self._motors.append(device)
+            if cls is Motor:
+                motor = Motor(self._core, name, basic_time_step_ms=self.getBasicTimeStep())
+                self._motors.append(motor)
+                device = motor
+            else:
+                device = cls(self._core, name)
             self._devices[name] = device
         return device
 
