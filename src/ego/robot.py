@@ -165,9 +165,17 @@ class Robot:
         return self._opened.camera()
 
     def device(self, name: str) -> Device:
-        """The family serving the Webots device ``name`` ("ps3", "left wheel motor"...)."""
-        for family in self.families:
-            if family.webots_device and name in family.member_names:
+        """The family serving the Webots device ``name`` ("ps3", "left wheel motor"...).
+
+        The device table (:mod:`ego.devices.table`) says which family; the family says
+        whether the connected firmware has it (ps8, ps9: the Overo's only).
+        """
+        from ego.devices.table import CAMERA, find
+
+        found = find(name)
+        if found is not None and found.webots_device and found.family != CAMERA:
+            family: Device = getattr(self, found.family)
+            if name in family.member_names:
                 return family
         raise UnknownDeviceError(
             f"no device named {name!r}; valid names: {', '.join(self.device_names)}"
@@ -175,9 +183,16 @@ class Robot:
 
     @property
     def device_names(self) -> tuple[str, ...]:
-        """Every Webots device name this robot answers to, camera included."""
-        names = (n for f in self.families if f.webots_device for n in f.member_names)
-        return (*names, "camera")
+        """Every Webots device name this robot answers to, by family, camera last."""
+        from ego.devices.table import CAMERA, DEVICES
+
+        rank = {id(family): i for i, family in enumerate(self.families)}
+        served = sorted(
+            (rank[id(family)], s.index, s.name)
+            for s in DEVICES
+            if s.family != CAMERA and s.name in (family := getattr(self, s.family)).member_names
+        )
+        return (*(name for _, _, name in served), *(s.name for s in DEVICES if s.family == CAMERA))
 
     # -- ASCII commands --------------------------------------------------------------
 
