@@ -21,6 +21,7 @@ from ego.controller.devices import (
     whole_steps,
 )
 from ego.devices.accelerometer import AccelerometerMode
+from ego.devices.table import DEVICES, names_of, spec
 from ego.errors import UnknownDeviceError
 from ego.tags import name_of
 from ego.webots import (
@@ -82,10 +83,22 @@ Tag = int | str
 _NAN = float("nan")
 
 
-def _expect(dt: Tag, *names: str) -> str:
+def _expect(dt: Tag, family: str) -> str:
+    """The name of ``dt``, a device of ``family`` (a Robot attribute) in the device table."""
     name = name_of(dt)
+    names = names_of(family)
     if name not in names:
         raise UnknownDeviceError(f"device {name!r} is not one of {', '.join(names)}")
+    return name
+
+
+def _expect_kind(dt: Tag, kind: str, what: str) -> str:
+    """The name of ``dt``, a device of Webots kind ``kind`` in the device table."""
+    name = name_of(dt)
+    if spec(name).kind != kind:
+        families = dict.fromkeys(s.family for s in DEVICES if s.kind == kind)
+        spans = ", ".join(f"{n[0]}..{n[-1]}" for n in map(names_of, families))
+        raise UnknownDeviceError(f"device {name!r} is not {what} ({spans})")
     return name
 
 
@@ -260,17 +273,14 @@ def overo_distance_sensors_disable(dt: Tag) -> None:
 
 
 def _distance_name(dt: Tag) -> str:
-    name = name_of(dt)
-    if not name.startswith(("ps", "gs")):
-        raise UnknownDeviceError(f"device {name!r} is not a distance sensor (ps0..ps9, gs0..gs2)")
-    return name
+    return _expect_kind(dt, "DistanceSensor", "a distance sensor")
 
 
 # -- encoders (C.4) -----------------------------------------------------------------------
 
 
 def overo_encoders_enable(dt: Tag, ms: int) -> None:
-    _expect(dt, "left wheel sensor", "right wheel sensor")
+    _expect(dt, "encoders")
     default_robot.get().encoders.enable(ms)
 
 
@@ -288,7 +298,7 @@ def overo_encoders_set(left: float, right: float) -> None:
 
 
 def overo_encoders_disable(dt: Tag) -> None:
-    _expect(dt, "left wheel sensor", "right wheel sensor")
+    _expect(dt, "encoders")
     default_robot.get().encoders.disable()
 
 
@@ -313,19 +323,16 @@ def overo_light_sensors_disable(dt: Tag) -> None:
 
 
 def _light_name(dt: Tag) -> str:
-    name = name_of(dt)
-    if not name.startswith("ls"):
-        raise UnknownDeviceError(f"device {name!r} is not a light sensor (ls0..ls7)")
-    return name
+    return _expect_kind(dt, "LightSensor", "a light sensor")
 
 
 def overo_microphone_enable(dt: Tag, ms: int) -> None:
-    default_robot.get().microphones.enable(ms, [_expect(dt, "mic0", "mic1", "mic2")])
+    default_robot.get().microphones.enable(ms, [_expect(dt, "microphones")])
 
 
 def overo_microphone_get_volume(dt: Tag) -> float:
     """Amplitude 0..4095 (NaN until the microphone is enabled and sampled)."""
-    name = _expect(dt, "mic0", "mic1", "mic2")
+    name = _expect(dt, "microphones")
     mics = default_robot.get().microphones
     if mics.sampling_period(name) is None or not mics.has_values:
         return _NAN
@@ -333,23 +340,23 @@ def overo_microphone_get_volume(dt: Tag) -> float:
 
 
 def overo_microphone_disable(dt: Tag) -> None:
-    default_robot.get().microphones.disable([_expect(dt, "mic0", "mic1", "mic2")])
+    default_robot.get().microphones.disable([_expect(dt, "microphones")])
 
 
 def overo_microphone_enable_buffer(dt: Tag, ms: int) -> None:
     """Fetch the raw samples (all three microphones travel together) every ``ms``."""
-    _expect(dt, "mic0", "mic1", "mic2")
+    _expect(dt, "microphones")
     default_robot.get().microphones.enable_buffer(ms)
 
 
 def overo_microphone_get_buffer(dt: Tag) -> npt.NDArray[np.uint16]:
     """The last 100 samples of one microphone at 16384 Hz, oldest first."""
-    index = ("mic0", "mic1", "mic2").index(_expect(dt, "mic0", "mic1", "mic2"))
+    index = spec(_expect(dt, "microphones")).index
     samples: npt.NDArray[np.uint16] = default_robot.get().microphones.buffer[index]
     return samples
 
 
 def overo_motors_set_speed(dt: Tag, left: float, right: float) -> None:
     """Both wheel speeds in steps/s, +-1000 (the tag names either wheel motor)."""
-    _expect(dt, "left wheel motor", "right wheel motor")
+    _expect(dt, "motors")
     default_robot.get().motors.set_speed(left, right)
