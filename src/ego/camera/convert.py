@@ -62,6 +62,7 @@ __all__ = [
     "Backend",
     "ByteOrder",
     "YuvFormula",
+    "check_rotation",
     "opencv_is_exact",
     "rgb565_to_rgb888",
     "rgb888_to_bgra",
@@ -127,10 +128,12 @@ class YuvFormula(str, Enum):
 # -- validation -------------------------------------------------------------------------
 
 
-def _check_rotation(rotation: int) -> int:
-    if rotation not in ROTATIONS:
-        raise OutOfRangeError(f"rotation {rotation!r} is not one of 0, 90, 180, 270 degrees")
-    return int(rotation)
+def check_rotation(rotation: object) -> int:
+    """``rotation`` if it is one of :data:`ROTATIONS` (a bool is not), else OutOfRangeError."""
+    if isinstance(rotation, bool) or rotation not in ROTATIONS:
+        choices = ", ".join(map(str, ROTATIONS))
+        raise OutOfRangeError(f"rotation {rotation!r} is not one of {choices} degrees")
+    return int(rotation)  # one of ROTATIONS
 
 
 def _check_geometry(width: int, height: int, bytes_per_pixel: int, stride: int | None) -> int:
@@ -274,7 +277,7 @@ def rgb565_to_rgb888(
         ``(h', w', 3)`` uint8 RGB, ``(height, width)`` for 0/180 and ``(width, height)``
         for 90/270; ``out`` if given.
     """
-    rotation = _check_rotation(rotation)
+    rotation = check_rotation(rotation)
     if byteorder not in ("little", "big"):
         raise ValueError(f"byteorder {byteorder!r} is not 'little' or 'big'")
     stride = _check_geometry(width, height, 2, stride_bytes)
@@ -358,7 +361,7 @@ def yuyv_to_rgb888(
     Exact to the formula whichever ``backend`` (``"auto"``/``"opencv"`` use OpenCV to
     split and merge the planes and to look the per-byte terms up; ``"numpy"`` does not).
     """
-    rotation = _check_rotation(rotation)
+    rotation = check_rotation(rotation)
     formula = YuvFormula(formula)
     stride = _check_geometry(width, height, 2, stride_bytes)
     if width % 2:

@@ -14,8 +14,8 @@ import numpy.typing as npt
 
 from ego.camera.config import read_configuration, size_range
 from ego.camera.convert import (
-    ROTATIONS,
     YuvFormula,
+    check_rotation,
     rgb888_to_bgra,
 )
 from ego.camera.encode import save_image
@@ -30,6 +30,7 @@ from ego.camera.source import (
 )
 from ego.devices.base import MAX_PERIOD_MS
 from ego.errors import CameraError, OutOfRangeError
+from ego.validate import check_int
 
 __all__ = ["DEFAULT_FOV_RAD", "Camera"]
 
@@ -39,12 +40,6 @@ log = logging.getLogger(__name__)
 DEFAULT_FOV_RAD: Final = 0.84
 
 Image = npt.NDArray[np.uint8]
-
-
-def _check_int(name: str, value: object) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, not {value!r}")
-    return int(value)
 
 
 _E = TypeVar("_E", bound=Enum)
@@ -100,7 +95,7 @@ class Camera:
         self._source: FrameSource = source
         self._pixel_format = _choice("pixel format", PixelFormat, pixel_format)
         self.yuv_formula = _choice("YUV formula", YuvFormula, yuv_formula)
-        self._rotation = self._check_rotation(rotation)
+        self._rotation = check_rotation(rotation)
         self._sensor = self._sensor_size(width, height, self._rotation)
         self._fov_rad = self._check_fov(fov_rad)
         self._granted: GrantedFormat | None = None
@@ -116,12 +111,6 @@ class Camera:
     # -- validation ----------------------------------------------------------------------
 
     @staticmethod
-    def _check_rotation(rotation: int) -> int:
-        if isinstance(rotation, bool) or rotation not in ROTATIONS:
-            raise OutOfRangeError(f"rotation {rotation!r} is not one of 0, 90, 180, 270 degrees")
-        return int(rotation)
-
-    @staticmethod
     def _check_fov(fov_rad: float) -> float:
         if isinstance(fov_rad, bool) or not isinstance(fov_rad, (int, float)):
             raise TypeError(f"fov_rad must be a number, not {fov_rad!r}")
@@ -132,7 +121,10 @@ class Camera:
     @staticmethod
     def _sensor_size(width: int, height: int, rotation: int) -> tuple[int, int]:
         """The sensor's (width, height) for an image of ``width`` x ``height``."""
-        width, height = _check_int("width", width), _check_int("height", height)
+        width, height = (
+            check_int("width", width, integral=True),
+            check_int("height", height, integral=True),
+        )
         low, high = size_range(rotation)
         if not (low[0] <= width <= high[0] and low[1] <= height <= high[1]):
             turned = f" at rotation {rotation}" if rotation in (90, 270) else ""
@@ -182,7 +174,7 @@ class Camera:
 
     def enable(self, period_ms: int) -> None:
         """Capture a frame every ``period_ms`` ms (> 0); opens the source on first use."""
-        period_ms = _check_int("period_ms", period_ms)
+        period_ms = check_int("period_ms", period_ms, integral=True)
         if not 0 < period_ms <= MAX_PERIOD_MS:
             # the same bound as every other sensor's: anything longer is a unit mistake
             raise OutOfRangeError(
@@ -315,7 +307,7 @@ class Camera:
 
     @rotation.setter
     def rotation(self, rotation: int) -> None:
-        self._rotation = self._check_rotation(rotation)
+        self._rotation = check_rotation(rotation)
 
     @property
     def fov_rad(self) -> float:
@@ -347,7 +339,7 @@ class Camera:
 
     def set_control(self, name: str, value: int) -> int:
         """Set a control of :data:`~ego.camera.source.CONTROLS` by name; return its value."""
-        self._set_control(name, _check_int(name, value))
+        self._set_control(name, check_int(name, value, integral=True))
         return self._controls[name]
 
     @property
@@ -357,7 +349,7 @@ class Camera:
 
     @brightness.setter
     def brightness(self, value: int) -> None:
-        self._set_control("brightness", _check_int("brightness", value))
+        self._set_control("brightness", check_int("brightness", value, integral=True))
 
     @property
     def contrast(self) -> int | None:
@@ -366,7 +358,7 @@ class Camera:
 
     @contrast.setter
     def contrast(self, value: int) -> None:
-        self._set_control("contrast", _check_int("contrast", value))
+        self._set_control("contrast", check_int("contrast", value, integral=True))
 
     @property
     def saturation(self) -> int | None:
@@ -375,7 +367,7 @@ class Camera:
 
     @saturation.setter
     def saturation(self, value: int) -> None:
-        self._set_control("saturation", _check_int("saturation", value))
+        self._set_control("saturation", check_int("saturation", value, integral=True))
 
     @property
     def auto_white_balance(self) -> bool | None:
@@ -415,7 +407,7 @@ class Camera:
     def _pixel(self, x: int, y: int) -> tuple[int, int, int]:
         image = self.image
         height, width = image.shape[:2]
-        x, y = _check_int("x", x), _check_int("y", y)
+        x, y = check_int("x", x, integral=True), check_int("y", y, integral=True)
         if not 0 <= x < width:
             raise OutOfRangeError(f"x {x} is outside 0..{width - 1}")
         if not 0 <= y < height:

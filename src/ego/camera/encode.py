@@ -30,6 +30,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ego.errors import ImageFormatError, OutOfRangeError
+from ego.validate import check_int
 
 try:
     import cv2
@@ -58,11 +59,7 @@ def _check_image(image: Image) -> Image:
 
 def check_quality(quality: int) -> int:
     """``quality`` if it is a JPEG quality 1..100 (TypeError, OutOfRangeError else)."""
-    if isinstance(quality, bool) or not isinstance(quality, (int, np.integer)):
-        raise TypeError(f"JPEG quality must be an integer 1..100, not {quality!r}")
-    if not 1 <= quality <= 100:
-        raise OutOfRangeError(f"JPEG quality {quality} is outside 1..100")
-    return int(quality)
+    return check_int("JPEG quality", quality, 1, 100, integral=True)
 
 
 def encode_jpeg(image: Image, quality: int = 90) -> bytes:

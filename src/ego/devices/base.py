@@ -9,13 +9,12 @@ gathers everything due in one step into one batch.
 from __future__ import annotations
 
 import abc
-import math
-import numbers
 from collections.abc import Iterable, Sequence
 from typing import ClassVar
 
-from ego.errors import DeviceError, OutOfRangeError, UnknownDeviceError, UnsupportedDeviceError
+from ego.errors import DeviceError, UnknownDeviceError, UnsupportedDeviceError
 from ego.serial.protocol import Command, Profile, Request
+from ego.validate import check_int  # re-exported: the families' integer check
 
 __all__ = [
     "MAX_PERIOD_MS",
@@ -29,30 +28,6 @@ __all__ = [
 
 #: Longest sampling period accepted (a day); anything longer is surely a unit mistake.
 MAX_PERIOD_MS = 86_400_000
-
-
-def check_int(
-    what: str, value: object, low: int, high: int, unit: str = "", *, rounding: bool = False
-) -> int:
-    """``value`` as an int within low..high, else OutOfRangeError (TypeError for non-numbers).
-
-    Any real number is accepted (numpy's too); a fractional one is refused, or rounded to
-    the nearest integer with ``rounding``. Out of range is always refused, never clamped.
-    """
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{what} must be a number, not {type(value).__name__}")
-    span = f"{low}..{high}{unit}"
-    if not math.isfinite(float(value)):
-        raise OutOfRangeError(f"{what} {value}{unit} is outside {span}: refused")
-    if isinstance(value, numbers.Integral):
-        number = int(value)
-    elif rounding or float(value).is_integer():
-        number = round(float(value))
-    else:
-        raise OutOfRangeError(f"{what} {value}{unit} is not a whole number in {span}: refused")
-    if not low <= number <= high:
-        raise OutOfRangeError(f"{what} {value}{unit} is outside {span}: refused, not clamped")
-    return number
 
 
 def out_of_range(what: str, values: Sequence[float], low: float, high: float) -> str | None:
