@@ -1,0 +1,257 @@
+"""The device table (ego.devices.table) agrees with every family, every face and the tags.
+
+The table is the one place a device's name, tag, family, kind and firmwares are written;
+these tests hold it to what the families do on each emulated firmware, and show that the
+faces find devices through it (a row changed in the table changes what the face does).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterator
+
+import pytest
+
+import ego
+from ego import overo, tags
+from ego import webots as wb
+from ego.controller import Robot as WebotsRobot
+from ego.controller.devices import DistanceSensor, LightSensor, view_class
+from ego.default_robot import FaceContext, activate
+from ego.devices import table
+from ego.devices.table import BATTERY, CAMERA, DEVICES, FAMILIES, names_of, spec, spec_of_tag
+from ego.errors import UnknownDeviceError, UnsupportedDeviceError
+from ego.runtime import RunOptions
+from ego.serial.protocol import Firmware
+from firmware_sim import Emulator
+
+#: The tags as ego 0.1 published them: a device's tag is its place here, from 1.
+PUBLISHED_NAMES = (
+    *(f"ps{i}" for i in range(10)),
+    *(f"gs{i}" for i in range(3)),
+    *(f"ls{i}" for i in range(8)),
+    "accelerometer",
+    "left wheel motor",
+    "right wheel motor",
+    "left wheel sensor",
+    "right wheel sensor",
+    *(f"led{i}" for i in range(10)),
+    *(f"mic{i}" for i in range(3)),
+    "camera",
+)
+#: Webots' e-puck model: the node type of each family's devices (None: no Webots device).
+E_PUCK_NODES = {
+    "proximity": "DistanceSensor",
+    "floor": "DistanceSensor",  # the ground sensors are distance sensors in Webots
+    "light": "LightSensor",
+    "accelerometer": "Accelerometer",
+    "motors": "Motor",
+    "encoders": "PositionSensor",
+    "leds": "LED",
+    "camera": "Camera",
+    "microphones": None,
+    "battery": None,
+}
+#: The Webots node types that Webots' e-puck has a device class for.
+WEBOTS_KINDS = {kind for kind in E_PUCK_NODES.values() if kind is not None}
+NOT_CAMERA = [s for s in DEVICES if s.family != CAMERA]
+
+
+@pytest.fixture(params=[Firmware.WEBOTS, Firmware.GCTRONIC], ids=str)
+def firmware_emulator(request: pytest.FixtureRequest) -> Iterator[Emulator]:
+    """Each firmware's dsPIC on a pty."""
+    with Emulator(request.param.value, seed=1) as emu:
+        yield emu
+
+
+@pytest.fixture
+def robot(firmware_emulator: Emulator) -> Iterator[ego.Robot]:
+    """A core robot on each firmware, probed (so that the battery's revision is known)."""
+    with ego.Robot(firmware_emulator.path) as opened:
+        yield opened
+
+
+# -- tags ----------------------------------------------------------------------------------
+
+
+def test_the_tags_are_the_published_ones() -> None:
+    assert tags.DEVICE_NAMES == PUBLISHED_NAMES
+    for tag, name in enumerate(PUBLISHED_NAMES, start=1):
+        assert tags.tag_of(name) == tag == spec(name).tag
+        assert tags.name_of(tag) == name == spec_of_tag(tag).name
+    assert [s.tag for s in DEVICES] == list(range(1, len(PUBLISHED_NAMES) + 1))
+
+
+@pytest.mark.parametrize("tag", [0, -1, len(PUBLISHED_NAMES) + 1, True, 1.0, "1"])
+def test_a_tag_outside_the_table_is_refused_naming_the_range(tag: object) -> None:
+    with pytest.raises(UnknownDeviceError, match=rf"is not one of 1\.\.{len(PUBLISHED_NAMES)}"):
+        spec_of_tag(tag)  # type: ignore[arg-type]
+
+
+def test_an_unknown_name_is_refused_listing_the_names() -> None:
+    with pytest.raises(UnknownDeviceError, match=r"'sonar'; valid names: ps0, ps1, .* battery"):
+        spec("sonar")
+    with pytest.raises(UnknownDeviceError, match=r"'battery'; valid names: ps0, .* camera$"):
+        tags.tag_of("battery")  # a row without a tag: Webots has no such device
+
+
+def test_names_of_gives_a_family_in_index_order() -> None:
+    assert names_of("motors") == ("left wheel motor", "right wheel motor")
+    assert names_of("proximity") == tuple(f"ps{i}" for i in range(10))
+    assert names_of("battery") == ("battery",)
+    with pytest.raises(UnknownDeviceError, match="valid families: proximity, floor"):
+        names_of("sonar")
+    assert {s.family for s in DEVICES} | {"battery"} == set(FAMILIES)
+
+
+# -- the families ----------------------------------------------------------------------------
+
+
+def test_every_family_serves_exactly_its_rows(robot: ego.Robot) -> None:
+    served = {name for family in robot.families for name in type(family).names}
+    assert served == {s.name for s in NOT_CAMERA} | {"battery"}
+    for family in robot.families:
+        attribute = next(a for a in FAMILIES if getattr(robot, a, None) is family)
+        assert type(family).names == names_of(attribute)
+        assert family.webots_device is spec(type(family).names[0]).webots_device
+
+
+def test_robot_device_serves_every_row_its_firmware_has(robot: ego.Robot) -> None:
+    firmware = robot.link.profile.firmware
+    for row in NOT_CAMERA:
+        family = getattr(robot, row.family)
+        if row.name in family.member_names:
+            assert robot.device(row.name) is family
+            assert type(family).names[row.index] == row.name
+        else:  # ps8, ps9: the Overo board's own sensors
+            assert not row.served_by(firmware)
+            with pytest.raises(UnknownDeviceError, match=repr(row.name)):
+                robot.device(row.name)
+    with pytest.raises(UnknownDeviceError):
+        robot.device(BATTERY.name)  # Webots reads it through the robot
+    names = robot.device_names
+    assert names[-1] == "camera" and names[:2] == ("left wheel motor", "right wheel motor")
+    assert set(names) == {s.name for s in DEVICES if s.name in names}
+
+
+def _use(robot: ego.Robot, name: str) -> None:
+    """What a controller does first with the device ``name``."""
+    row = spec(name)
+    if row.family == "leds":
+        robot.leds.set(name, 1)
+    elif row.family == "motors":
+        robot.motors.set_speed(100, 100)
+    elif row.family == "battery":
+        robot.battery.enable(32)
+    else:
+        robot.device(name).enable(32, [name])  # type: ignore[attr-defined]
+
+
+def test_the_firmwares_of_a_row_are_those_that_serve_it(robot: ego.Robot) -> None:
+    firmware = robot.link.profile.firmware
+    for row in [*NOT_CAMERA, BATTERY]:
+        if row.served_by(firmware):
+            _use(robot, row.name)
+        else:
+            with pytest.raises((UnsupportedDeviceError, UnknownDeviceError)):
+                _use(robot, row.name)
+    for _ in range(3):
+        assert robot.step(32) == 0  # everything served answers
+    assert robot.floor.enabled is spec("gs0").served_by(firmware)
+    assert robot.battery.has_values is BATTERY.served_by(firmware)
+
+
+@pytest.mark.parametrize("row", [*DEVICES, BATTERY], ids=lambda s: s.name)
+def test_a_rows_kind_is_webots_node_type_for_the_e_puck(row: table.DeviceSpec) -> None:
+    expected = E_PUCK_NODES[row.family]
+    if expected is None:
+        assert row.kind not in WEBOTS_KINDS
+    else:
+        assert row.kind == expected and row.webots_device
+
+
+def test_served_by_takes_the_enum_or_its_name() -> None:
+    assert spec("gs0").served_by(Firmware.WEBOTS) and spec("gs0").served_by("webots")
+    assert not spec("gs0").served_by("gctronic")
+    assert BATTERY.served_by("gctronic") and not BATTERY.served_by(Firmware.WEBOTS)
+
+
+# -- the faces -------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("row", DEVICES, ids=lambda s: s.name)
+def test_the_webots_view_class_is_the_rows_kind(row: table.DeviceSpec) -> None:
+    cls = view_class(row.name)
+    if row.kind in WEBOTS_KINDS:
+        assert cls is not None and cls.__name__ == row.kind
+    else:
+        assert cls is None  # the microphones: Webots' e-puck has none
+    assert view_class(BATTERY.name) is None and view_class("sonar") is None
+
+
+def test_the_webots_faces_resolve_every_name_through_the_table(
+    firmware_emulator: Emulator,
+) -> None:
+    options = RunOptions(port=firmware_emulator.path)
+    controller = WebotsRobot(options=options)
+    try:
+        names = controller.core.device_names
+        served = [s for s in DEVICES if s.kind in WEBOTS_KINDS and s.name in names]
+        assert len(served) >= len(names) - 3  # all but the microphones
+        for row in served:
+            assert type(controller.getDevice(row.name)).__name__ == row.kind
+    finally:
+        controller.cleanup()
+    with activate(FaceContext(options)):
+        assert wb.wb_robot_init() == 1
+        try:
+            for row in served:
+                assert wb.wb_robot_get_device(row.name) == row.tag
+        finally:
+            wb.wb_robot_cleanup()
+
+
+def test_the_overo_face_resolves_every_tag_through_the_table() -> None:
+    with activate(FaceContext(RunOptions(port="sim", seed=1))):
+        overo.overo_serial_init()
+        try:
+            for row in DEVICES:
+                for check, kind in (
+                    (overo._distance_name, "DistanceSensor"),
+                    (overo._light_name, "LightSensor"),
+                ):
+                    if row.kind == kind:
+                        assert check(row.tag) == row.name  # type: ignore[arg-type]
+                    else:
+                        with pytest.raises(UnknownDeviceError, match=repr(row.name)):
+                            check(row.tag)  # type: ignore[arg-type]
+                if row.family == "microphones":
+                    overo.overo_microphone_enable(row.tag, 32)  # type: ignore[arg-type]
+                else:
+                    with pytest.raises(UnknownDeviceError, match="mic0, mic1, mic2"):
+                        overo.overo_microphone_enable(row.tag, 32)  # type: ignore[arg-type]
+        finally:
+            overo.overo_serial_close()
+
+
+def test_a_row_changed_in_the_table_changes_what_the_faces_do(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    ps0 = spec("ps0")
+    monkeypatch.setitem(table._BY_NAME, "ps0", dataclasses.replace(ps0, kind="LightSensor"))
+    assert view_class("ps0") is LightSensor
+    assert overo._light_name("ps0") == "ps0"
+    with pytest.raises(UnknownDeviceError, match="not a distance sensor"):
+        overo._distance_name("ps0")
+    monkeypatch.setitem(table._BY_NAME, "ps0", ps0)
+    assert view_class("ps0") is DistanceSensor
+
+
+def test_robot_device_finds_the_family_through_the_table(
+    robot: ego.Robot, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    assert robot.device("ls0") is robot.light
+    moved = dataclasses.replace(spec("ls0"), family="proximity")
+    monkeypatch.setitem(table._BY_NAME, "ls0", moved)
+    with pytest.raises(UnknownDeviceError, match="'ls0'"):
+        robot.device("ls0")  # the proximity sensors have no ls0
