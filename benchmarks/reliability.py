@@ -25,7 +25,7 @@ import ego
 from benchmarks.common import RESULTS, THESIS_LINE_BAUD, Table, progress
 from ego.devices.encoders import wrap_int16
 from ego.errors import EgoError
-from ego.serial import Batch, Command, LinkSettings, Request, SerialTransport, encode_batch
+from ego.serial import Batch, Command, Link, LinkSettings, Request, SerialTransport, encode_batch
 from firmware_sim import FAULT_KINDS, Emulator, FaultSpec, FaultTimings
 
 __all__ = ["SoakResult", "run", "soak", "step_bound_s"]
@@ -118,9 +118,7 @@ def soak(kinds: list[str], rate: float, steps: int, seed: int = 1, label: str = 
     with Emulator(
         "webots", baud=THESIS_LINE_BAUD, seed=seed, faults=faults, timings=SOAK_FAULTS
     ) as emu:
-        robot = ego.Robot(
-            transport=SerialTransport(emu.path), link_settings=SOAK_LINK, handle_signals=False
-        )
+        robot = ego.Robot(channel=Link(SerialTransport(emu.path), settings=SOAK_LINK))
         try:
             for family in (
                 robot.accelerometer,

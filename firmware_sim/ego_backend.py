@@ -17,7 +17,7 @@ from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
 from ego.errors import CameraCaptureError, CameraError
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Firmware
-from ego.serial.transport import SerialTransport
+from ego.serial.transport import SerialTransport, check_baudrate
 from firmware_sim.camera import SimulatedSource
 from firmware_sim.cli import main as cli_main
 from firmware_sim.server import Emulator
@@ -75,6 +75,8 @@ class SimBackend:
         **emulator_options: Any,
     ) -> Opened:
         name = (firmware or Firmware.WEBOTS).value
+        if baudrate is not None:
+            baudrate = check_baudrate(baudrate)  # ego's error, before the emulator starts
         emulator = Emulator(name, baud=baudrate, seed=seed, **emulator_options).start()
         try:
             channel = open_link(

@@ -84,6 +84,7 @@ class Robot:
         **options: Any,
     ) -> None:
         self._closed = True  # until the channel is up, close() has nothing to stop
+        options = {name: value for name, value in options.items() if value is not None}
         if channel is None:
             self.port = resolve_port(port)
             firmware = Firmware.choose(options.pop("firmware", None))

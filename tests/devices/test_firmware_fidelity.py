@@ -21,6 +21,7 @@ from ego.devices.accelerometer import ANGLE_OVERSHOOT
 from ego.devices.motors import real_speed_steps
 from ego.errors import UnsupportedDeviceError
 from ego.ports import default_baud
+from ego.serial.link import Link
 from ego.serial.protocol import Command, Firmware
 
 STEP_MS = 16
@@ -32,9 +33,7 @@ def robot_on() -> Iterator[object]:
 
     def make(script: list[bytes], firmware: str = "webots") -> tuple[ego.Robot, ScriptedTransport]:
         fake = ScriptedTransport(script)
-        robot = ego.Robot(
-            transport=fake, firmware=firmware, link_settings=INSTANT_LINK, handle_signals=False
-        )
+        robot = ego.Robot(channel=Link(fake, firmware, INSTANT_LINK))
         robots.append(robot)
         return robot, fake
 

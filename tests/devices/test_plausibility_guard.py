@@ -16,6 +16,7 @@ from fakes import INSTANT_LINK, ScriptedTransport
 
 import ego
 from ego.devices.encoders import Encoders, wrap_int16
+from ego.serial.link import Link
 from ego.serial.protocol import PROFILES, Command, Firmware, Request
 from firmware_sim import Emulator, World
 
@@ -80,9 +81,7 @@ def test_a_misread_d_is_caught_by_the_e_behind_it_and_sent_again() -> None:
     held = struct.pack("<2h", 300, 300)
     stopped = struct.pack("<2h", 0, 0)
     fake = ScriptedTransport([misread, held, stopped])
-    robot = ego.Robot(
-        transport=fake, firmware="webots", link_settings=INSTANT_LINK, handle_signals=False
-    )
+    robot = ego.Robot(channel=Link(fake, "webots", INSTANT_LINK))
     try:
         robot.motors.set_speed(300, 300)
         assert robot.step(STEP_MS) == 0

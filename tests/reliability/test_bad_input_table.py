@@ -40,7 +40,7 @@ from ego.camera import Camera
 from ego.camera.config import parse_configuration
 from ego.cli import main as ego_main
 from ego.controller import DifferentialWheels
-from ego.remote.server import RemoteServer, ServerThread
+from ego.remote.server import Server, ServerThread
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator
@@ -236,7 +236,7 @@ def namespace() -> Iterator[Namespace]:
         served_emu = stack.enter_context(Emulator("webots", seed=3))
         served_link = Link(SerialTransport(served_emu.path), settings=FAST_OPEN)
         stack.callback(served_link.close)
-        server = RemoteServer(
+        server = Server(
             served_link, listen=["tcp://127.0.0.1:0", "udp://127.0.0.1:0"], secret=SECRET
         )
         served = stack.enter_context(ServerThread(server))
@@ -245,7 +245,7 @@ def namespace() -> Iterator[Namespace]:
         stack.callback(open_link.close)
         open_server = stack.enter_context(
             ServerThread(
-                RemoteServer(
+                Server(
                     open_link,
                     listen="tcp://127.0.0.1:0",
                     frame_source=SimulatedSource(open_emu.world),

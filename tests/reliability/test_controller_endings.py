@@ -206,7 +206,7 @@ def test_ego_serve_stops_the_robot_on_every_terminating_signal(
 ) -> None:
     """The server on the robot is a controller too: its ssh session dropping must not leave
     the wheels turning for the PC that drove them."""
-    from ego.remote.client import RemoteTransport
+    from ego.remote.client import RemoteChannel
     from ego.serial.link import Link
     from ego.serial.protocol import Command, Request, encode_batch
 
@@ -219,7 +219,7 @@ def test_ego_serve_stops_the_robot_on_every_terminating_signal(
                 url = line.rsplit(" on ", 1)[1].strip()
                 break
         assert url, "ego serve did not start"
-        link = Link(RemoteTransport.from_url(url))
+        link = RemoteChannel.from_url(url)
         try:
             batch = encode_batch(
                 [Request(Command.SET_SPEED, (300, -300)), Request(Command.SET_LED, (1, 1))],

@@ -32,7 +32,7 @@ from fakes import FAST_LINK
 from helpers import ego_command, spawn, wait_until
 from reliability_helpers import read_line
 
-from ego.remote.server import DEFAULT_DEADLINE_S, RemoteServer, ServerThread
+from ego.remote.server import DEFAULT_DEADLINE_S, Server, ServerThread
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator, World
@@ -121,7 +121,7 @@ def test_a_plain_robot_script_ended_on_the_serial_link_stops_the_robot(
 
 # -- the remote link ---------------------------------------------------------------------------
 
-ServeFactory = Callable[..., RemoteServer]
+ServeFactory = Callable[..., Server]
 
 
 @pytest.fixture
@@ -129,10 +129,10 @@ def serve(emulator: Emulator) -> Iterator[ServeFactory]:
     """``serve(deadline_s)``: ``ego serve`` of the emulator, in a thread, on TCP and UDP."""
     with contextlib.ExitStack() as stack:
 
-        def factory(deadline_s: float) -> RemoteServer:
+        def factory(deadline_s: float) -> Server:
             link = Link(SerialTransport(emulator.path), settings=FAST_LINK)
             stack.callback(link.close)
-            server = RemoteServer(
+            server = Server(
                 link,
                 listen=["tcp://127.0.0.1:0", "udp://127.0.0.1:0"],
                 deadline_s=deadline_s,
@@ -143,7 +143,7 @@ def serve(emulator: Emulator) -> Iterator[ServeFactory]:
         yield factory
 
 
-def url_of(server: RemoteServer, kind: str) -> str:
+def url_of(server: Server, kind: str) -> str:
     return next(url for url in server.urls if url.startswith(kind))
 
 

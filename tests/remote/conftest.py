@@ -10,8 +10,8 @@ import pytest
 from fakes import FAST_LINK
 from remote_helpers import ConnectFactory, Served, ServeFactory
 
-from ego.remote.client import RemoteTransport
-from ego.remote.server import RemoteServer, ServerThread
+from ego.remote.client import RemoteChannel
+from ego.remote.server import Server, ServerThread
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator
@@ -43,7 +43,7 @@ def serve() -> Iterator[ServeFactory]:
             listen = [f"{kind}://127.0.0.1:0" for kind in kinds]
             if sim_camera:
                 options["frame_source"] = SimulatedSource(emu.world)
-            server = RemoteServer(link, listen=listen, **options)
+            server = Server(link, listen=listen, **options)
             thread = stack.enter_context(ServerThread(server))
             return Served(emu, link, server, thread)
 
@@ -52,7 +52,7 @@ def serve() -> Iterator[ServeFactory]:
 
 @pytest.fixture
 def connect() -> Iterator[ConnectFactory]:
-    """``connect(url, firmware=None, settings=CLIENT_LINK, **transport_options)``: a Link."""
+    """``connect(url, firmware=None, settings=CLIENT_LINK, **options)``: a RemoteChannel."""
     with contextlib.ExitStack() as stack:
 
         def factory(
@@ -61,9 +61,11 @@ def connect() -> Iterator[ConnectFactory]:
             settings: LinkSettings = CLIENT_LINK,
             **options: Any,
         ) -> Link:
-            transport = RemoteTransport.from_url(url, **options)
-            stack.callback(transport.close)
-            return Link(transport, firmware, settings)
+            channel = RemoteChannel.from_url(url, settings=settings, **options)
+            stack.callback(channel.close)
+            if firmware is not None:
+                assert str(channel.info.firmware) == firmware
+            return channel
 
         yield factory
 

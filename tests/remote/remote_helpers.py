@@ -16,17 +16,21 @@ from dataclasses import dataclass, field
 from types import TracebackType
 
 from ego.camera.source import GrantedFormat, PixelFormat
-from ego.remote.auth import new_nonce
-from ego.remote.server import RemoteServer, ServerThread
+from ego.remote.auth import client_proof, new_nonce
+from ego.remote.client import RemoteChannel
+from ego.remote.handshake import session_key
+from ego.remote.server import Server, ServerThread
 from ego.remote.wire import (
     MAX_DATAGRAM,
     Frame,
+    FrameKey,
     FrameReader,
     MessageType,
     decode_frame,
     encode_frame,
     pack_json,
     parse_url,
+    unpack_json,
 )
 from ego.serial.link import Link
 from firmware_sim import Emulator
@@ -186,7 +190,7 @@ class Served:
 
     emu: Emulator
     link: Link
-    server: RemoteServer
+    server: Server
     thread: ServerThread
 
     @property
@@ -198,7 +202,7 @@ class Served:
 
 
 class RawClient:
-    """A hand-driven client speaking frames directly (for handshakes and garbage)."""
+    """A hand-driven client speaking frames directly (for handshakes, attacks and garbage)."""
 
     def __init__(self, url: str, timeout_s: float = 2.0) -> None:
         scheme, host, port = parse_url(url)
@@ -210,20 +214,25 @@ class RawClient:
         self.reader = FrameReader()
         self.session = 0
         self.seq = 0
+        #: Once a secret's handshake is done: the key replies are opened and requests sealed with.
+        self.key: FrameKey | None = None
 
     def send_raw(self, data: bytes) -> None:
         self.sock.sendall(data)
 
-    def send(self, mtype: MessageType, payload: bytes = b"", seq: int | None = None) -> int:
+    def frame(self, mtype: MessageType, payload: bytes = b"", seq: int | None = None) -> bytes:
         self.seq = self.seq + 1 if seq is None else seq
-        self.send_raw(encode_frame(mtype, self.seq, payload, self.session))
+        return encode_frame(mtype, self.seq, payload, self.session, self.key)
+
+    def send(self, mtype: MessageType, payload: bytes = b"", seq: int | None = None) -> int:
+        self.send_raw(self.frame(mtype, payload, seq))
         return self.seq
 
     def receive(self) -> Frame:
         """The next frame from the server (socket.timeout if none)."""
         while True:
             if self.kind == "udp":
-                return decode_frame(self.sock.recv(MAX_DATAGRAM))
+                return decode_frame(self.sock.recv(MAX_DATAGRAM), self.key)
             chunk = self.sock.recv(1 << 16)
             if not chunk:
                 raise ConnectionResetError("server closed the connection")
@@ -231,12 +240,34 @@ class RawClient:
             if frames:
                 return frames[0]
 
-    def handshake(self) -> Frame:
-        """HELLO and an empty AUTH (a server without a secret); the welcome frame."""
-        self.send(MessageType.HELLO, pack_json({"client": "raw", "nonce": new_nonce().hex()}))
-        hello = self.receive()
-        self.session = hello.session
-        self.send(MessageType.AUTH, pack_json({"proof": ""}))
+    def hello(self, nonce: bytes) -> Frame:
+        """HELLO (with the cookie a UDP server asks for); the server's challenge."""
+        fields = {"client": "raw", "nonce": nonce.hex(), "pad": "-" * 400}
+        self.send(MessageType.HELLO, pack_json(fields))
+        reply = self.receive()
+        if reply.type is MessageType.COOKIE:
+            fields["cookie"] = unpack_json(reply.payload)["cookie"]
+            self.send(MessageType.HELLO, pack_json(fields))
+            reply = self.receive()
+        self.session = reply.session
+        return reply
+
+    def handshake(self, secret: bytes | None = None, proof: bytes | None = None) -> Frame:
+        """HELLO and AUTH: with ``secret``, its proof (then sealed frames); with ``proof``,
+        that one (a guess) whatever the server proved; else an empty one. The reply."""
+        nonce = new_nonce()
+        challenge = self.hello(nonce)
+        if challenge.type is not MessageType.OK:
+            return challenge
+        server_nonce = bytes.fromhex(unpack_json(challenge.payload)["nonce"])
+        key = None
+        if proof is None and secret is not None:
+            proof = client_proof(secret, server_nonce, nonce, self.session)
+            key = FrameKey(session_key(secret, nonce, server_nonce, self.session), server=False)
+        self.reader.key = key
+        self.key = None
+        self.send(MessageType.AUTH, pack_json({"proof": (proof or b"").hex()}))
+        self.key = key
         return self.receive()
 
     def close(self) -> None:
@@ -256,4 +287,4 @@ def wait_for(predicate: object, timeout_s: float, interval_s: float = 0.005) -> 
 
 #: The ``serve`` and ``connect`` fixtures' types (in conftest.py), importable by tests.
 ServeFactory = Callable[..., Served]
-ConnectFactory = Callable[..., Link]
+ConnectFactory = Callable[..., RemoteChannel]

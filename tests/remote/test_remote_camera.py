@@ -16,7 +16,7 @@ from firmware_sim.camera import SimulatedSource
 
 
 def _source(connect: ConnectFactory, url: str, **options: object) -> RemoteFrameSource:
-    return RemoteFrameSource(connect(url, **options).transport)
+    return RemoteFrameSource(connect(url, **options))
 
 
 def test_frames_controls_and_close_reach_the_robots_camera(
@@ -99,7 +99,6 @@ def test_silent_client_has_its_camera_closed(serve: ServeFactory, connect: Conne
 
 
 def test_local_transport_has_no_remote_camera(link: object) -> None:
-    transport = link.transport  # type: ignore[attr-defined]
-    assert isinstance(transport, SerialTransport)
+    transport = link
     with pytest.raises(CameraError, match="not a remote robot"):
         RemoteFrameSource(transport)

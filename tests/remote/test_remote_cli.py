@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 from ego.remote.cli import add_arguments
-from ego.remote.client import RemoteTransport
+from ego.remote.client import RemoteChannel
 from ego.serial.link import Link
 from ego.serial.protocol import Command, Request, encode_batch
 
@@ -59,7 +59,7 @@ def test_serve_sim_over_tcp_and_udp_then_stop_on_sigterm(tmp_path: Path) -> None
         urls = _urls(process)
         assert [u.split(":")[0] for u in urls] == ["tcp", "udp"]
         for url in urls:
-            link = Link(RemoteTransport.from_url(url))
+            link = RemoteChannel.from_url(url)
             batch = encode_batch([Request(Command.PROXIMITY)], link.profile)
             assert len(batch.decode(link.exchange(batch))[0]) == 8
             link.close()

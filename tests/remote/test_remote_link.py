@@ -1,4 +1,4 @@
-"""A Link over the network: the emulator served by ``ego serve``, driven over TCP and UDP."""
+"""A RemoteChannel: the emulator served by ``ego serve``, driven over TCP and UDP."""
 
 from __future__ import annotations
 
@@ -9,14 +9,16 @@ from remote_helpers import ConnectFactory, ServeFactory, wait_for
 
 from ego.backends import open_port
 from ego.errors import (
+    FrameError,
     LinkTimeoutError,
     PortNotFoundError,
     ProtocolError,
     RobotResetError,
     UnsupportedDeviceError,
 )
-from ego.remote.client import RemoteTransport
-from ego.serial.protocol import Command, Firmware, Request, encode_batch
+from ego.remote.client import RemoteChannel
+from ego.remote.wire import MessageType
+from ego.serial.protocol import PROFILES, Command, Firmware, Request, encode_batch
 from firmware_sim import FaultTimings
 
 #: The thesis' full sensor batch: a E M N O Q u.
@@ -62,7 +64,7 @@ def test_firmware_is_detected_through_the_relay(
     served = serve(kinds=(kind,), firmware="gctronic")
     link = connect(served.url)
     assert link.profile.firmware is Firmware.GCTRONIC  # from the relayed V and C
-    assert link.transport.firmware == "gctronic"  # type: ignore[attr-defined]
+    assert str(link.info.firmware) == "gctronic"
     batch = encode_batch([Request(Command.PROXIMITY)], link.profile)
     assert len(batch.decode(link.exchange(batch))[0]) == 10  # ps0..ps7 + IR8, IR9
 
@@ -87,28 +89,38 @@ def test_batch_the_server_firmware_cannot_serve_is_refused(
     serve: ServeFactory, connect: ConnectFactory, kind: str
 ) -> None:
     served = serve(kinds=(kind,), firmware="gctronic")
-    link = connect(served.url, firmware="webots")  # wrongly told: M exists there
+    link = connect(served.url)
     before = len(served.emu.history)
+    webots = PROFILES[Firmware.WEBOTS]  # a batch made for another firmware: M exists there
     with pytest.raises(UnsupportedDeviceError, match="floor"):
-        link.exchange(encode_batch([Request(Command.FLOOR)], link.profile))
+        link.exchange(encode_batch([Request(Command.FLOOR)], webots))
     assert len(served.emu.history) == before  # nothing reached the robot
     batch = encode_batch([Request(Command.GET_SPEED)], link.profile)
     assert link.exchange(batch) == bytes(4)  # and the session goes on
 
 
 @pytest.mark.parametrize(
-    "garbage",
-    [b"\xb2", b"\xbc\x01\x00", b"\xff\x00", b"\xb2\x00\x00", b"\x9f\x00\x9f\x00"],
-    ids=["no end", "arguments cut", "unknown command", "bytes after end", "two batches"],
+    ("garbage", "error"),
+    [
+        (b"", FrameError),
+        (b"\xb2", FrameError),
+        (b"\xbc\x02\x01\x00\x00\x00", FrameError),
+        (b"\xff\x00", FrameError),
+        (b"\x00\x00", FrameError),
+        (b"\x9e\x00", UnsupportedDeviceError),
+        (b"\xbc\x01\x01\x00\x00\x00", ProtocolError),
+    ],
+    ids=["empty", "count cut", "arguments cut", "unknown command", "end byte",
+         "not on this firmware", "wrong arity"],  # fmt: skip
 )
-def test_malformed_batch_is_refused_before_the_robot(
-    serve: ServeFactory, connect: ConnectFactory, garbage: bytes
+def test_malformed_step_is_refused_before_the_robot(
+    serve: ServeFactory, connect: ConnectFactory, garbage: bytes, error: type[Exception]
 ) -> None:
     served = serve()
     link = connect(served.url)
     before = len(served.emu.history)
-    with pytest.raises(ProtocolError, match="batch refused"):
-        link.transport.write(garbage)
+    with pytest.raises(error):
+        link._conn.call(MessageType.STEP, garbage)  # type: ignore[union-attr]
     assert len(served.emu.history) == before
     batch = encode_batch([Request(Command.GET_STEPS)], link.profile)
     assert len(link.exchange(batch)) == 4
@@ -139,9 +151,9 @@ def test_robot_restart_comes_back_as_robot_reset(
 
 def test_network_urls_go_to_the_remote_backend(serve: ServeFactory, kind: str) -> None:
     served = serve(kinds=(kind,))
-    transport = open_port(served.url).transport
+    transport = open_port(served.url).channel
     try:
-        assert isinstance(transport, RemoteTransport)
+        assert isinstance(transport, RemoteChannel)
         assert transport.name == served.url
     finally:
         transport.close()
@@ -150,7 +162,7 @@ def test_network_urls_go_to_the_remote_backend(serve: ServeFactory, kind: str) -
 def test_no_server_is_port_not_found(kind: str) -> None:
     start = time.monotonic()
     with pytest.raises(PortNotFoundError, match=r"127\.0\.0\.1:9"):
-        RemoteTransport.from_url(f"{kind}://127.0.0.1:9", connect_timeout_s=0.3)
+        RemoteChannel.from_url(f"{kind}://127.0.0.1:9", connect_timeout_s=0.3)
     assert time.monotonic() - start < 2.0
 
 

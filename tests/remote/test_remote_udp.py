@@ -11,7 +11,7 @@ import pytest
 from remote_helpers import ConnectFactory, DatagramProxy, FakeCamera, ServeFactory
 
 from ego.errors import LinkTimeoutError
-from ego.remote.client import RemoteTransport
+from ego.remote.client import RemoteChannel
 from ego.serial.link import Link, LinkSettings
 from ego.serial.protocol import Command, Request, encode_batch
 
@@ -41,7 +41,7 @@ def test_no_step_gets_another_steps_reply_and_none_runs_twice(
             )
             assert batch.decode(link.exchange(batch))[-1] == (speed, -speed), i
         ran = len(served.emu.history) - before
-    stats = link.transport.stats  # type: ignore[attr-defined]
+    stats = link.net  # type: ignore[attr-defined]
     assert served.server.stats.steps == steps  # each step's request ran once...
     # ... and its batch went to the robot once, but for the serial link's own retries
     # (a reply timeout on a loaded machine), which are not the network's doing.
@@ -61,7 +61,7 @@ def test_big_replies_come_whole_and_in_order_over_a_lossy_network(
     served = serve(kinds=("udp",), frame_source=camera, chunk_size=4096)
     with DatagramProxy(served.url, seed=11, **LOSSY) as proxy:
         link = connect(proxy.url, retransmit_s=0.01, retries=30)
-        source = link.transport.frame_source()  # type: ignore[attr-defined]
+        source = link.frame_source()  # type: ignore[attr-defined]
         assert source.open(160, 120, "RGB565") == (160, 120, 320)
         for number in range(1, 6):
             assert source.read_frame() == camera.expected(number)  # 38,400 bytes, 10 slices
@@ -75,18 +75,18 @@ def test_unanswered_step_fails_with_link_timeout_after_bounded_retransmissions(
 ) -> None:
     served = serve(kinds=("udp",))
     with DatagramProxy(served.url) as proxy:
-        transport = RemoteTransport.from_url(
+        transport = RemoteChannel.from_url(
             proxy.url, retransmit_s=0.01, retries=3, heartbeat=False
         )
         try:
-            link = Link(transport, settings=NO_LINK_RETRY)
+            link = transport
             proxy.drop = 1.0  # the network dies
-            before = transport.stats.retransmits
+            before = transport.net.retransmits
             start = time.monotonic()
             with pytest.raises(LinkTimeoutError, match="after 3 retransmissions"):
                 link.exchange(encode_batch([Request(Command.PROXIMITY)], link.profile))
             elapsed = time.monotonic() - start
-            assert transport.stats.retransmits - before == 3
+            assert transport.net.retransmits - before == 3
             assert elapsed < 0.5  # 10 + 20 + 40 + 80 ms, not the 5 s request timeout
         finally:
             proxy.drop = 0.0
@@ -107,4 +107,4 @@ def test_slow_step_is_waited_for_not_run_again(
     batch = encode_batch([Request(Command.PROXIMITY)] * 4, link.profile)
     link.exchange(batch)  # 150 ms of processing: far beyond 5 + 10 + 20 ms of retries
     assert len(served.emu.history) - before == 1
-    assert link.transport.stats.retransmits >= 2  # type: ignore[attr-defined]
+    assert link.net.retransmits >= 2  # type: ignore[attr-defined]

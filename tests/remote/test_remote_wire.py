@@ -100,11 +100,11 @@ def test_wrong_magic_is_refused() -> None:
 
 
 def test_unknown_message_type_is_refused() -> None:
-    head = HEADER.pack(MAGIC, PROTOCOL_VERSION, 200, 0, 1, 0)
+    head = HEADER.pack(MAGIC, PROTOCOL_VERSION, 100, 0, 1, 0)
     import zlib
 
     data = head + zlib.crc32(head).to_bytes(4, "little")
-    with pytest.raises(FrameError, match="unknown message type 200"):
+    with pytest.raises(FrameError, match="unknown message type 100"):
         decode_frame(data)
 
 

@@ -5,9 +5,12 @@ from __future__ import annotations
 import pytest
 
 from ego.backends import open_port, scheme_of
-from ego.errors import PortNotFoundError
+from ego.errors import NotAnEpuckError, PortNotFoundError
 from ego.ports import DEFAULT_PORT, resolve_port
+from ego.serial.link import Link
+from ego.serial.protocol import Firmware
 from ego.serial.transport import SerialTransport
+from firmware_sim import Emulator
 
 
 def test_explicit_port_wins(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -25,11 +28,27 @@ def test_overo_uart_is_the_default(monkeypatch: pytest.MonkeyPatch) -> None:
     assert resolve_port(None) == DEFAULT_PORT == "/dev/ttyS0"
 
 
-def test_pyserial_urls_open_a_serial_transport() -> None:
-    opened = open_port("loop://", baudrate=115200)
-    with opened.transport as transport:
-        assert isinstance(transport, SerialTransport)
-        assert transport.baudrate == 115200
+def test_a_path_opens_a_link_on_a_serial_transport_at_the_asked_rate() -> None:
+    with Emulator("webots", seed=1) as emu:
+        opened = open_port(emu.path, baudrate=115200)
+        try:
+            assert isinstance(opened.channel, Link)
+            assert isinstance(opened.channel.transport, SerialTransport)
+            assert opened.channel.transport.baudrate == 115200
+            assert opened.channel.info.firmware is Firmware.WEBOTS
+        finally:
+            opened.close()
+
+
+def test_a_pyserial_url_that_is_no_robot_is_closed_again() -> None:
+    # loop:// echoes every byte: an answer, but not a dsPIC's.
+    with pytest.raises(NotAnEpuckError):
+        open_port("loop://", baudrate=115200)
+
+
+def test_an_option_the_backend_does_not_know_is_refused() -> None:
+    with pytest.raises(ValueError, match="seed"):
+        open_port("loop://", seed=3)
 
 
 def test_missing_port_is_port_not_found() -> None:

@@ -134,7 +134,11 @@ def open_link(
 
 
 class RemoteBackend:
-    """A robot served by ``ego serve`` (``tcp://HOST:PORT``, ``udp://HOST:PORT``)."""
+    """A robot served by ``ego serve`` (``tcp://HOST:PORT``, ``udp://HOST:PORT``).
+
+    ``baudrate`` is accepted for controllers written for a serial line (E-GO's
+    ``overo_serial_init(230400, ...)``): the server owns that line and its rate.
+    """
 
     def open(
         self,
@@ -142,6 +146,7 @@ class RemoteBackend:
         *,
         firmware: Firmware | None,
         secret: str | bytes | None = None,
+        baudrate: int | None = None,
         link_settings: LinkSettings | None = None,
         **connection: Any,
     ) -> Opened:

@@ -157,7 +157,8 @@ class ClientHandshake:
         expected = server_proof(self.secret, self.nonce, server_nonce, session)
         if not wants or not check_proof(expected, _hex(obj, "proof")):
             raise AuthenticationError(
-                f"{self.where} could not prove it knows the shared secret: not our robot?"
+                f"{self.where} could not prove it knows our shared secret: a different "
+                "secret there (wrong shared secret?), or not our robot"
             )
         key = session_key(self.secret, self.nonce, server_nonce, session)
         self.key = FrameKey(key, server=False)

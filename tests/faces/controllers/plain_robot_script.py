@@ -7,7 +7,7 @@ import sys
 
 import ego
 
-with ego.Robot(sys.argv[1]) as robot:
+with ego.Robot(sys.argv[1], handle_signals=True) as robot:
     robot.motors.set_speed(300, -300)
     for led in range(10):
         robot.leds.set(led, 1)
