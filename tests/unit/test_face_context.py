@@ -8,6 +8,7 @@ ContextVar, and the run's duration is cut off in one place for every face.
 from __future__ import annotations
 
 import contextvars
+import signal
 import textwrap
 from collections.abc import Iterator
 from pathlib import Path
@@ -15,7 +16,7 @@ from pathlib import Path
 import pytest
 
 import ego
-from ego import cli, default_robot, runner, runtime
+from ego import cli, default_robot, runner, runtime, safety
 from ego import webots as wb
 from ego.controller import Robot as WebotsRobot
 from ego.default_robot import FaceContext, activate, current_context
@@ -120,7 +121,12 @@ def test_ego_run_gives_the_controller_its_options_in_a_context_of_its_own(
         port="sim", seed=1, duration_s=0.048, basic_time_step_ms=16, on_robot=[robots.append]
     )
     outer_options = fresh.options
-    runner.run_controller(script, options, [str(report)])
+    took_signals = signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+    try:
+        runner.run_controller(script, options, [str(report)])
+    finally:
+        if took_signals:  # ego run takes them for good: give them back for the next tests
+            safety.uninstall_signal_handlers()
     step, duration, context_id = report.read_text().split()
     assert (float(step), float(duration)) == (16.0, 0.048)
     assert int(context_id) != id(fresh)  # the run's own context...
