@@ -47,9 +47,9 @@ __all__ = [
     "unpack_step",
 ]
 
-#: One request of a STEP: its command byte and how many arguments follow (each i32).
-_REQUEST = struct.Struct("<BB")
-_ARGUMENT = struct.Struct("<i")
+#: A STEP request is its command byte, how many arguments follow, and each as an i32.
+#: The commands a STEP may carry (END only ends a batch on the serial line).
+_COMMANDS = {c.value: c for c in Command if c is not Command.END}
 #: More requests than any batch of a step holds (every command, with every LED twice).
 MAX_STEP_REQUESTS = 64
 IMAGE_KINDS = ("raw", "jpeg", "png")
@@ -120,35 +120,32 @@ RobotCall = (
 
 def pack_step(requests: tuple[Request, ...] | list[Request]) -> bytes:
     """A STEP payload: each request's command byte, argument count and i32 arguments."""
-    out = bytearray()
+    fmt = ["<"]
+    values: list[int] = []
     for request in requests:
-        out += _REQUEST.pack(request.command.value, len(request.arguments))
-        for argument in request.arguments:
-            out += _ARGUMENT.pack(argument)
-    return bytes(out)
+        fmt.append(f"BB{len(request.arguments)}i")
+        values += (request.command.value, len(request.arguments), *request.arguments)
+    return struct.pack("".join(fmt), *values)
 
 
 def unpack_step(payload: bytes) -> tuple[Request, ...]:
     """The requests of a STEP payload; FrameError for anything malformed."""
     requests: list[Request] = []
-    pos = 0
-    while pos < len(payload):
+    pos, size = 0, len(payload)
+    while pos < size:
         if len(requests) >= MAX_STEP_REQUESTS:
             raise FrameError(f"a STEP of more than {MAX_STEP_REQUESTS} requests")
-        if pos + _REQUEST.size > len(payload):
+        if pos + 2 > size:
             raise FrameError(f"STEP cut short at byte {pos}")
-        code, count = _REQUEST.unpack_from(payload, pos)
-        pos += _REQUEST.size
-        try:
-            command = Command(code)
-        except ValueError:
-            raise FrameError(f"STEP request 0x{code:02x} is not a command") from None
-        if command is Command.END:
-            raise FrameError("STEP requests end without an END byte")
-        end = pos + count * _ARGUMENT.size
-        if end > len(payload):
+        code, count = payload[pos], payload[pos + 1]
+        pos += 2
+        command = _COMMANDS.get(code)
+        if command is None:
+            raise FrameError(f"STEP request 0x{code:02x} is not a command")
+        end = pos + 4 * count
+        if end > size:
             raise FrameError(f"STEP request {command.letter!r} lacks its {count} arguments")
-        arguments = tuple(v for (v,) in _ARGUMENT.iter_unpack(payload[pos:end]))
+        arguments = struct.unpack_from(f"<{count}i", payload, pos) if count else ()
         requests.append(Request(command, arguments))
         pos = end
     if not requests:
