@@ -165,6 +165,7 @@ _REGISTRY: dict[str, Callable[[], Backend]] = {
     "serial": SerialBackend,
     "tcp": RemoteBackend,
     "udp": RemoteBackend,
+    "unix": RemoteBackend,
 }
 
 

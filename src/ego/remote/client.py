@@ -107,11 +107,11 @@ class RemoteChannel:
         heartbeat: bool = True,
         **connection_options: Any,
     ) -> None:
-        if protocol not in ("tcp", "udp"):
-            raise ValueError(f"protocol {protocol!r} is not tcp or udp")
+        if protocol not in ("tcp", "udp", "unix"):
+            raise ValueError(f"protocol {protocol!r} is not tcp, udp or unix")
         self._address = (host, port, protocol)
         shown = f"[{host}]" if ":" in host else host
-        self.name: str = f"{protocol}://{shown}:{port}"
+        self.name: str = f"unix://{host}" if protocol == "unix" else f"{protocol}://{shown}:{port}"
         self.secret = coerce_secret(secret) if secret is not None else secret_from_environment()
         self.settings = settings or LinkSettings()
         self.timeout_s = timeout_s
@@ -131,7 +131,7 @@ class RemoteChannel:
 
     @classmethod
     def from_url(cls, url: str, secret: str | bytes | None = None, **options: Any) -> RemoteChannel:
-        """``tcp://host:port`` or ``udp://host:port`` (port 4242 if omitted)."""
+        """``tcp://host:port``, ``udp://host:port`` (port 4242 if omitted) or ``unix:///path``."""
         try:
             scheme, host, port = parse_url(url)
         except ValueError as exc:

@@ -104,8 +104,10 @@ class Connection:
         stats: RemoteStats | None = None,
     ) -> None:
         self.protocol = protocol
+        #: TCP and Unix sockets carry a stream of frames; UDP one frame a datagram.
+        self.stream = protocol != "udp"
         shown = f"[{host}]" if ":" in host else host
-        self.name = f"{protocol}://{shown}:{port}"
+        self.name = f"unix://{host}" if protocol == "unix" else f"{protocol}://{shown}:{port}"
         self.retransmit_s = retransmit_s
         self.retries = retries
         self.stats = stats or RemoteStats()
@@ -125,16 +127,20 @@ class Connection:
             raise
 
     def _connect(self, host: str, port: int, timeout_s: float) -> socket.socket:
-        kind = socket.SOCK_STREAM if self.protocol == "tcp" else socket.SOCK_DGRAM
+        kind = socket.SOCK_STREAM if self.stream else socket.SOCK_DGRAM
         try:
-            family, _, _, _, addr = socket.getaddrinfo(host, port, type=kind)[0]
+            addr: Any
+            if self.protocol == "unix":
+                family, addr = socket.AF_UNIX, host
+            else:
+                family, _, _, _, addr = socket.getaddrinfo(host, port, type=kind)[0]
             sock = socket.socket(family, kind)
         except OSError as exc:
             raise PortNotFoundError(f"cannot reach {self.name}: {exc}") from exc
         try:
             sock.settimeout(timeout_s)
             sock.connect(addr)  # for UDP: only the server's datagrams are received
-            if kind == socket.SOCK_STREAM:
+            if kind == socket.SOCK_STREAM and family != socket.AF_UNIX:
                 sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         except OSError as exc:
             sock.close()
@@ -214,7 +220,7 @@ class Connection:
         wait, attempts = self.retransmit_s, 0
         self._send(data)
         while True:
-            limit = deadline if self.protocol == "tcp" else min(deadline, time.monotonic() + wait)
+            limit = deadline if self.stream else min(deadline, time.monotonic() + wait)
             reply = self._receive(seq, limit)
             if reply is not None and reply.type is not MessageType.WORKING:
                 return reply
@@ -254,22 +260,20 @@ class Connection:
                 return None
             self._sock.settimeout(remaining)
             try:
-                chunk = self._sock.recv(MAX_DATAGRAM if self.protocol == "udp" else 1 << 16)
+                chunk = self._sock.recv(1 << 16 if self.stream else MAX_DATAGRAM)
             except TimeoutError:
                 return None
             except OSError as exc:  # ECONNREFUSED (UDP: nobody listens), ECONNRESET...
                 raise LinkLostError(f"{self.name}: {exc}") from exc
-            if not chunk and self.protocol == "tcp":
+            if not chunk and self.stream:
                 raise LinkLostError(f"{self.name}: the server closed the connection")
             self.stats.bytes_received += len(chunk)
             try:
                 frames = (
-                    self._reader.feed(chunk)
-                    if self.protocol == "tcp"
-                    else [decode_frame(chunk, self._key)]
+                    self._reader.feed(chunk) if self.stream else [decode_frame(chunk, self._key)]
                 )
             except FrameError as exc:
-                if self.protocol == "tcp":  # a stream cannot recover from a bad frame
+                if self.stream:  # a stream cannot recover from a bad frame
                     raise LinkLostError(f"{self.name}: corrupt stream: {exc}") from exc
                 self.stats.corrupt += 1
                 log.debug("%s: dropped a corrupt or forged datagram: %s", self.name, exc)

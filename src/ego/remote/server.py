@@ -32,9 +32,10 @@ import concurrent.futures
 import contextlib
 import errno
 import logging
+import os
 import threading
 import time
-from collections.abc import Callable, Hashable, Sequence
+from collections.abc import Callable, Hashable, Iterator, Sequence
 from types import TracebackType
 from typing import TYPE_CHECKING, Any, cast
 
@@ -86,7 +87,7 @@ def check_listen(
     if not listen:
         raise ValueError("nothing to listen on")
     endpoints = [parse_url(url) for url in listen]
-    off_loopback = [f"{s}://{h}:{p}" for s, h, p in endpoints if not is_loopback(h)]
+    off_loopback = [f"{s}://{h}:{p}" for s, h, p in endpoints if s != "unix" and not is_loopback(h)]
     if secret is None and (require_secret or off_loopback):
         where = ", ".join(off_loopback) or "this server"
         raise ValueError(
@@ -186,6 +187,13 @@ class Server:
         loop = self._loop = asyncio.get_running_loop()
         loop.set_exception_handler(self._loop_error)
         for scheme, host, port in self._endpoints:
+            if scheme == "unix":
+                # Only this user may connect: the socket is created with mode 600.
+                with _umask(0o177):
+                    server = await loop.create_unix_server(lambda: _TcpProtocol(self), host)
+                self._closers.append(server.close)
+                self.urls.append(f"unix://{host}")
+                continue
             if scheme == "tcp":
                 server = await loop.create_server(lambda: _TcpProtocol(self), host, port)
                 sockname = server.sockets[0].getsockname()
@@ -390,6 +398,15 @@ class Server:
         loop.default_exception_handler(context)
 
 
+@contextlib.contextmanager
+def _umask(mask: int) -> Iterator[None]:
+    old = os.umask(mask)
+    try:
+        yield
+    finally:
+        os.umask(old)
+
+
 class _TcpProtocol(asyncio.Protocol):
     def __init__(self, server: Server) -> None:
         self.server = server
@@ -399,8 +416,10 @@ class _TcpProtocol(asyncio.Protocol):
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         assert isinstance(transport, asyncio.Transport)
         addr = transport.get_extra_info("peername")
-        label = f"tcp {addr[0]}:{addr[1]}" if isinstance(addr, tuple) else "tcp ?"
-        host = str(addr[0]) if isinstance(addr, tuple) else "?"
+        if isinstance(addr, tuple):
+            label, host = f"tcp {addr[0]}:{addr[1]}", str(addr[0])
+        else:  # a Unix socket: a process of this user on this machine
+            label, host = f"unix {transport.get_extra_info('sockname')}", "localhost"
         self.peer = Peer(("tcp", id(transport), None), label, host)
         self.server.stream_opened(self.peer, transport, self.reader)
 
