@@ -60,7 +60,7 @@ class CookieJar:
         self.lifetime_s = lifetime_s
 
     def _cookie(self, address: str, nonce: bytes, epoch: int) -> bytes:
-        message = address.encode() + b"|" + nonce + epoch.to_bytes(8, "little")
+        message = address.encode() + b"|" + nonce + epoch.to_bytes(8, "little", signed=True)
         return hmac.new(self._key, message, hashlib.sha256).digest()[:_COOKIE_SIZE]
 
     def make(self, address: str, nonce: bytes, now_s: float) -> bytes:
