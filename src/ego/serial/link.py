@@ -295,6 +295,11 @@ class Link:
         """
         if self._closed:  # a closed link must not reopen its port behind its owner's back
             raise LinkLostError(f"{self.transport.name}: the link is closed")
+        commands = self.info.profile.commands
+        for request in batch.requests:
+            if request.command not in commands:
+                # Made for another firmware: its bytes would desynchronise this one.
+                self.info.profile.wire_format(request.command)  # raises, naming the device
         if self._unreported_restart:
             self._unreported_restart = False
             self._raise_restarted("the dsPIC restarted during an ASCII command")
