@@ -21,6 +21,8 @@ from ego.remote.client import RemoteChannel
 from ego.remote.handshake import session_key
 from ego.remote.server import Server, ServerThread
 from ego.remote.wire import (
+    HEADER,
+    MAC_SIZE,
     MAX_DATAGRAM,
     Frame,
     FrameKey,
@@ -63,6 +65,8 @@ class DatagramProxy:
         self.counts: collections.Counter[str] = collections.Counter()
         #: Every datagram received, either way, before any mischief.
         self.seen: list[bytes] = []
+        #: The client's datagrams only, as they left it.
+        self.up: list[bytes] = []
         self.front = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.front.bind(("127.0.0.1", 0))
         self.back = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
@@ -113,8 +117,15 @@ class DatagramProxy:
                 _, _, direction, data = heapq.heappop(self._queue)
                 self._send(direction, data)
 
+    def inject(self, data: bytes) -> None:
+        """Send ``data`` to the server from the client's address (as the server sees it):
+        what an attacker on the path, or one spoofing the client's address, can do."""
+        self.back.send(data)
+
     def _route(self, data: bytes, direction: str) -> None:
         self.seen.append(data)
+        if direction == "up":
+            self.up.append(data)
         rng = self.rng
         if rng.random() < self.drop:
             self.counts["dropped"] += 1
@@ -199,6 +210,72 @@ class Served:
 
     def url_of(self, kind: str) -> str:
         return next(u for u in self.thread.urls if u.startswith(kind))
+
+
+class StreamRelay:
+    """A TCP relay on loopback between one client and a server that can rewrite frames:
+    ``rewrite(direction, index, frame) -> frame`` sees each whole frame ("up" to the
+    server, "down" to the client, ``index`` counting from 0 per direction)."""
+
+    def __init__(self, target_url: str, rewrite: Callable[[str, int, bytes], bytes]) -> None:
+        _, host, port = parse_url(target_url)
+        self.target = (host, port)
+        self.rewrite = rewrite
+        self.listener = socket.create_server(("127.0.0.1", 0))
+        self.counts: collections.Counter[str] = collections.Counter()
+        self._threads: list[threading.Thread] = []
+        self._socks: list[socket.socket] = [self.listener]
+        accept = threading.Thread(target=self._accept, daemon=True)
+        accept.start()
+        self._threads.append(accept)
+
+    @property
+    def url(self) -> str:
+        return f"tcp://127.0.0.1:{self.listener.getsockname()[1]}"
+
+    def _accept(self) -> None:
+        with contextlib.suppress(OSError):
+            while True:
+                client, _ = self.listener.accept()
+                server = socket.create_connection(self.target)
+                self._socks += [client, server]
+                for src, dst, direction in ((client, server, "up"), (server, client, "down")):
+                    pump = threading.Thread(
+                        target=self._pump, args=(src, dst, direction), daemon=True
+                    )
+                    pump.start()
+                    self._threads.append(pump)
+
+    def _pump(self, src: socket.socket, dst: socket.socket, direction: str) -> None:
+        buf = bytearray()
+        index = 0
+        with contextlib.suppress(OSError):
+            while chunk := src.recv(1 << 16):
+                buf += chunk
+                while len(buf) >= HEADER.size:
+                    type_, length = buf[3], int.from_bytes(buf[12:16], "little")
+                    size = HEADER.size + length + (MAC_SIZE if type_ & 0x80 else 4)
+                    if len(buf) < size:
+                        break
+                    frame, buf[:size] = bytes(buf[:size]), b""
+                    out = self.rewrite(direction, index, frame)
+                    if out != frame:
+                        self.counts[f"rewritten {direction}"] += 1
+                    index += 1
+                    dst.sendall(out)
+        with contextlib.suppress(OSError):
+            dst.shutdown(socket.SHUT_WR)
+
+    def close(self) -> None:
+        for sock in self._socks:
+            with contextlib.suppress(OSError):
+                sock.close()
+
+    def __enter__(self) -> StreamRelay:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 class RawClient:

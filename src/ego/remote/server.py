@@ -77,6 +77,9 @@ DEFAULT_DEADLINE_S = 0.5
 MAX_UNAUTHENTICATED = 64
 #: Reply bytes that may wait for a slow reader (a few camera frames) before it is dropped.
 WRITE_LIMIT = 4 * MAX_PAYLOAD
+#: The same for a connection that has not authenticated: its replies are a few hundred
+#: bytes each, so a peer that asks without reading is cut off early.
+PREAUTH_WRITE_LIMIT = 64 * 1024
 
 
 def check_listen(
@@ -320,7 +323,8 @@ class Server:
         if stream is None or stream.is_closing():
             return
         stream.write(data)
-        if stream.get_write_buffer_size() > self.write_limit:
+        limit = PREAUTH_WRITE_LIMIT if peer.key in self.half_open else self.write_limit
+        if stream.get_write_buffer_size() > limit:
             log.warning("%s reads too slowly: dropped", peer.label)
             self.stats.dropped += 1
             stream.abort()
@@ -350,7 +354,6 @@ class Server:
         self._streams[peer.key] = transport
         self._readers[peer.key] = reader
         self.half_open[peer.key] = transport
-        transport.set_write_buffer_limits(high=self.write_limit)
         assert self._loop is not None
         self._loop.call_later(self.handshake_timeout_s, self._expire, peer)
 
