@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import re
 import signal
@@ -12,7 +13,6 @@ from pathlib import Path
 
 from ego.remote.cli import add_arguments
 from ego.remote.client import RemoteChannel
-from ego.serial.link import Link
 from ego.serial.protocol import Command, Request, encode_batch
 
 #: ``ego serve`` through this module alone, whatever the ``ego`` command wires.
@@ -88,3 +88,46 @@ def test_empty_secret_file_is_refused(tmp_path: Path) -> None:
     _, err = process.communicate(timeout=20)
     assert process.returncode == 2
     assert "empty" in err
+
+
+def test_running_out_of_file_descriptors_is_quiet_and_the_client_still_gets_in(
+    tmp_path: Path,
+) -> None:
+    """A socket flood bigger than the server's file-descriptor limit: it keeps a quarter
+    of them for strangers, logs the shortage in a line or two, and the client steps."""
+    import resource
+    import socket
+
+    def low_limit() -> None:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (64, 64))
+
+    process = subprocess.Popen(
+        [sys.executable, "-c", SERVE, "--port", "sim", "--listen", "tcp://127.0.0.1:0"],
+        cwd=tmp_path,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "EGO_CAMERA": "none"},
+        preexec_fn=low_limit,
+    )
+    idle: list[socket.socket] = []
+    try:
+        url = _urls(process)[0]
+        host, port = url.removeprefix("tcp://").rsplit(":", 1)
+        for _ in range(300):  # far more than its 64 descriptors
+            with contextlib.suppress(OSError):
+                idle.append(socket.create_connection((host, int(port)), timeout=1))
+        channel = RemoteChannel.from_url(url, connect_timeout_s=5.0)
+        try:
+            batch = encode_batch([Request(Command.GET_SPEED)], channel.profile)
+            for _ in range(10):
+                assert batch.decode(channel.exchange(batch)) == [(0, 0)]
+        finally:
+            channel.close()
+    finally:
+        for sock in idle:
+            sock.close()
+        process.send_signal(signal.SIGTERM)
+        _, err = process.communicate(timeout=15)
+    noise = [line for line in err.splitlines() if "Traceback" in line or "Error" in line]
+    assert noise == [], err[-2000:]
+    assert len(err.splitlines()) < 40, err[-2000:]

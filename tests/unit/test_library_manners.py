@@ -27,9 +27,10 @@ def test_a_robot_leaves_signal_handlers_and_the_switch_interval_alone() -> None:
 
 def test_a_robot_asked_to_handle_signals_installs_them() -> None:
     before = _handlers()
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # whatever an earlier test left
     try:
         with ego.Robot("sim", seed=1, handle_signals=True):
-            assert signal.getsignal(signal.SIGTERM) is not before[signal.SIGTERM]
+            assert signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
     finally:
         for sig, handler in before.items():
             signal.signal(sig, handler)  # type: ignore[arg-type]

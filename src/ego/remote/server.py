@@ -137,7 +137,9 @@ class Server:
             )
         self.chunk_size = chunk_size
         self.handshake_timeout_s = handshake_timeout_s
-        self.max_unauthenticated = max_unauthenticated
+        # Never more than a quarter of the file descriptors the process may open: the
+        # rest stay free for the controller's connection, the serial port, the camera.
+        self.max_unauthenticated = min(max_unauthenticated, max(4, _fd_limit() // 4))
         self.write_limit = write_limit
         self.service = RobotService(channel, frame_source, frame_encoder)
         self.session = Session(
@@ -399,6 +401,16 @@ class Server:
                 log.warning("out of file descriptors: new connections wait (%s)", exc)
             return
         loop.default_exception_handler(context)
+
+
+def _fd_limit() -> int:
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
+    except (ImportError, OSError, ValueError):
+        return 1024
+    return soft if soft > 0 else 1024
 
 
 @contextlib.contextmanager
