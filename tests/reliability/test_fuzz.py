@@ -38,6 +38,7 @@ from ego.errors import (
     UnknownSettingError,
 )
 from ego.remote.client import error_from_reply
+from ego.remote.messages import pack_step, unpack_step
 from ego.remote.wire import (
     ASCII_REPLY_LINES,
     HEADER,
@@ -45,6 +46,8 @@ from ego.remote.wire import (
     MAX_PAYLOAD,
     OVERHEAD,
     PROTOCOL_VERSION,
+    Frame,
+    FrameKey,
     FrameReader,
     MessageType,
     decode_frame,
@@ -621,3 +624,103 @@ def test_the_dspic_survives_any_bytes_and_the_resync_brings_it_back(
     echo = struct.unpack("<2h", replies[0].data)
     assert echo == dspic.echo
     assert world.speeds == tuple(max(-1000, min(1000, v)) for v in echo)
+
+
+# -- the authenticated frames and the server session -----------------------------------------
+
+KEY = b"k" * 32
+
+
+@FUZZ
+@given(frame=FRAMES, ops=MUTATIONS, session=U32)
+def test_a_mutated_sealed_frame_is_refused_or_exactly_the_one_sealed(
+    frame: bytes, ops: list[tuple[int, int, int]], session: int
+) -> None:
+    """No change to a sealed frame passes its MAC: opened, it is the frame as sealed."""
+    original = decode_frame(frame)
+    sealed = encode_frame(
+        original.type, original.seq, original.payload, session, FrameKey(KEY, server=False)
+    )
+    data = mutated(sealed, ops)
+    try:
+        opened = decode_frame(data, FrameKey(KEY, server=True))
+    except FrameError:
+        return
+    assert data == sealed
+    assert opened == Frame(original.type, original.seq, original.payload, session)
+
+
+@FUZZ
+@given(frame=FRAMES)
+def test_a_sealed_frame_cannot_be_reflected_back_to_its_sender(frame: bytes) -> None:
+    original = decode_frame(frame)
+    key = FrameKey(KEY, server=False)
+    sealed = encode_frame(original.type, original.seq, original.payload, 7, key)
+    with pytest.raises(FrameError):
+        decode_frame(sealed, key)  # the client's own frame, sent back to it
+
+
+@FUZZ
+@given(
+    payload=st.one_of(
+        st.binary(max_size=80),
+        st.tuples(
+            st.lists(
+                st.tuples(
+                    st.sampled_from(COMMAND_BYTES),
+                    st.lists(st.integers(-(2**31), 2**31 - 1), max_size=3),
+                ),
+                max_size=6,
+            ).map(
+                lambda rs: b"".join(
+                    bytes([c, len(a)]) + b"".join(v.to_bytes(4, "little", signed=True) for v in a)
+                    for c, a in rs
+                )
+            ),
+            MUTATIONS,
+        ).map(lambda pm: mutated(*pm)),
+    )
+)
+def test_a_step_payload_gives_requests_the_server_can_encode_or_a_typed_refusal(
+    payload: bytes,
+) -> None:
+    try:
+        requests = unpack_step(payload)
+    except FrameError:
+        return
+    assert requests and all(r.command is not Command.END for r in requests)
+    assert pack_step(requests) == payload
+    for profile in PROFILE_LIST:  # what the server does next: refused, or their batch
+        try:
+            batch = encode_batch(requests, profile)
+        except (ValueError, ego.errors.UnsupportedDeviceError):
+            continue
+        assert batch.tx[0] == requests[0].command and batch.tx[-1] == 0
+
+
+@FUZZ
+@given(datagrams=st.lists(st.one_of(FRAMES, st.binary(max_size=60)), max_size=12), data=st.data())
+def test_the_session_fed_any_datagrams_runs_nothing_for_a_stranger(
+    datagrams: list[bytes], data: st.DataObject
+) -> None:
+    """Random and mutated datagrams from a peer that never proved the secret: the session
+    answers or drops them, and never runs anything on the robot."""
+    from ego.remote.actions import Peer, Run, StopRobot
+    from ego.remote.session import Session
+
+    session = Session(secret=b"s" * 16, deadline_s=0.5, chunk_size=16384, welcome=dict)
+    peer = Peer(("udp", 0, ("10.0.0.1", 9)), "udp stranger", "10.0.0.1", 16384)
+    for datagram in datagrams:
+        ops = data.draw(MUTATIONS)
+        actions = session.datagram(peer, mutated(datagram, ops), 0.0)
+        actions += session.receive(peer, decode_frame(datagram), 0.0) if _is_frame(datagram) else []
+        assert not any(isinstance(a, Run | StopRobot) for a in actions)
+    assert session.controller is None
+
+
+def _is_frame(data: bytes) -> bool:
+    try:
+        decode_frame(data)
+    except FrameError:
+        return False
+    return True

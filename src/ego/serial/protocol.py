@@ -390,8 +390,9 @@ def encode_batch(requests: Iterable[Request], profile: Profile) -> Batch:
 def parse_batch(tx: bytes, profile: Profile) -> Batch:
     """The batch that ``tx`` encodes, read back as the dsPIC would (a relay's view).
 
-    A network server uses it to learn how many reply bytes a client's batch asks for.
-    Raises ValueError for bytes that are not exactly one well-formed batch: an unknown
+    For tools that watch a line (a logger, a relay between a PC and a robot) and must
+    know how many reply bytes a batch asks for; ``ego serve`` needs none, as it is sent
+    requests, not bytes (ego.remote.messages). Raises ValueError for bytes that are not exactly one well-formed batch: an unknown
     or unsupported command, arguments cut short, or anything after the final 0x00.
     """
     data = memoryview(tx)
