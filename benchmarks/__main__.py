@@ -19,6 +19,7 @@ SECTIONS = {
     "camera_tables": "Camera: acquisition, rotation, encoding (Tables 5.1-5.8) and peers",
     "memory": "Memory: peak resident set of a controller and of the emulator",
     "remote_roundtrip": "Remote control: step round trip over TCP/UDP vs the pty link",
+    "security": "Remote control under attack: the deadman and the client under floods",
 }
 
 

@@ -137,8 +137,9 @@ def install_signal_handlers() -> bool:
     if threading.current_thread() is not threading.main_thread():
         return False
     for sig in TERMINATING_SIGNALS:
-        if sig in _installed:
+        if sig in _installed and signal.getsignal(sig) is _on_terminating_signal:
             continue
+        _installed.discard(sig)  # taken back by someone since: ask again
         with contextlib.suppress(OSError, ValueError):  # a signal this kernel refuses
             if signal.getsignal(sig) is signal.SIG_DFL:
                 signal.signal(sig, _on_terminating_signal)

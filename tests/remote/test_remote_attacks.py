@@ -10,13 +10,13 @@ is what a robot reachable from other machines must have (``check_listen``).
 from __future__ import annotations
 
 import subprocess
-import sys
 import time
 from collections.abc import Iterator
 
 import pytest
 from remote_helpers import DatagramProxy, RawClient, ServeFactory, StreamRelay, wait_for
 
+from benchmarks.floods import start_flood
 from ego.errors import LinkLostError, RobotResetError
 from ego.remote.client import RemoteChannel
 from ego.remote.messages import pack_step
@@ -124,48 +124,11 @@ def test_a_relay_that_rewrites_a_frame_is_caught_and_never_yields_a_wrong_value(
 
 # -- floods -------------------------------------------------------------------------------
 
-_FLOODER = r"""
-import socket, sys, time
-kind, host, port, count = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
-socks = []
-end = time.monotonic() + float(sys.argv[5])
-if kind == "idle":
-    while time.monotonic() < end:
-        for _ in range(count):
-            try:
-                socks.append(socket.create_connection((host, port), timeout=1))
-            except OSError:
-                pass
-        time.sleep(0.05)
-        for s in socks[:-count]:
-            s.close()
-        socks = socks[-count:]
-elif kind == "partial":
-    header = bytes.fromhex(sys.argv[6])
-    while time.monotonic() < end:
-        try:
-            s = socket.create_connection((host, port), timeout=1)
-            s.sendall(header + bytes(4096))
-            socks.append(s)
-        except OSError:
-            pass
-        socks = socks[-count:]
-elif kind == "hello":
-    hello = bytes.fromhex(sys.argv[6])
-    socks = [socket.socket(socket.AF_INET, socket.SOCK_DGRAM) for _ in range(count)]
-    while time.monotonic() < end:
-        for s in socks:
-            s.sendto(hello, (host, port))
-        time.sleep(0.001)
-"""
-
 
 def _flood(
     kind: str, url: str, count: int, seconds: float, extra: bytes = b""
 ) -> subprocess.Popen[bytes]:
-    host, port = url.split("://")[1].rsplit(":", 1)
-    args = [sys.executable, "-c", _FLOODER, kind, host, port, str(count), str(seconds)]
-    return subprocess.Popen([*args, extra.hex()] if extra else args)
+    return start_flood(kind, url, count, seconds, extra)
 
 
 def _steps_during(channel: RemoteChannel, seconds: float) -> list[float]:
@@ -193,7 +156,10 @@ def test_the_client_keeps_stepping_through_a_tcp_flood(serve: ServeFactory, kind
         finally:
             flood.wait(timeout=10)
         assert served.server.stats.deadman_stops == 0
-        print(f"{kind} flood: {len(times)} steps, worst {max(times) * 1e3:.1f} ms", served.server.stats)
+        print(
+            f"{kind} flood: {len(times)} steps, worst {max(times) * 1e3:.1f} ms",
+            served.server.stats,
+        )
         assert max(times) < 0.25, max(times)
         assert served.server.stats.dropped + served.server.stats.malformed > 50
     finally:
@@ -241,7 +207,6 @@ def test_the_deadman_fires_on_time_under_a_flood(serve: ServeFactory, kind: str)
     finally:
         flood.wait(timeout=10)
     assert served.server.stats.deadman_stops == 1
-    print(f"deadman under {kind} flood: {elapsed * 1e3:.0f} ms", served.server.stats)
     assert deadline_s <= elapsed <= deadline_s * 1.1, elapsed
 
 
