@@ -416,7 +416,7 @@ def test_idle_and_surplus_connections_are_dropped_and_the_client_still_gets_in(
             sock.settimeout(2.0)
             assert sock.recv(1) == b""  # the server hung up on every idle connection
         assert served.server.controller is not None  # but not on the client
-        assert not served.server.half_open
+        assert not served.server.peers.half_open
     finally:
         for sock in idle:
             sock.close()

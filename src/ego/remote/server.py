@@ -27,28 +27,26 @@ Off loopback the server insists on a shared secret (:mod:`ego.remote.handshake`)
 from __future__ import annotations
 
 import asyncio
-import collections
 import concurrent.futures
 import contextlib
 import errno
 import logging
-import os
 import threading
 import time
-from collections.abc import Callable, Hashable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from types import TracebackType
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any
 
 from ego.channel import Channel
 from ego.errors import FrameError
 from ego.remote.actions import Action, Authenticated, Hangup, Peer, Run, Send, StopRobot
 from ego.remote.auth import FailureThrottle, coerce_secret, is_loopback
+from ego.remote.peers import MAX_UNAUTHENTICATED, WRITE_LIMIT, Peers, owner_only
 from ego.remote.service import FrameEncoder, RobotService, encode_image
 from ego.remote.session import Session
 from ego.remote.wire import (
     DEFAULT_CHUNK_SIZE,
     MAX_DATAGRAM,
-    MAX_PAYLOAD,
     MAX_PREAUTH_PAYLOAD,
     SEALED_OVERHEAD,
     FrameReader,
@@ -72,14 +70,6 @@ log = logging.getLogger(__name__)
 DEFAULT_LISTEN = "tcp://127.0.0.1:4242"
 #: How long the controlling client may stay silent before the robot is stopped.
 DEFAULT_DEADLINE_S = 0.5
-#: Half-open TCP connections kept at once: far more than honest clients (one controller,
-#: a few refused), far fewer than the 1024 file descriptors a process usually has.
-MAX_UNAUTHENTICATED = 64
-#: Reply bytes that may wait for a slow reader (a few camera frames) before it is dropped.
-WRITE_LIMIT = 4 * MAX_PAYLOAD
-#: The same for a connection that has not authenticated: its replies are a few hundred
-#: bytes each, so a peer that asks without reading is cut off early.
-PREAUTH_WRITE_LIMIT = 64 * 1024
 
 
 def check_listen(
@@ -137,10 +127,6 @@ class Server:
             )
         self.chunk_size = chunk_size
         self.handshake_timeout_s = handshake_timeout_s
-        # Never more than a quarter of the file descriptors the process may open: the
-        # rest stay free for the controller's connection, the serial port, the camera.
-        self.max_unauthenticated = min(max_unauthenticated, max(4, _fd_limit() // 4))
-        self.write_limit = write_limit
         self.service = RobotService(channel, frame_source, frame_encoder)
         self.session = Session(
             secret=secret_bytes,
@@ -154,13 +140,7 @@ class Server:
         self.urls: list[str] = []
         #: The session is fed from the loop and from the deadman thread.
         self._lock = threading.Lock()
-        #: TCP connections by peer key, and which are not (yet) in control, oldest first.
-        self._streams: dict[Hashable, asyncio.Transport] = {}
-        self.half_open: collections.OrderedDict[Hashable, asyncio.Transport] = (
-            collections.OrderedDict()
-        )
-        self._readers: dict[Hashable, FrameReader] = {}
-        self._datagrams: list[asyncio.DatagramTransport] = []
+        self.peers = Peers(self.stats, max_unauthenticated, write_limit)
         self._closers: list[Callable[[], None]] = []
         self._tasks: set[asyncio.Task[None]] = set()
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -194,7 +174,7 @@ class Server:
         for scheme, host, port in self._endpoints:
             if scheme == "unix":
                 # Only this user may connect: the socket is created with mode 600.
-                with _umask(0o177):
+                with owner_only():
                     server = await loop.create_unix_server(lambda: _TcpProtocol(self), host)
                 self._closers.append(server.close)
                 self.urls.append(f"unix://{host}")
@@ -204,12 +184,12 @@ class Server:
                 sockname = server.sockets[0].getsockname()
                 self._closers.append(server.close)
             else:
-                index = len(self._datagrams)
+                index = len(self.peers.datagrams)
                 transport, _ = await loop.create_datagram_endpoint(
                     lambda index=index: _UdpProtocol(self, index),  # type: ignore[misc]
                     local_addr=(host, port),
                 )
-                self._datagrams.append(transport)
+                self.peers.datagrams.append(transport)
                 sockname = transport.get_extra_info("sockname")
                 self._closers.append(transport.close)
             shown = f"[{sockname[0]}]" if ":" in sockname[0] else sockname[0]
@@ -272,9 +252,9 @@ class Server:
                 if isinstance(action, Send):
                     self._send_later(action.peer, action.data, action.delay_s)
                 elif isinstance(action, Hangup):
-                    loop.call_later(action.delay_s, self._hang_up, action.peer)
+                    loop.call_later(action.delay_s, self.peers.hang_up, action.peer)
                 elif isinstance(action, Authenticated):
-                    self._authenticated(action)
+                    self.peers.authenticated(action.peer, action.key)
                 elif isinstance(action, Run):
                     self.feed_run(action)
                 else:
@@ -310,66 +290,22 @@ class Server:
     def _send_later(self, peer: Peer, data: bytes, delay_s: float) -> None:
         if delay_s > 0:
             assert self._loop is not None
-            self._loop.call_later(delay_s, self._send, peer, data)
+            self._loop.call_later(delay_s, self.peers.send, peer, data)
         else:
-            self._send(peer, data)
-
-    def _send(self, peer: Peer, data: bytes) -> None:
-        kind, where, address = cast(tuple[str, Any, Any], peer.key)
-        if kind == "udp":
-            transport = self._datagrams[where]
-            if not transport.is_closing():
-                transport.sendto(data, address)
-            return
-        stream = self._streams.get(peer.key)
-        if stream is None or stream.is_closing():
-            return
-        stream.write(data)
-        limit = PREAUTH_WRITE_LIMIT if peer.key in self.half_open else self.write_limit
-        if stream.get_write_buffer_size() > limit:
-            log.warning("%s reads too slowly: dropped", peer.label)
-            self.stats.dropped += 1
-            stream.abort()
-
-    def _hang_up(self, peer: Peer) -> None:
-        stream = self._streams.get(peer.key)
-        if stream is not None:
-            stream.close()
-
-    def _authenticated(self, action: Authenticated) -> None:
-        self.half_open.pop(action.peer.key, None)  # in control: never dropped as half-open
-        reader = self._readers.get(action.peer.key)
-        if reader is not None:
-            reader.key = action.key
-            reader.max_payload = MAX_PAYLOAD
-
-    # -- TCP bookkeeping -----------------------------------------------------------------------
+            self.peers.send(peer, data)
 
     def stream_opened(self, peer: Peer, transport: asyncio.Transport, reader: FrameReader) -> None:
-        if len(self.half_open) >= self.max_unauthenticated:
-            # More half-open connections than any real client needs: the oldest goes,
-            # quietly. A flood churns through its own sockets, while a client's
-            # handshake, a millisecond long, completes between two evictions.
-            _, oldest = self.half_open.popitem(last=False)
-            self.stats.dropped += 1
-            oldest.abort()
-        self._streams[peer.key] = transport
-        self._readers[peer.key] = reader
-        self.half_open[peer.key] = transport
+        self.peers.opened(peer, transport, reader)
         assert self._loop is not None
         self._loop.call_later(self.handshake_timeout_s, self._expire, peer)
 
     def _expire(self, peer: Peer) -> None:
         """A connection that has not taken control in time is dropped (slowloris)."""
-        transport = self._streams.get(peer.key)
-        if transport is not None and not self.session.controls(peer):
-            self.stats.dropped += 1
-            transport.abort()
+        if not self.session.controls(peer):
+            self.peers.drop(peer)
 
     def stream_closed(self, peer: Peer) -> None:
-        self._streams.pop(peer.key, None)
-        self._readers.pop(peer.key, None)
-        self.half_open.pop(peer.key, None)
+        self.peers.closed(peer)
         self.call_session(self.session.peer_lost, peer)
 
     # -- the deadman and the loop's own errors ---------------------------------------------------
@@ -401,25 +337,6 @@ class Server:
                 log.warning("out of file descriptors: new connections wait (%s)", exc)
             return
         loop.default_exception_handler(context)
-
-
-def _fd_limit() -> int:
-    try:
-        import resource
-
-        soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
-    except (ImportError, OSError, ValueError):
-        return 1024
-    return soft if soft > 0 else 1024
-
-
-@contextlib.contextmanager
-def _umask(mask: int) -> Iterator[None]:
-    old = os.umask(mask)
-    try:
-        yield
-    finally:
-        os.umask(old)
 
 
 class _TcpProtocol(asyncio.Protocol):
