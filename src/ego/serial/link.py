@@ -24,28 +24,25 @@ from ego.errors import (
     ExtraBytesError,
     LinkLostError,
     LinkTimeoutError,
-    NotAnEpuckError,
     PortNotFoundError,
     ProtocolError,
     RobotResetError,
     ShortReplyError,
 )
-from ego.serial.firmware import FirmwareInfo, identify, is_gctronic, line_payload, parse_selector
+from ego.serial.firmware import FirmwareInfo
+from ego.serial.probe import probe_firmware
 from ego.serial.protocol import (
     BANNER_MARKER,
     DEFAULT_BAUD,
     PROFILES,
     Batch,
-    Command,
     Firmware,
     Profile,
-    Request,
-    encode_batch,
     wire_time_s,
 )
 from ego.serial.transport import Transport
 
-__all__ = ["Link", "LinkSettings", "LinkStats"]
+__all__ = ["Link", "LinkSettings", "LinkStats", "reply_timeout_s"]
 
 log = logging.getLogger(__name__)
 
@@ -103,6 +100,22 @@ class LinkStats:
     faults: Counter[str] = field(default_factory=Counter)
 
 
+def reply_timeout_s(
+    batch: Batch, profile: Profile, transport: Transport, settings: LinkSettings
+) -> float:
+    """Reply timeout of a batch: its wire time and the dsPIC's work, scaled, plus slack.
+
+    The wire time counts the batch's bytes both ways at the slower of the port's rate and
+    the rate the firmware answers at (docs/protocol.md, Line: Webots' firmware speaks
+    115200 baud only, whatever the port was opened at); the dsPIC's work is the profile's
+    time per command (an I2C read for ``M``, software floats for ``A``).
+    """
+    baud = min(transport.baudrate or DEFAULT_BAUD, profile.line_baud)
+    wire = wire_time_s(len(batch.tx) + batch.reply_size, baud)
+    work = sum(profile.work_s.get(r.command, 0.0) for r in batch.requests)
+    return settings.reply_timeout_s + settings.wire_factor * (wire + work) + transport.latency_s
+
+
 class Link:
     """The dsPIC behind a transport, spoken to one batch per step.
 
@@ -144,64 +157,13 @@ class Link:
         """The wire formats of the firmware in use (re-detected after a restart)."""
         return self.info.profile
 
-    # -- firmware --------------------------------------------------------------------
-
     def _identify(self, first: bool = False) -> FirmwareInfo:
-        """Drain the welcome banner, then ask ``V`` (and ``C``, ``b``) unless told the firmware.
-
-        At open (``first``), something that answers but not as a dsPIC is the wrong port
-        (NotAnEpuckError), and a silent ``V`` is checked with a binary ``E``, which every
-        firmware answers: silence to both means nothing is there.
-        """
+        """Drain the welcome banner, then ask the firmware (unless told it): ``probe.py``."""
         self.transport.drain(self.settings.resync_quiet_s, self.settings.resync_max_s)
         self._tail = b""
         if self._forced is not None:
             return FirmwareInfo(PROFILES[self._forced], detected=False)
-        try:
-            version = self.ascii_command("V", lines=2)
-            selector = battery = None
-            if version and is_gctronic(line_payload(version[0], "V")):
-                answer = self.ascii_command("C", lines=1)
-                selector = parse_selector(answer[0]) if answer else None
-                battery = self._battery_line()
-        except ProtocolError as exc:
-            if not first:
-                raise
-            raise NotAnEpuckError(
-                f"{self.transport.name} answers, but not as an e-puck's dsPIC: {exc}"
-            ) from exc
-        if first and not version:
-            self._probe_silence()
-        info = identify(version, selector, battery)
-        log.info(
-            "%s: firmware %s (%s%s)",
-            self.transport.name,
-            info.firmware,
-            info.version or "no answer to V",
-            f", selector {selector}" if selector is not None else "",
-        )
-        return info
-
-    def _battery_line(self) -> str | None:
-        """The stock firmware's answer to ``b``, whose form tells an e-puck rev 1.3.
-
-        docs/protocol.md, "b"; None when it answers something else (an older build).
-        """
-        try:
-            return next(iter(self.ascii_command("b", lines=1)), None)
-        except ProtocolError:
-            return None
-
-    def _probe_silence(self) -> None:
-        probe = encode_batch([Request(Command.GET_SPEED)], PROFILES[Firmware.WEBOTS])
-        self.transport.write(probe.tx)
-        try:
-            self.transport.read_exactly(probe.reply_size, self.timeout_for(probe))
-        except LinkTimeoutError as exc:
-            raise LinkTimeoutError(
-                f"nothing answers on {self.transport.name} (no reply to V, nor to a binary "
-                "E): is the robot switched on, and is this its port?"
-            ) from exc
+        return probe_firmware(self, first)
 
     def ascii_command(
         self, letter: str, lines: int = 1, line_timeout_s: float | None = None
@@ -268,22 +230,8 @@ class Link:
     # -- binary batches ----------------------------------------------------------------
 
     def timeout_for(self, batch: Batch) -> float:
-        """Reply timeout of a batch: its wire time and the dsPIC's work, scaled, plus slack.
-
-        The wire time counts the batch's bytes both ways at the slower of the port's rate
-        and the rate the firmware answers at (docs/protocol.md, Line: Webots' firmware
-        speaks 115200 baud only, whatever the port was opened at); the dsPIC's work is the
-        profile's time per command (an I2C read for ``M``, software floats for ``A``).
-        """
-        profile = self.info.profile
-        baud = min(self.transport.baudrate or DEFAULT_BAUD, profile.line_baud)
-        wire = wire_time_s(len(batch.tx) + batch.reply_size, baud)
-        work = sum(profile.work_s.get(r.command, 0.0) for r in batch.requests)
-        return (
-            self.settings.reply_timeout_s
-            + self.settings.wire_factor * (wire + work)
-            + self.transport.latency_s
-        )
+        """Reply timeout of a batch on this line (see :func:`reply_timeout_s`)."""
+        return reply_timeout_s(batch, self.info.profile, self.transport, self.settings)
 
     def exchange(self, batch: Batch) -> bytes:
         """Send one step's batch and return exactly its reply bytes (b'' if it has none).
