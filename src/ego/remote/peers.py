@@ -44,22 +44,33 @@ class Peers:
             collections.OrderedDict()
         )
         self._readers: dict[Hashable, FrameReader] = {}
+        #: The half-open connections that have not sent a byte yet, oldest first.
+        self._silent: collections.OrderedDict[Hashable, None] = collections.OrderedDict()
 
     def opened(self, peer: Peer, transport: asyncio.Transport, reader: FrameReader) -> None:
         if len(self.half_open) >= self.max_unauthenticated:
-            # More half-open connections than any real client needs: the oldest goes,
-            # quietly. A flood churns through its own sockets, while a client's
-            # handshake, a millisecond long, completes between two evictions.
-            _, oldest = self.half_open.popitem(last=False)
+            # More half-open connections than any real client needs: one goes, quietly,
+            # the oldest of those that never said a word if there are any (a socket
+            # flood), else the oldest. A client's handshake, a millisecond long, speaks
+            # at once, so a flood of idle sockets never pushes it out.
+            key = next(iter(self._silent)) if self._silent else next(iter(self.half_open))
+            oldest = self.half_open.pop(key)
+            self._silent.pop(key, None)
             self.stats.dropped += 1
             oldest.abort()
         self.streams[peer.key] = transport
         self._readers[peer.key] = reader
         self.half_open[peer.key] = transport
+        self._silent[peer.key] = None
+
+    def heard(self, peer: Peer) -> None:
+        """``peer`` sent its first bytes: no longer first in line to be dropped."""
+        self._silent.pop(peer.key, None)
 
     def authenticated(self, peer: Peer, key: FrameKey | None) -> None:
         """``peer`` controls the robot: never dropped as half-open, its frames sealed."""
         self.half_open.pop(peer.key, None)
+        self._silent.pop(peer.key, None)
         reader = self._readers.get(peer.key)
         if reader is not None:
             reader.key = key
@@ -75,6 +86,7 @@ class Peers:
         self.streams.pop(peer.key, None)
         self._readers.pop(peer.key, None)
         self.half_open.pop(peer.key, None)
+        self._silent.pop(peer.key, None)
 
     def send(self, peer: Peer, data: bytes) -> None:
         kind, where, address = cast(tuple[str, Any, Any], peer.key)

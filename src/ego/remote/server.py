@@ -358,6 +358,7 @@ class _TcpProtocol(asyncio.Protocol):
     def data_received(self, data: bytes) -> None:
         assert self.peer is not None
         server, peer = self.server, self.peer
+        server.peers.heard(peer)
         try:
             frames = self.reader.feed(data)
         except FrameError as exc:
