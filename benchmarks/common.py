@@ -180,3 +180,12 @@ def _plain_progress(items: Iterable[Any], desc: str, total: int | None) -> Itera
 #: The thesis measured the Overo line at 230400 baud with the command set of Table 4.1
 #: (the one Webots' firmware serves, M included); the emulator carries it at that rate.
 THESIS_LINE_BAUD = 230400
+
+
+def print_and_save(tables: list[Table], quick: bool) -> Path:
+    """Print each table and write its CSV; the folder they went to (quick runs apart)."""
+    folder = RESULTS / "quick" if quick else RESULTS
+    for table in tables:
+        table.print()
+        table.write_csv(folder)
+    return folder

@@ -22,7 +22,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 import ego
-from benchmarks.common import RESULTS, THESIS_LINE_BAUD, Table, progress
+from benchmarks.common import THESIS_LINE_BAUD, Table, print_and_save, progress
 from ego.devices.encoders import wrap_int16
 from ego.errors import EgoError
 from ego.serial import Batch, Command, Link, LinkSettings, Request, SerialTransport, encode_batch
@@ -322,11 +322,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="300 steps per run, fewer runs")
     args = parser.parse_args(argv)
     tables = run(quick=args.quick)
-    for table in tables:
-        table.print()
-    folder = RESULTS / "quick" if args.quick else RESULTS
-    for table in tables:
-        table.write_csv(folder)
+    folder = print_and_save(tables, args.quick)
     write_markdown(tables, folder / "reliability.md", machine_description(), args.quick)
     print(f"\nreport: {folder / 'reliability.md'}")
     return 0

@@ -25,7 +25,7 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
-from benchmarks.common import RESULTS, THESIS_LINE_BAUD, Table
+from benchmarks.common import THESIS_LINE_BAUD, Table, print_and_save
 from benchmarks.floods import FLOOD_KINDS, start_flood
 from ego.remote.client import RemoteChannel
 from ego.remote.messages import pack_step
@@ -362,11 +362,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="a smoke run: fewer trials")
     args = parser.parse_args(argv)
     tables = run(quick=args.quick)
-    for table in tables:
-        table.print()
-    folder = RESULTS / "quick" if args.quick else RESULTS
-    for table in tables:
-        table.write_csv(folder)
+    folder = print_and_save(tables, args.quick)
     write_section(tables, folder / "reliability.md")
     print(f"\nreport: {folder / 'reliability.md'}")
     return 0

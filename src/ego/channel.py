@@ -12,14 +12,18 @@ suite every channel passes.
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Protocol, runtime_checkable
+
+from ego.errors import LinkLostError
 
 if TYPE_CHECKING:
     from ego.serial.firmware import FirmwareInfo
     from ego.serial.link import LinkStats
     from ego.serial.protocol import Batch, Profile
 
-__all__ = ["Channel"]
+__all__ = ["Channel", "reconnect_within"]
 
 
 @runtime_checkable
@@ -71,3 +75,26 @@ class Channel(Protocol):
     def close(self) -> None:
         """Release the way to the robot; idempotent (the owner stops the robot first)."""
         ...
+
+
+def reconnect_within(
+    name: str,
+    timeout_s: float,
+    attempt: Callable[[], None],
+    not_back_yet: tuple[type[Exception], ...],
+    cause: LinkLostError,
+) -> None:
+    """Call ``attempt`` until it succeeds, every 50 ms, for at most ``timeout_s``; then
+    LinkLostError. What a channel does when its way to the robot vanished (a re-plugged
+    USB port, a restarted server): ``not_back_yet`` are the errors that mean "try again"."""
+    deadline = time.monotonic() + timeout_s
+    while True:
+        try:
+            attempt()
+            return
+        except not_back_yet as exc:
+            if time.monotonic() > deadline:
+                raise LinkLostError(
+                    f"{name}: lost, and not back within {timeout_s} s: {exc}"
+                ) from cause
+            time.sleep(0.05)

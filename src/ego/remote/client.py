@@ -26,6 +26,7 @@ import time
 import weakref
 from typing import TYPE_CHECKING, Any
 
+from ego.channel import reconnect_within
 from ego.errors import (
     CameraCaptureError,
     CameraError,
@@ -225,22 +226,14 @@ class RemoteChannel:
 
     def _reconnect(self, cause: LinkLostError) -> None:
         """Connect again until the deadline (a new session: the server stopped the robot)."""
-        deadline = time.monotonic() + self.settings.reconnect_timeout_s
         log.warning("%s: %s; reconnecting", self.name, cause)
         self._shutdown(goodbye=True)
-        while True:
-            try:
-                self._connect()
-                break
-            except (PortNotFoundError, LinkLostError, RobotBusyError, LinkTimeoutError) as exc:
-                # A server still holding our old session refuses with RobotBusyError
-                # until its deadman releases it: not back yet.
-                if time.monotonic() > deadline:
-                    raise LinkLostError(
-                        f"{self.name}: lost, and not back within "
-                        f"{self.settings.reconnect_timeout_s} s: {exc}"
-                    ) from cause
-                time.sleep(0.05)
+        # A server still holding our old session refuses with RobotBusyError until its
+        # deadman releases it: not back yet.
+        not_back = (PortNotFoundError, LinkLostError, RobotBusyError, LinkTimeoutError)
+        reconnect_within(
+            self.name, self.settings.reconnect_timeout_s, self._connect, not_back, cause
+        )
         self.stats.reconnects += 1
         raise RobotResetError(f"{self.name}: reconnected; robot state must be re-applied")
 

@@ -20,6 +20,7 @@ import time
 from collections import Counter
 from dataclasses import dataclass, field
 
+from ego.channel import reconnect_within
 from ego.errors import (
     ExtraBytesError,
     LinkLostError,
@@ -346,21 +347,15 @@ class Link:
         A port that comes back and vanishes again while the firmware is re-detected
         (a loose connector) is reopened again, within the same deadline.
         """
-        deadline = time.monotonic() + self.settings.reconnect_timeout_s
         log.warning("%s: %s; reconnecting", self.transport.name, cause)
-        while True:
-            try:
-                self.transport.reopen()
-                self.stats.reconnects += 1
-                self._redetect()
-                break
-            except (PortNotFoundError, LinkLostError) as exc:
-                if time.monotonic() > deadline:
-                    raise LinkLostError(
-                        f"{self.transport.name}: lost, and not back within "
-                        f"{self.settings.reconnect_timeout_s} s: {exc}"
-                    ) from cause
-                time.sleep(0.05)
+
+        def reopen() -> None:
+            self.transport.reopen()
+            self.stats.reconnects += 1
+            self._redetect()
+
+        not_back = (PortNotFoundError, LinkLostError)
+        reconnect_within(self.name, self.settings.reconnect_timeout_s, reopen, not_back, cause)
         self._raise_restarted("the port was lost and reopened")
 
     def _restarted(self, why: str) -> None:
