@@ -310,7 +310,11 @@ def write_markdown(tables: list[Table], path: Path, machine: str, quick: bool) -
         "at WARNING.",
     ]
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("\n".join(lines) + "\n")
+    # The security section is benchmarks/security.py's: kept as it is.
+    old = path.read_text() if path.exists() else ""
+    begin, end = "<!-- security:begin -->", "<!-- security:end -->"
+    kept = old[old.index(begin) : old.index(end) + len(end)] if begin in old else ""
+    path.write_text("\n".join(lines) + "\n" + ("\n" + kept + "\n" if kept else ""))
 
 
 def main(argv: list[str] | None = None) -> int:
