@@ -25,6 +25,7 @@ import time
 from typing import Any
 
 from benchmarks.common import REPO, THESIS_LINE_BAUD, Table, interleaved
+from ego.channel import Channel
 from ego.remote.client import RemoteChannel
 from ego.remote.wire import MessageType, SequenceGuard, decode_frame, encode_frame
 from ego.serial.link import Link
@@ -55,30 +56,35 @@ SENSORS = [
         Command.MIC_AMPLITUDE,
     )
 ]
+#: What ``ego serve --port sim`` runs, with the emulator's line at the thesis' 230400 baud
+#: (the pty link beside it runs at that rate too) and an optional shared secret.
 _SERVE = (
-    "import argparse, sys\n"
-    "from ego.remote import cli\n"
-    "parser = argparse.ArgumentParser()\n"
-    "cli.add_arguments(parser)\n"
-    "sys.exit(cli.run(parser.parse_args(sys.argv[1:])))\n"
+    "import asyncio, sys\n"
+    "from ego.backends import open_port\n"
+    "from ego.remote.cli import _serve\n"
+    "from ego.remote.server import Server\n"
+    "opened = open_port('sim', baudrate=int(sys.argv[1]))\n"
+    "server = Server(opened.channel, listen=sys.argv[2], secret=sys.argv[3] or None)\n"
+    "asyncio.run(_serve(server))\n"
+    "opened.close()\n"
 )
+#: The shared secret of the sealed server.
+SECRET = "bench-secret-bench-secret"
 
 
 class _ServeProcess:
-    """``ego serve --port sim`` in a child process, on one loopback URL."""
+    """``ego serve`` on the emulator in a child process, on one loopback URL."""
 
-    def __init__(self, scheme: str) -> None:
+    def __init__(self, scheme: str, secret: str = "") -> None:
+        self.secret = secret or None
         self.process = subprocess.Popen(
             [
                 sys.executable,
                 "-c",
                 _SERVE,
-                "--port",
-                "sim",
-                "--camera",
-                "none",
-                "--listen",
+                str(THESIS_LINE_BAUD),
                 f"{scheme}://127.0.0.1:0",
+                secret,
             ],
             cwd=REPO,
             stderr=subprocess.PIPE,
@@ -109,14 +115,15 @@ class _ServeProcess:
 def roundtrip_table(steps: int) -> Table:
     profile = PROFILES[Firmware.WEBOTS]
     batch = encode_batch(SENSORS, profile)
-    servers = [_ServeProcess("tcp"), _ServeProcess("udp")]
+    servers = [_ServeProcess("tcp"), _ServeProcess("udp"), _ServeProcess("tcp", SECRET),
+               _ServeProcess("udp", SECRET)]  # fmt: skip
     emu = Emulator("webots", baud=THESIS_LINE_BAUD, seed=1).start()
-    links: dict[str, Link] = {}
+    links: dict[str, Channel] = {}
     try:
         links["pty (direct)"] = Link(SerialTransport(emu.path), Firmware.WEBOTS)
         for server in servers:
-            name = server.url.split(":")[0].upper()
-            links[name] = RemoteChannel.from_url(server.url)
+            name = server.url.split(":")[0].upper() + (" sealed" if server.secret else "")
+            links[name] = RemoteChannel.from_url(server.url, server.secret)
         stats = interleaved(
             {name: (lambda link=link: link.exchange(batch)) for name, link in links.items()},
             repeats=steps,
@@ -151,7 +158,8 @@ def roundtrip_table(steps: int) -> Table:
         )
     table.notes.append(
         f"Wire time of the batch at 230400 baud: {wire_ms:.2f} ms. Loopback network; the "
-        "servers run ego serve --port sim in child processes, the pty emulator in this one."
+        "servers run ego serve on the emulator (230400 baud) in child processes, the pty "
+        "emulator in this one; sealed: with a shared secret, every frame HMAC-SHA256."
     )
     return table
 
