@@ -36,16 +36,20 @@ import os
 import re
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Final
+from typing import TYPE_CHECKING, Final
 
 from ego.camera.convert import ROTATIONS
 from ego.camera.source import CONTROLS
 from ego.errors import ConfigSyntaxError, SettingOutOfRangeError, UnknownSettingError
 
+if TYPE_CHECKING:
+    from ego.camera.device import Camera
+
 __all__ = [
     "MAX_SIZE",
     "MIN_SIZE",
     "CameraConfiguration",
+    "apply_configuration",
     "parse_configuration",
     "read_configuration",
     "size_range",
@@ -189,3 +193,21 @@ def read_configuration(
             str(file), line, f"byte 0x{data[exc.start]:02x} is not UTF-8 text"
         ) from exc
     return parse_configuration(text, str(file), current_rotation=current_rotation)
+
+
+def apply_configuration(camera: Camera, path: str | os.PathLike[str]) -> None:
+    """Apply a configuration file to ``camera``.
+
+    The file is checked whole before anything changes; its typed errors give the line. A
+    device that lacks a control the file sets raises UnsupportedControlError after the
+    settings before it were applied.
+    """
+    config = read_configuration(path, current_rotation=camera.rotation)
+    if config.rotation is not None:
+        camera.rotation = config.rotation
+    if config.fov_rad is not None:
+        camera.fov_rad = config.fov_rad
+    if config.width is not None or config.height is not None:
+        camera.set_size(config.width or camera.width, config.height or camera.height)
+    for name, value in config.controls().items():
+        camera.set_control(name, value)

@@ -12,21 +12,19 @@ from typing import Final, TypeVar
 import numpy as np
 import numpy.typing as npt
 
-from ego.camera.config import read_configuration, size_range
+from ego.camera.config import apply_configuration, size_range
+from ego.camera.controls import CameraControls
 from ego.camera.convert import (
     YuvFormula,
     check_rotation,
-    rgb888_to_bgra,
 )
-from ego.camera.encode import save_image
 from ego.camera.frames import frame_to_rgb888
+from ego.camera.pixels import PixelReads
 from ego.camera.source import (
-    CONTROLS,
     FieldOfViewControl,
     FrameSource,
     GrantedFormat,
     PixelFormat,
-    check_control_name,
 )
 from ego.devices.base import MAX_PERIOD_MS
 from ego.errors import CameraError, OutOfRangeError
@@ -54,7 +52,31 @@ def _choice(what: str, kind: type[_E], value: object) -> _E:
         raise OutOfRangeError(f"{what} {value!r} is not one of {choices}") from None
 
 
-class Camera:
+def check_fov(fov_rad: float) -> float:
+    if isinstance(fov_rad, bool) or not isinstance(fov_rad, (int, float)):
+        raise TypeError(f"fov_rad must be a number, not {fov_rad!r}")
+    if not 0.0 < fov_rad < math.pi:
+        raise OutOfRangeError(f"field of view {fov_rad} rad is outside (0, pi)")
+    return float(fov_rad)
+
+
+def sensor_size_for(width: int, height: int, rotation: int) -> tuple[int, int]:
+    """The sensor's (width, height) for an image of ``width`` x ``height``."""
+    width, height = (
+        check_int("width", width, integral=True),
+        check_int("height", height, integral=True),
+    )
+    low, high = size_range(rotation)
+    if not (low[0] <= width <= high[0] and low[1] <= height <= high[1]):
+        turned = f" at rotation {rotation}" if rotation in (90, 270) else ""
+        raise OutOfRangeError(
+            f"camera size {width}x{height} is outside "
+            f"{low[0]}x{low[1]}..{high[0]}x{high[1]}{turned}"
+        )
+    return (height, width) if rotation in (90, 270) else (width, height)
+
+
+class Camera(CameraControls, PixelReads):
     """The camera: a frame source, converted to RGB888 and rotated each time it is due.
 
     The image is delivered upright by default (``rotation=180`` undoes the upside-down
@@ -96,8 +118,8 @@ class Camera:
         self._pixel_format = _choice("pixel format", PixelFormat, pixel_format)
         self.yuv_formula = _choice("YUV formula", YuvFormula, yuv_formula)
         self._rotation = check_rotation(rotation)
-        self._sensor = self._sensor_size(width, height, self._rotation)
-        self._fov_rad = self._check_fov(fov_rad)
+        self._sensor = sensor_size_for(width, height, self._rotation)
+        self._fov_rad = check_fov(fov_rad)
         self._granted: GrantedFormat | None = None
         self._controls: dict[str, int] = {}  # requested, or granted once applied
         self._period_ms: int | None = None
@@ -107,36 +129,6 @@ class Camera:
         self._bgra_frame = -1
         self._frames = 0
         self._closed = False
-
-    # -- validation ----------------------------------------------------------------------
-
-    @staticmethod
-    def _check_fov(fov_rad: float) -> float:
-        if isinstance(fov_rad, bool) or not isinstance(fov_rad, (int, float)):
-            raise TypeError(f"fov_rad must be a number, not {fov_rad!r}")
-        if not 0.0 < fov_rad < math.pi:
-            raise OutOfRangeError(f"field of view {fov_rad} rad is outside (0, pi)")
-        return float(fov_rad)
-
-    @staticmethod
-    def _sensor_size(width: int, height: int, rotation: int) -> tuple[int, int]:
-        """The sensor's (width, height) for an image of ``width`` x ``height``."""
-        width, height = (
-            check_int("width", width, integral=True),
-            check_int("height", height, integral=True),
-        )
-        low, high = size_range(rotation)
-        if not (low[0] <= width <= high[0] and low[1] <= height <= high[1]):
-            turned = f" at rotation {rotation}" if rotation in (90, 270) else ""
-            raise OutOfRangeError(
-                f"camera size {width}x{height} is outside "
-                f"{low[0]}x{low[1]}..{high[0]}x{high[1]}{turned}"
-            )
-        return (height, width) if rotation in (90, 270) else (width, height)
-
-    def _check_open(self) -> None:
-        if self._closed:
-            raise CameraError(f"{self.name} is closed")
 
     # -- the source ------------------------------------------------------------------------
 
@@ -256,17 +248,6 @@ class Camera:
         """How many frames have been captured."""
         return self._frames
 
-    def image_bgra(self) -> bytes:
-        """The last frame as BGRA bytes (alpha 255), as Webots' ``getImage`` returns it."""
-        image = self.image
-        if self._bgra is None or self._bgra.shape[:2] != image.shape[:2]:
-            self._bgra = np.empty((image.shape[0], image.shape[1], 4), dtype=np.uint8)
-            self._bgra_frame = -1
-        if self._bgra_frame != self._frames:
-            rgb888_to_bgra(image, out=self._bgra)
-            self._bgra_frame = self._frames
-        return self._bgra.tobytes()
-
     @property
     def width(self) -> int:
         """Width of the image in pixels (after rotation; as granted by the source)."""
@@ -289,7 +270,7 @@ class Camera:
         The source (the driver) may adjust it: the granted size is returned and becomes
         ``width``/``height``.
         """
-        sensor = self._sensor_size(width, height, self._rotation)
+        sensor = sensor_size_for(width, height, self._rotation)
         self._check_open()
         self._sensor = sensor
         if self._granted is not None:
@@ -316,121 +297,14 @@ class Camera:
 
     @fov_rad.setter
     def fov_rad(self, fov_rad: float) -> None:
-        fov_rad = self._check_fov(fov_rad)
+        fov_rad = check_fov(fov_rad)
         if isinstance(self._source, FieldOfViewControl):  # a renderer can zoom
             fov_rad = self._source.set_fov_rad(fov_rad)
         self._fov_rad = fov_rad
 
-    # -- controls ------------------------------------------------------------------------------
-
-    def _set_control(self, name: str, value: int) -> None:
-        check_control_name(name)
-        spec = CONTROLS[name]
-        if not spec.minimum <= value <= spec.maximum:
-            raise OutOfRangeError(f"{name} {value} is outside {spec.minimum}..{spec.maximum}")
-        self._check_open()
-        if self._granted is not None:
-            value = self._source.set_control(name, value)
-        self._controls[name] = value
-
-    def get_control(self, name: str) -> int | None:
-        """A control's value (as granted once applied), or None if never set."""
-        return self._controls.get(check_control_name(name))
-
-    def set_control(self, name: str, value: int) -> int:
-        """Set a control of :data:`~ego.camera.source.CONTROLS` by name; return its value."""
-        self._set_control(name, check_int(name, value, integral=True))
-        return self._controls[name]
-
-    @property
-    def brightness(self) -> int | None:
-        """Brightness, 0..255 (thesis default 1); None until set."""
-        return self._controls.get("brightness")
-
-    @brightness.setter
-    def brightness(self, value: int) -> None:
-        self._set_control("brightness", check_int("brightness", value, integral=True))
-
-    @property
-    def contrast(self) -> int | None:
-        """Contrast, 0..255 (thesis default 64); None until set."""
-        return self._controls.get("contrast")
-
-    @contrast.setter
-    def contrast(self, value: int) -> None:
-        self._set_control("contrast", check_int("contrast", value, integral=True))
-
-    @property
-    def saturation(self) -> int | None:
-        """Saturation, 0..255 (thesis default 64); None until set."""
-        return self._controls.get("saturation")
-
-    @saturation.setter
-    def saturation(self, value: int) -> None:
-        self._set_control("saturation", check_int("saturation", value, integral=True))
-
-    @property
-    def auto_white_balance(self) -> bool | None:
-        """Automatic white balance on or off (thesis default off); None until set."""
-        value = self._controls.get("auto_white_balance")
-        return None if value is None else bool(value)
-
-    @auto_white_balance.setter
-    def auto_white_balance(self, value: bool) -> None:
-        if value not in (True, False, 0, 1) or not isinstance(value, (bool, int)):
-            raise TypeError(f"auto_white_balance must be True or False, not {value!r}")
-        self._set_control("auto_white_balance", int(value))
-
     def load_configuration(self, path: str | os.PathLike[str]) -> None:
-        """Apply a camera configuration file (format: :mod:`ego.camera.config`).
-
-        The file is checked whole before anything changes; its typed errors give the
-        line. A device that lacks a control the file sets raises UnsupportedControlError
-        after the settings before it were applied.
-        """
-        config = read_configuration(path, current_rotation=self._rotation)
-        if config.rotation is not None:
-            self.rotation = config.rotation
-        if config.fov_rad is not None:
-            self.fov_rad = config.fov_rad
-        if config.width is not None or config.height is not None:
-            self.set_size(config.width or self.width, config.height or self.height)
-        for name, value in config.controls().items():
-            self._set_control(name, value)
-
-    # -- pixels and files -----------------------------------------------------------------------
-
-    def save_image(self, filename: str | os.PathLike[str], quality: int = 90) -> None:
-        """Save the last frame as JPEG (``quality`` 1..100) or PNG, by the file's extension."""
-        save_image(self.image, filename, quality)
-
-    def _pixel(self, x: int, y: int) -> tuple[int, int, int]:
-        image = self.image
-        height, width = image.shape[:2]
-        x, y = check_int("x", x, integral=True), check_int("y", y, integral=True)
-        if not 0 <= x < width:
-            raise OutOfRangeError(f"x {x} is outside 0..{width - 1}")
-        if not 0 <= y < height:
-            raise OutOfRangeError(f"y {y} is outside 0..{height - 1}")
-        red, green, blue = image[y, x].tolist()
-        return red, green, blue
-
-    def get_red(self, x: int, y: int) -> int:
-        """Red of pixel (x, y) of the last frame, 0..255 (x to the right, y down)."""
-        return self._pixel(x, y)[0]
-
-    def get_green(self, x: int, y: int) -> int:
-        """Green of pixel (x, y), 0..255."""
-        return self._pixel(x, y)[1]
-
-    def get_blue(self, x: int, y: int) -> int:
-        """Blue of pixel (x, y), 0..255."""
-        return self._pixel(x, y)[2]
-
-    def get_grey(self, x: int, y: int) -> int:
-        """Grey of pixel (x, y): (red + green + blue) // 3, as Webots' imageGetGray."""
-        red, green, blue = self._pixel(x, y)
-        return (red + green + blue) // 3
+        """Apply a camera configuration file (:func:`ego.camera.config.apply_configuration`)."""
+        apply_configuration(self, path)
 
     # -- lifetime --------------------------------------------------------------------------------
 
