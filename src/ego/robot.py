@@ -26,15 +26,13 @@ from ego.errors import (
     CameraError,
     EgoError,
     LinkLostError,
-    ProtocolError,
-    RobotResetError,
     UnknownDeviceError,
-    UnsupportedDeviceError,
 )
 from ego.ports import resolve_port
 from ego.safety import install_signal_handlers, register, send_stop
 from ego.scheduler import StepClock
-from ego.serial.protocol import Firmware, encode_batch
+from ego.serial.protocol import Firmware
+from ego.transaction import run_step
 
 if TYPE_CHECKING:
     from ego.camera import Camera, FrameSource
@@ -45,8 +43,6 @@ log = logging.getLogger(__name__)
 
 #: The port name that starts the built-in dsPIC emulator.
 SIM_PORT = "sim"
-#: A step whose robot restarts, or answers implausibly, more often than this gives up.
-MAX_ATTEMPTS_PER_STEP = 3
 
 
 class Robot:
@@ -115,7 +111,7 @@ class Robot:
         self.microphones = Microphones(profile)
         self.battery = Battery(profile)
         self.proximity.bind_calibration(self.calibrate_proximity)
-        #: Actuators first, so that ``P`` precedes ``Q`` in a batch.
+        #: The device families, in the order Webots names their devices.
         self.families: tuple[Device, ...] = (
             self.motors,
             self.leds,
@@ -127,6 +123,11 @@ class Robot:
             self.microphones,
             self.battery,
         )
+        #: What each step's transaction runs over (ego.transaction).
+        self._step_parts = tuple(part for family in self.families for part in family.parts)
+        #: Devices the step clock schedules on this side of the link (the camera, once
+        #: opened): each is updated with the step's time.
+        self._local_devices: list[Camera] = []
         self._camera: Camera | None = None
         self._camera_source = camera_source
         self._time_ms = 0
@@ -158,6 +159,7 @@ class Robot:
 
             self._camera = Camera(source=self._camera_source or self._default_camera_source())
             self._parts.camera = self._camera
+            self._local_devices.append(self._camera)
         return self._camera
 
     def _default_camera_source(self) -> FrameSource:
@@ -251,13 +253,13 @@ class Robot:
         self.clock.begin()
         now = self._time_ms
         try:
-            self._exchange(now)
+            run_step(self._step_parts, self.link, now, self._restarted)
         except LinkLostError as exc:
             log.error("link lost for good: %s", exc)
             self._lost = self._parts.lost = True
             return -1
-        if self._camera is not None:
-            self._camera.update(now)
+        for local in self._local_devices:  # captured here, not over the link: the camera
+            local.update(now)
         self._time_ms += step_ms
         self.steps += 1
         self.link.waiting_until(time.monotonic() + step_ms / 1000.0)
@@ -266,55 +268,12 @@ class Robot:
             listener(self)
         return 0
 
-    def _exchange(self, now: int) -> None:
-        """One batch of everything due; again after a restart or an implausible reply."""
-        why = ""
-        for _ in range(MAX_ATTEMPTS_PER_STEP):
-            plan = [(f, r) for f in self.families for r in f.requests(now)]
-            if not plan:
-                return
-            # Setters first, reads after (a stable sort keeps P before Q): the E that
-            # confirms the speeds then follows every command of the batch, so a byte of
-            # any of them misread as D is caught too (L and D differ by one bit).
-            plan.sort(key=lambda item: not item[1].arguments)
-            batch = encode_batch([r for _, r in plan], self.link.profile)
-            try:
-                reply = self.link.exchange(batch)
-            except RobotResetError as exc:
-                log.warning("%s; re-applying the robot's state", exc)
-                why = str(exc)
-                self._restarted()
-                continue
-            decoded = list(zip(plan, batch.decode(reply), strict=True))
-            now_s = time.monotonic()
-            problems = [p for (f, r), v in decoded if (p := f.check(r, v, now_s)) is not None]
-            if problems:
-                # The reply had the right length, so the stream is in step: just ask again.
-                self.link.stats.faults["implausible"] += 1
-                why = f"implausible reply: {problems[0]}"
-                log.warning("%s; asking again", why)
-                continue
-            # A reply that proves a device absent (docs/protocol.md: zeros from a rev 1.3
-            # accelerometer, 0xFFFF without the ground module) disables it and is told
-            # once the rest of the step is delivered.
-            absent: list[UnsupportedDeviceError] = []
-            for (family, request), values in decoded:
-                try:
-                    family.decode(request, values, now)
-                except UnsupportedDeviceError as exc:
-                    absent.append(exc)
-            for family in self.families:
-                family.committed(now)
-            if absent:
-                raise absent[0]
-            return
-        raise ProtocolError(f"no usable reply after {MAX_ATTEMPTS_PER_STEP} attempts ({why})")
-
     def _restarted(self) -> None:
         profile = self.link.profile
         for family in self.families:
             family.set_profile(profile)
-            family.restarted()
+            for part in family.parts:
+                part.reset()
 
     # -- safe stop -------------------------------------------------------------------
 

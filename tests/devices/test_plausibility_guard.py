@@ -15,6 +15,7 @@ import pytest
 from fakes import INSTANT_LINK, ScriptedTransport
 
 import ego
+from ego.devices.base import Verdict
 from ego.devices.encoders import Encoders, wrap_int16
 from ego.serial.link import Link
 from ego.serial.protocol import PROFILES, Command, Firmware, Request
@@ -24,36 +25,60 @@ STEP_MS = 16
 GET_STEPS = Request(Command.GET_STEPS)
 
 
-def fresh_encoders(left: int, right: int) -> Encoders:
+def fresh_encoders(left: int, right: int, now: float) -> Encoders:
     encoders = Encoders(PROFILES[Firmware.WEBOTS])
-    encoders.decode(GET_STEPS, (left, right), 0)
+    encoders.counters.apply(GET_STEPS, (left, right), 0, now)
     return encoders
 
 
+def judged(encoders: Encoders, values: tuple[int, int], now: float) -> Verdict:
+    """What the step transaction does with one reply: validate, and tell a refusal."""
+    verdict = encoders.counters.validate(GET_STEPS, values, now)
+    if not verdict.fine:
+        encoders.counters.refused(verdict, now)
+    return verdict
+
+
+def planned(encoders: Encoders) -> list[Request]:
+    return [r for part in encoders.parts for r in part.plan(0)]
+
+
 def test_a_counter_jump_seen_once_is_refused_and_the_next_true_reading_taken() -> None:
-    encoders = fresh_encoders(100, 100)
     now = time.monotonic()
-    assert "jumped" in (encoders.check(GET_STEPS, (100, 30000), now) or "")
-    assert encoders.check(GET_STEPS, (101, 102), now) is None
-    assert encoders.requests(0) == []  # a garbled reply changes nothing on the dsPIC
+    encoders = fresh_encoders(100, 100, now)
+    assert "jumped" in (judged(encoders, (100, 30000), now).problem or "")
+    assert judged(encoders, (101, 102), now).fine
+    assert [r for r in planned(encoders) if r.command is Command.SET_STEPS] == []
+    # a garbled reply changes nothing on the dsPIC
 
 
 def test_a_counter_jump_seen_twice_sets_the_dspic_counters_back() -> None:
-    encoders = fresh_encoders(100, -200)
     now = time.monotonic()
-    assert "overwritten" not in (encoders.check(GET_STEPS, (100, 30000), now) or "")
-    why = encoders.check(GET_STEPS, (100, 30001), now)
+    encoders = fresh_encoders(100, -200, now)
+    assert "overwritten" not in (judged(encoders, (100, 30000), now).problem or "")
+    why = judged(encoders, (100, 30001), now).problem
     assert why is not None and "overwritten" in why
-    assert encoders.requests(0) == [Request(Command.SET_STEPS, (100, -200))]
+    assert planned(encoders) == [Request(Command.SET_STEPS, (100, -200))]
 
 
 def test_two_different_jumps_are_two_garbles_not_an_overwrite() -> None:
-    encoders = fresh_encoders(0, 0)
     now = time.monotonic()
-    assert encoders.check(GET_STEPS, (9000, 0), now) is not None
-    why = encoders.check(GET_STEPS, (0, -9000), now)
+    encoders = fresh_encoders(0, 0, now)
+    assert not judged(encoders, (9000, 0), now).fine
+    why = judged(encoders, (0, -9000), now).problem
     assert why is not None and "overwritten" not in why
-    assert encoders.requests(0) == []
+    assert planned(encoders) == []
+
+
+def test_validating_changes_nothing() -> None:
+    """A verdict has no side effects: asked twice, the same answer, and the same plan."""
+    now = time.monotonic()
+    encoders = fresh_encoders(100, -200, now)
+    encoders.counters.refused(encoders.counters.validate(GET_STEPS, (100, 30000), now), now)
+    first = encoders.counters.validate(GET_STEPS, (100, 30001), now)
+    second = encoders.counters.validate(GET_STEPS, (100, 30001), now)
+    assert first == second and first.correction == Request(Command.SET_STEPS, (100, -200))
+    assert planned(encoders) == []  # only refused() acts on it
 
 
 def test_counters_overwritten_on_the_dspic_are_set_back_within_the_step(

@@ -7,7 +7,7 @@ import math
 import numbers
 from typing import TYPE_CHECKING
 
-from ego.devices.base import Sensor
+from ego.devices.base import Sampled
 from ego.devices.motors import MAX_SPEED_RAD_S, rad_s_to_steps
 from ego.devices.position_control import position_speed
 from ego.devices.table import find, spec
@@ -64,9 +64,9 @@ class Device:
 class _SampledDevice(Device):
     """``enable(ms)``, ``disable()``, ``getSamplingPeriod()`` of one member of a family."""
 
-    def _family(self) -> Sensor:
+    def _family(self) -> Sampled:
         family = self._core.device(self._name)
-        assert isinstance(family, Sensor)
+        assert isinstance(family, Sampled)
         return family
 
     def enable(self, samplingPeriod: int) -> None:

@@ -16,7 +16,7 @@ import math
 from collections.abc import Iterable, Sequence
 from typing import ClassVar, NamedTuple
 
-from ego.devices.base import Sensor, out_of_range
+from ego.devices.base import Sensor, Verdict, out_of_range
 from ego.serial.protocol import Command, Profile, Request
 
 __all__ = [
@@ -108,15 +108,16 @@ class Accelerometer(Sensor):
     def current_command(self) -> Command:
         return self._commands[self.mode]
 
-    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+    def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
         if request.command is Command.ACCELEROMETER_RAW:
-            return out_of_range("accelerometer", values, 0, 4095)
+            return Verdict(out_of_range("accelerometer", values, 0, 4095))
         magnitude, orientation, inclination = values
         if not math.isfinite(magnitude) or magnitude < 0:
-            return f"accelerometer magnitude {magnitude} is not a finite non-negative number"
+            return Verdict(f"accelerometer magnitude {magnitude} is not finite and non-negative")
         over = ANGLE_OVERSHOOT
-        return out_of_range("accelerometer orientation", [orientation], -over, 360 + over) or (
-            out_of_range("accelerometer inclination", [inclination], -over / 2, 180 + over / 2)
+        return Verdict(
+            out_of_range("accelerometer orientation", [orientation], -over, 360 + over)
+            or out_of_range("accelerometer inclination", [inclination], -over / 2, 180 + over / 2)
         )
 
     def take(self, values: Sequence[float]) -> None:

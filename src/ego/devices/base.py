@@ -1,27 +1,49 @@
-"""What every device family shares: names, sampling periods, due checks, firmware checks.
+"""What every device family shares: names, sampling periods, due checks, firmware checks,
+and the transaction each takes part in once a step.
 
 A device family is one wire command serving several named devices (``N`` serves
 ``ps0``..``ps7``). As in the thesis, a sensor's command is queued only when one of its
 members' sampling period is due, an actuator's only when its value changed; the robot
 gathers everything due in one step into one batch.
+
+Each step is a transaction over every family's parts (a part is a sensor or an actuator,
+never both; a family like the motors has one of each):
+
+1. ``plan(now_ms)``: the requests this part wants in the batch now;
+2. the batch is exchanged, and each reply checked by the part that asked:
+   ``validate(request, values, now_s)`` returns a :class:`Verdict` and changes nothing;
+3. if any verdict is a problem, each part hears it (``refused``: remember a suspect
+   reading, queue a correction) and the batch is planned again;
+4. else ``apply(request, values, now_ms)``: the only change after a good reply;
+5. after a dsPIC restart, ``reset()``: re-send what the dsPIC lost.
+
+The batch order is declared by each command's :data:`PHASE` (setters first), never
+inferred.
 """
 
 from __future__ import annotations
 
 import abc
+import enum
 from collections.abc import Iterable, Sequence
-from typing import ClassVar
+from dataclasses import dataclass
+from typing import ClassVar, Protocol, runtime_checkable
 
 from ego.errors import DeviceError, UnknownDeviceError, UnsupportedDeviceError
 from ego.serial.protocol import Command, Profile, Request
 from ego.validate import check_int  # re-exported: the families' integer check
 
 __all__ = [
+    "FINE",
     "MAX_PERIOD_MS",
+    "PHASE",
     "Actuator",
     "ArraySensor",
     "Device",
+    "Phase",
+    "Sampled",
     "Sensor",
+    "Verdict",
     "check_int",
     "out_of_range",
 ]
@@ -36,8 +58,49 @@ def out_of_range(what: str, values: Sequence[float], low: float, high: float) ->
     return f"{what} value {bad[0]} outside {low}..{high}" if bad else None
 
 
+class Phase(enum.IntEnum):
+    """Where a command goes in a batch: every setter before every read, so that the ``E``
+    confirming the speeds follows every command of the batch (a byte of any of them
+    misread as ``D`` is caught too: ``L`` and ``D`` differ by one bit) and ``P`` precedes
+    the ``Q`` that must see it."""
+
+    SET = 0
+    READ = 1
+
+
+#: Each command's phase (docs/protocol.md): the three that change the dsPIC's state.
+PHASE: dict[Command, Phase] = {
+    command: Phase.SET
+    if command in (Command.SET_SPEED, Command.SET_LED, Command.SET_STEPS)
+    else Phase.READ
+    for command in Command
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Verdict:
+    """What a part makes of one reply: fine, or a problem (ask the batch again), with
+    what the part should remember (``note``) and send again (``correction``)."""
+
+    problem: str | None = None
+    correction: Request | None = None
+    note: object = None
+
+    @property
+    def fine(self) -> bool:
+        return self.problem is None
+
+
+#: The verdict of a reply nothing is wrong with.
+FINE = Verdict()
+
+
 class Device:
-    """A family of named devices behind one firmware; the base of sensors and actuators."""
+    """A family of named devices behind one firmware, and a part of the step transaction.
+
+    A family with a sensor and an actuator side (the motors, the encoders) lists them in
+    :attr:`parts`; every other family is its own only part.
+    """
 
     #: The Webots names of the devices in this family (``ps0``..``ps7``).
     names: ClassVar[tuple[str, ...]] = ()
@@ -79,31 +142,51 @@ class Device:
                 f"serve the {self.family} (wire command {command.letter!r})"
             )
 
-    def requests(self, now_ms: int) -> list[Request]:
-        """The commands this family wants in the batch of the step starting at ``now_ms``."""
+    @property
+    def parts(self) -> tuple[Device, ...]:
+        """The transaction's participants this family is made of."""
+        return (self,)
+
+    def plan(self, now_ms: int) -> list[Request]:
+        """The commands this part wants in the batch of the step starting at ``now_ms``."""
         return []
 
-    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
-        """Why these reply values cannot be true, or None: the plausibility guard.
+    def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
+        """What these reply values say, without changing anything: the plausibility guard.
 
         The link has no checksum, so a flipped bit inside a reply of the right length
         reaches here unseen. Values outside their physical range, or a step counter that
         moved further than the wheels can turn, are caught; a flip that stays in range is
-        not (``now_s`` is the host's monotonic clock).
+        not (``now_s`` is when the reply came, on the host's monotonic clock).
         """
-        return None
+        return FINE
 
-    def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
-        """Take the reply values of one of this family's requests."""
+    def refused(self, verdict: Verdict, now_s: float) -> None:
+        """A reply of this part's was refused with ``verdict``: the batch goes again."""
 
-    def committed(self, now_ms: int) -> None:
-        """The step's batch went through: pending actuator commands are done."""
+    def apply(self, request: Request, values: Sequence[float], now_ms: int, now_s: float) -> None:
+        """The batch went through: take this request's reply values (none for a setter)."""
 
-    def restarted(self) -> None:
+    def reset(self) -> None:
         """The dsPIC restarted or the port was re-plugged: re-send what it lost."""
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {', '.join(self.member_names)}>"
+
+
+@runtime_checkable
+class Sampled(Protocol):
+    """A family whose members are read at a sampling period: a sensor, or the read side
+    of a family that also acts (the motors' speeds held, the encoders' counters)."""
+
+    def enable(self, period_ms: int, names: Iterable[str] | None = None) -> None: ...
+
+    def disable(self, names: Iterable[str] | None = None) -> None: ...
+
+    def sampling_period(self, name: str | None = None) -> int | None: ...
+
+    @property
+    def has_values(self) -> bool: ...
 
 
 class Sensor(Device, abc.ABC):
@@ -156,13 +239,13 @@ class Sensor(Device, abc.ABC):
             return False
         return self._last_fetch_ms is None or now_ms - self._last_fetch_ms >= period
 
-    def requests(self, now_ms: int) -> list[Request]:
+    def plan(self, now_ms: int) -> list[Request]:
         return [Request(self.current_command())] if self.is_due(now_ms) else []
 
     def current_command(self) -> Command:
         return self.command
 
-    def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
+    def apply(self, request: Request, values: Sequence[float], now_ms: int, now_s: float) -> None:
         self._last_fetch_ms = now_ms
         self._sampled_ms = now_ms
         self.take(values)
@@ -190,7 +273,7 @@ class Sensor(Device, abc.ABC):
                 f"{self.family}"
             )
 
-    def restarted(self) -> None:
+    def reset(self) -> None:
         self._last_fetch_ms = None  # fetch again at the next step
 
     def missing(self, why: str) -> UnsupportedDeviceError:
@@ -214,11 +297,14 @@ class Actuator(Device):
     def queue(self, key: object, request: Request) -> None:
         self._pending[key] = request
 
-    def requests(self, now_ms: int) -> list[Request]:
+    def plan(self, now_ms: int) -> list[Request]:
         return list(self._pending.values())
 
-    def committed(self, now_ms: int) -> None:
-        self._pending.clear()
+    def apply(self, request: Request, values: Sequence[float], now_ms: int, now_s: float) -> None:
+        # Done, unless a newer value for the same key was queued meanwhile.
+        for key, pending in list(self._pending.items()):
+            if pending == request:
+                del self._pending[key]
 
 
 class ArraySensor(Sensor):
@@ -231,8 +317,8 @@ class ArraySensor(Sensor):
         super().__init__(profile)
         self._values: tuple[int, ...] = ()
 
-    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
-        return out_of_range(self.family, values, *self.value_range)
+    def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
+        return Verdict(out_of_range(self.family, values, *self.value_range))
 
     def take(self, values: Sequence[float]) -> None:
         self._values = tuple(int(v) for v in values[: len(self.member_names)])

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from typing import ClassVar
 
-from ego.devices.base import Sensor, out_of_range
+from ego.devices.base import Sensor, Verdict, out_of_range
 from ego.errors import UnsupportedDeviceError
 from ego.serial.protocol import Command, Profile, Request
 
@@ -48,10 +48,10 @@ class Battery(Sensor):
             )
         super().enable(period_ms, names)
 
-    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+    def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
         if self.profile.rev13:
-            return out_of_range("battery", values, 0, 4095)
-        return out_of_range("battery flag", values, 0, 1)
+            return Verdict(out_of_range("battery", values, 0, 4095))
+        return Verdict(out_of_range("battery flag", values, 0, 1))
 
     def take(self, values: Sequence[float]) -> None:
         self._reading = int(values[0])

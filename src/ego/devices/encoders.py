@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import math
-import time
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import ClassVar
 
-from ego.devices.base import Sensor, check_int
+from ego.devices.base import FINE, Device, Sensor, Verdict, check_int
 from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
 
 __all__ = ["Encoders", "wrap_int16"]
@@ -32,7 +31,101 @@ def _jump(raw: Sequence[int], last: Sequence[int], elapsed_s: float) -> str | No
     return None
 
 
-class Encoders(Sensor):
+class CounterReset(Device):
+    """The actuator side of the encoders: ``P`` overwrites the dsPIC's step counters."""
+
+    family = "encoders"
+    names: ClassVar[tuple[str, ...]] = ("left wheel sensor", "right wheel sensor")
+
+    def __init__(self, profile: Profile) -> None:
+        super().__init__(profile)
+        self.pending: Request | None = None
+
+    def plan(self, now_ms: int) -> list[Request]:
+        return [self.pending] if self.pending is not None else []
+
+    def apply(self, request: Request, values: Sequence[float], now_ms: int, now_s: float) -> None:
+        if request == self.pending:
+            self.pending = None
+
+
+class StepCounters(Sensor):
+    """The sensor side of the encoders: ``Q``, kept as totals beyond the firmware's int16."""
+
+    family = "encoders"
+    names: ClassVar[tuple[str, ...]] = ("left wheel sensor", "right wheel sensor")
+    command = Command.GET_STEPS
+
+    def __init__(self, profile: Profile, reset: CounterReset) -> None:
+        super().__init__(profile)
+        self._reset = reset
+        self.total = [0, 0]
+        self.last_raw: list[int] | None = None
+        self._fetched_s: float | None = None
+        #: A reading the guard refused, and when: the next one tells a garbled reply
+        #: (which does not repeat) from counters really overwritten on the dsPIC.
+        self._suspect: tuple[tuple[int, int], float] | None = None
+
+    def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
+        """A counter that moved further than a wheel at full speed could is corrupted.
+
+        A garbled reply does not repeat: asked again, the dsPIC answers the true counts.
+        If it answers the same jump twice, its counters really were overwritten (a
+        command byte misread as ``P`` takes the next four bytes for counts): the verdict
+        sets them back to the last good reading, losing at most the steps turned since
+        then, and reads again, instead of refusing every reading until the jump looks
+        plausible.
+        """
+        if self.last_raw is None or self._reset.pending is not None or self._fetched_s is None:
+            return FINE  # nothing to compare with, or P overwrote the counters just now
+        raw = (int(values[0]), int(values[1]))
+        jump = _jump(raw, self.last_raw, now_s - self._fetched_s)
+        if jump is None:
+            return FINE
+        suspect = self._suspect
+        if suspect is None or _jump(raw, suspect[0], now_s - suspect[1]) is not None:
+            return Verdict(jump, note=(raw, now_s))
+        return Verdict(
+            f"{jump}, twice: the dsPIC's counters were overwritten (a misread command?); "
+            f"setting them back to {tuple(self.last_raw)}",
+            correction=_set_back(self.last_raw),
+        )
+
+    def refused(self, verdict: Verdict, now_s: float) -> None:
+        if verdict.correction is not None:
+            self._suspect = None
+            self._reset.pending = verdict.correction
+        else:
+            self._suspect = verdict.note  # type: ignore[assignment]
+
+    def apply(self, request: Request, values: Sequence[float], now_ms: int, now_s: float) -> None:
+        super().apply(request, values, now_ms, now_s)
+        self._fetched_s = now_s
+        self._suspect = None
+
+    def take(self, values: Sequence[float]) -> None:
+        raw = [int(v) for v in values]
+        if self.last_raw is not None:
+            for i in (0, 1):
+                self.total[i] += wrap_int16(raw[i] - self.last_raw[i])
+        else:
+            self.total = raw
+        self.last_raw = raw
+
+    def reset(self) -> None:
+        """A restarted dsPIC counts from 0 again: give it our totals back."""
+        super().reset()
+        self._suspect = None
+        if self.last_raw is not None:
+            self._reset.pending = _set_back(self.last_raw)
+
+
+def _set_back(raw: Sequence[int]) -> Request:
+    """P with the counters' last good reading: what the dsPIC must hold again."""
+    return Request(Command.SET_STEPS, (raw[0], raw[1]))
+
+
+class Encoders(Device):
     """Steps counted by each stepper motor since start or since set, unwrapped.
 
     The dsPIC's counters are int16 and wrap at +-32768 (about 4 m of travel); ego keeps
@@ -44,17 +137,20 @@ class Encoders(Sensor):
 
     family = "encoders"
     names: ClassVar[tuple[str, ...]] = ("left wheel sensor", "right wheel sensor")
-    command = Command.GET_STEPS
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)
-        self._total = [0, 0]
-        self._last_raw: list[int] | None = None
-        self._set: Request | None = None
-        self._fetched_s: float | None = None
-        #: A reading the guard refused, and when: the next one tells a garbled reply
-        #: (which does not repeat) from counters really overwritten on the dsPIC.
-        self._suspect: tuple[tuple[int, int], float] | None = None
+        self.reset_part = CounterReset(profile)
+        self.counters = StepCounters(profile, self.reset_part)
+
+    @property
+    def parts(self) -> tuple[Device, ...]:
+        return (self.reset_part, self.counters)
+
+    def set_profile(self, profile: Profile) -> None:
+        super().set_profile(profile)
+        for part in self.parts:
+            part.set_profile(profile)
 
     def set(self, left: int, right: int) -> None:
         """Overwrite both counters (steps); the firmware stores them as int16."""
@@ -62,77 +158,33 @@ class Encoders(Sensor):
             check_int(f"{side} encoder value", v, -(2**31), 2**31 - 1, " steps")
             for side, v in (("left", left), ("right", right))
         ]
-        self._total = values
-        self._last_raw = [wrap_int16(v) for v in values]
-        self._set = Request(Command.SET_STEPS, (self._last_raw[0], self._last_raw[1]))
+        self.counters.total = values
+        self.counters.last_raw = [wrap_int16(v) for v in values]
+        self.reset_part.pending = _set_back(self.counters.last_raw)
 
-    def requests(self, now_ms: int) -> list[Request]:
-        # P goes before Q in the same batch, so the read sees the new values.
-        pending = [self._set] if self._set is not None else []
-        return pending + super().requests(now_ms)
+    def enable(self, period_ms: int, names: Iterable[str] | None = None) -> None:
+        """Read the counters every ``period_ms`` milliseconds."""
+        self.counters.enable(period_ms, names)
 
-    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
-        """A counter that moved further than a wheel at full speed could is corrupted.
+    def disable(self, names: Iterable[str] | None = None) -> None:
+        self.counters.disable(names)
 
-        A garbled reply does not repeat: asked again, the dsPIC answers the true counts.
-        If it answers the same jump twice, its counters really were overwritten (a
-        command byte misread as ``P`` takes the next four bytes for counts): ego sets them
-        back to its last good reading, losing at most the steps turned since then, and
-        reads again, instead of refusing every reading until the jump looks plausible.
-        """
-        if request.command is not Command.GET_STEPS:
-            return None
-        if self._last_raw is None or self._set is not None or self._fetched_s is None:
-            return None  # nothing to compare with, or P overwrote the counters just now
-        raw = (int(values[0]), int(values[1]))
-        jump = _jump(raw, self._last_raw, now_s - self._fetched_s)
-        if jump is None:
-            self._suspect = None
-            return None
-        suspect, self._suspect = self._suspect, (raw, now_s)
-        if suspect is None or _jump(raw, suspect[0], now_s - suspect[1]) is not None:
-            return jump
-        self._suspect = None
-        self._set = self._set_back(self._last_raw)
-        return (
-            f"{jump}, twice: the dsPIC's counters were overwritten (a misread command?); "
-            f"setting them back to {tuple(self._last_raw)}"
-        )
+    def sampling_period(self, name: str | None = None) -> int | None:
+        return self.counters.sampling_period(name)
 
-    @staticmethod
-    def _set_back(raw: Sequence[int]) -> Request:
-        """P with the counters' last good reading: what the dsPIC must hold again."""
-        return Request(Command.SET_STEPS, (raw[0], raw[1]))
+    @property
+    def enabled(self) -> bool:
+        return self.counters.enabled
 
-    def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
-        if request.command is Command.GET_STEPS:
-            super().decode(request, values, now_ms)
-            self._fetched_s = time.monotonic()
-
-    def committed(self, now_ms: int) -> None:
-        self._set = None
-
-    def take(self, values: Sequence[float]) -> None:
-        raw = [int(v) for v in values]
-        if self._last_raw is not None:
-            for i in (0, 1):
-                self._total[i] += wrap_int16(raw[i] - self._last_raw[i])
-        else:
-            self._total = raw
-        self._last_raw = raw
-
-    def restarted(self) -> None:
-        """A restarted dsPIC counts from 0 again: give it our totals back."""
-        super().restarted()
-        self._suspect = None
-        if self._last_raw is not None:
-            self._set = self._set_back(self._last_raw)
+    @property
+    def has_values(self) -> bool:
+        return self.counters.has_values
 
     @property
     def values(self) -> tuple[int, int]:
         """Left and right totals in steps."""
-        self.require_values()
-        return (self._total[0], self._total[1])
+        self.counters.require_values()
+        return (self.counters.total[0], self.counters.total[1])
 
     @property
     def radians(self) -> tuple[float, float]:

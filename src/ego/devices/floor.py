@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import ClassVar
 
-from ego.devices.base import ArraySensor
+from ego.devices.base import FINE, ArraySensor, Verdict
 from ego.serial.protocol import Command, Request
 
 __all__ = ["FloorSensors"]
@@ -30,10 +30,10 @@ class FloorSensors(ArraySensor):
     #: What an unacknowledged I2C read gives.
     NO_MODULE = 0xFFFF
 
-    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+    def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
         if all(v == self.NO_MODULE for v in values):
-            return None  # not a corruption: take() says what it means
-        return super().check(request, values, now_s)
+            return FINE  # not a corruption: take() says what it means
+        return super().validate(request, values, now_s)
 
     def take(self, values: Sequence[float]) -> None:
         if all(v == self.NO_MODULE for v in values):

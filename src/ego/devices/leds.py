@@ -76,7 +76,7 @@ class Leds(Actuator):
             self._state[i] = 0
             self._pending.pop(i, None)
 
-    def restarted(self) -> None:
+    def reset(self) -> None:
         """A restarted dsPIC has its LEDs off: switch on again those that were on."""
         for i in self.profile.leds:
             if self._state[i]:

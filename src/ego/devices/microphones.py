@@ -8,7 +8,7 @@ from typing import ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from ego.devices.base import MAX_PERIOD_MS, ArraySensor, check_int, out_of_range
+from ego.devices.base import MAX_PERIOD_MS, ArraySensor, Verdict, check_int, out_of_range
 from ego.errors import DeviceError
 from ego.serial.protocol import Command, Profile, Request
 
@@ -52,8 +52,8 @@ class Microphones(ArraySensor):
         self._buffer_period = None
         self._buffer_fetch_ms = None
 
-    def requests(self, now_ms: int) -> list[Request]:
-        reqs = super().requests(now_ms)
+    def plan(self, now_ms: int) -> list[Request]:
+        reqs = super().plan(now_ms)
         period = self._buffer_period
         if period is not None and (
             self._buffer_fetch_ms is None or now_ms - self._buffer_fetch_ms >= period
@@ -61,12 +61,14 @@ class Microphones(ArraySensor):
             reqs.append(Request(Command.MIC_BUFFER))
         return reqs
 
-    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
+    def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
         if request.command is Command.MIC_BUFFER:
-            return out_of_range("microphone buffer index", values[300:], 0, MIC_SAMPLES - 1)
-        return super().check(request, values, now_s)
+            return Verdict(
+                out_of_range("microphone buffer index", values[300:], 0, MIC_SAMPLES - 1)
+            )
+        return super().validate(request, values, now_s)
 
-    def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
+    def apply(self, request: Request, values: Sequence[float], now_ms: int, now_s: float) -> None:
         if request.command is Command.MIC_BUFFER:
             self._buffer_fetch_ms = now_ms
             # Unsigned ADC counts around mid-scale (docs/protocol.md, "U"); the wire
@@ -77,7 +79,7 @@ class Microphones(ArraySensor):
             # of the circular buffer: oldest first means starting there.
             self._buffer = np.roll(samples, -int(values[300]), axis=1)
         else:
-            super().decode(request, values, now_ms)
+            super().apply(request, values, now_ms, now_s)
 
     @property
     def buffer(self) -> npt.NDArray[np.uint16]:
@@ -88,6 +90,6 @@ class Microphones(ArraySensor):
             )
         return self._buffer
 
-    def restarted(self) -> None:
-        super().restarted()
+    def reset(self) -> None:
+        super().reset()
         self._buffer_fetch_ms = None

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import ClassVar
 
-from ego.devices.base import Sensor, check_int
+from ego.devices.base import FINE, Device, Sensor, Verdict, check_int
 from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
 
 __all__ = ["MAX_SPEED_RAD_S", "Motors", "rad_s_to_steps", "real_speed_steps", "steps_to_rad_s"]
@@ -37,7 +37,87 @@ def real_speed_steps(speed_steps: int) -> float:
     return math.copysign(STEP_TIMER_HZ / (STEP_TIMER_HZ // abs(v)), v)
 
 
-class Motors(Sensor):
+class WheelSpeeds(Device):
+    """The actuator side of the motors: ``D`` when the speeds changed, confirmed by an ``E``.
+
+    A ``D`` always travels with an ``E`` behind it, sampled or not: a ``D`` whose bytes
+    the dsPIC misread (no length check can see a flipped speed byte) is then caught by
+    the ``E`` that must echo the speeds, and sent again, instead of driving the wheels at
+    a wrong speed.
+    """
+
+    family = "motors"
+    names: ClassVar[tuple[str, ...]] = ("left wheel motor", "right wheel motor")
+
+    def __init__(self, profile: Profile) -> None:
+        super().__init__(profile)
+        self.speed = (0, 0)
+        self.pending: Request | None = None
+        #: The read-back the confirming E also refreshes.
+        self.echo: Sensor | None = None
+
+    def set(self, left: int, right: int) -> None:
+        if (left, right) != self.speed:
+            self.speed = (left, right)
+            self.pending = Request(Command.SET_SPEED, self.speed)
+
+    def plan(self, now_ms: int) -> list[Request]:
+        return [self.pending, Request(Command.GET_SPEED)] if self.pending is not None else []
+
+    def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
+        """E echoes the speeds the dsPIC holds: they must be the ones ego asked for.
+
+        A mismatch is a corrupted reply, or a D the dsPIC misread or never got: either
+        way, the speeds go again.
+        """
+        if request.command is not Command.GET_SPEED:
+            return FINE
+        held = (int(values[0]), int(values[1]))
+        if held == self.speed:
+            return FINE
+        return Verdict(
+            f"the dsPIC holds speeds {held}, ego asked for {self.speed}",
+            correction=Request(Command.SET_SPEED, self.speed),
+        )
+
+    def refused(self, verdict: Verdict, now_s: float) -> None:
+        if verdict.correction is not None:
+            self.pending = verdict.correction
+
+    def apply(self, request: Request, values: Sequence[float], now_ms: int, now_s: float) -> None:
+        if request == self.pending:
+            self.pending = None
+        elif request.command is Command.GET_SPEED and self.echo is not None:
+            self.echo.apply(request, values, now_ms, now_s)
+
+    def reset(self) -> None:
+        """A restarted dsPIC stands still: ask for the current speeds again."""
+        if self.speed != (0, 0):
+            self.pending = Request(Command.SET_SPEED, self.speed)
+
+
+class SpeedReadback(Sensor):
+    """The sensor side of the motors: the speeds the firmware holds (``E``: commanded, not
+    measured), sampled at its period when enabled."""
+
+    family = "motors"
+    names: ClassVar[tuple[str, ...]] = ("left wheel motor", "right wheel motor")
+    command = Command.GET_SPEED
+
+    def __init__(self, profile: Profile, wheels: WheelSpeeds) -> None:
+        super().__init__(profile)
+        self._wheels = wheels
+        self.held = (0, 0)
+
+    def plan(self, now_ms: int) -> list[Request]:
+        # A D's confirming E is read anyway: no second E in the same batch.
+        return [] if self._wheels.pending is not None else super().plan(now_ms)
+
+    def take(self, values: Sequence[float]) -> None:
+        self.held = (int(values[0]), int(values[1]))
+
+
+class Motors(Device):
     """Wheel speeds in steps/s within +-1000 (one turn a second); refused beyond, not clamped.
 
     A ``D`` command goes out only when the speeds changed, with an ``E`` behind it that
@@ -56,35 +136,40 @@ class Motors(Sensor):
 
     family = "motors"
     names: ClassVar[tuple[str, ...]] = ("left wheel motor", "right wheel motor")
-    command = Command.GET_SPEED
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)
-        self._speed = (0, 0)
-        self._pending: Request | None = None
-        self._firmware_speed = (0, 0)
+        self.wheels = WheelSpeeds(profile)
+        self.readback = SpeedReadback(profile, self.wheels)
+        self.wheels.echo = self.readback
+
+    @property
+    def parts(self) -> tuple[Device, ...]:
+        return (self.wheels, self.readback)
+
+    def set_profile(self, profile: Profile) -> None:
+        super().set_profile(profile)
+        for part in self.parts:
+            part.set_profile(profile)
 
     def set_speed(self, left: float, right: float) -> None:
         """Both wheel speeds in steps/s, each within +-1000."""
-        speeds = tuple(
+        speeds = [
             check_int(
                 f"{side} speed", v, -MAX_SPEED_STEPS, MAX_SPEED_STEPS, " steps/s", rounding=True
             )
             for side, v in (("left", left), ("right", right))
-        )
-        if speeds != self._speed:
-            self._speed = (speeds[0], speeds[1])
-            self._pending = Request(Command.SET_SPEED, self._speed)
+        ]
+        self.wheels.set(speeds[0], speeds[1])
 
     @property
     def speed(self) -> tuple[int, int]:
         """The speeds ego last asked for, steps/s."""
-        return self._speed
+        return self.wheels.speed
 
     def stop_request(self) -> Request:
         """A request that stops both wheels, whatever ego believes."""
-        self._speed = (0, 0)
-        self._pending = None
+        self.wheels.speed, self.wheels.pending = (0, 0), None
         return Request(Command.SET_SPEED, (0, 0))
 
     def stopped_by_firmware(self, resend: bool) -> None:
@@ -93,49 +178,29 @@ class Motors(Sensor):
         ``resend``: its ``E`` still echoes the old speeds (the stock firmware), so a
         ``D 0 0`` goes out with the next batch to make the echo true again.
         """
-        self._speed = (0, 0)
-        self._pending = Request(Command.SET_SPEED, (0, 0)) if resend else None
+        self.wheels.speed = (0, 0)
+        self.wheels.pending = Request(Command.SET_SPEED, (0, 0)) if resend else None
 
-    def requests(self, now_ms: int) -> list[Request]:
-        # A D always travels with an E behind it, sampled or not: a D whose bytes the
-        # dsPIC misread (no length check can see a flipped speed byte) is then caught by
-        # check() and sent again, instead of driving the wheels at a wrong speed.
-        if self._pending is not None:
-            return [self._pending, Request(Command.GET_SPEED)]
-        return super().requests(now_ms)
+    def enable(self, period_ms: int, names: Iterable[str] | None = None) -> None:
+        """Read back the speeds the firmware holds (``E``) every ``period_ms``."""
+        self.readback.enable(period_ms, names)
 
-    def check(self, request: Request, values: Sequence[float], now_s: float) -> str | None:
-        """E echoes the speeds the dsPIC holds: they must be the ones ego asked for.
+    def disable(self, names: Iterable[str] | None = None) -> None:
+        self.readback.disable(names)
 
-        A mismatch is a corrupted reply, or a D the dsPIC misread or never got: either
-        way, send the speeds again.
-        """
-        if request.command is not Command.GET_SPEED:
-            return None
-        held = (int(values[0]), int(values[1]))
-        if held == self._speed:
-            return None
-        self._pending = Request(Command.SET_SPEED, self._speed)
-        return f"the dsPIC holds speeds {held}, ego asked for {self._speed}"
+    def sampling_period(self, name: str | None = None) -> int | None:
+        return self.readback.sampling_period(name)
 
-    def decode(self, request: Request, values: Sequence[float], now_ms: int) -> None:
-        if request.command is Command.GET_SPEED:
-            super().decode(request, values, now_ms)
+    @property
+    def enabled(self) -> bool:
+        return self.readback.enabled
 
-    def committed(self, now_ms: int) -> None:
-        self._pending = None
-
-    def take(self, values: Sequence[float]) -> None:
-        self._firmware_speed = (int(values[0]), int(values[1]))
+    @property
+    def has_values(self) -> bool:
+        return self.readback.has_values
 
     @property
     def values(self) -> tuple[int, int]:
         """The speeds the firmware reports holding (E), from the last sample."""
-        self.require_values()
-        return self._firmware_speed
-
-    def restarted(self) -> None:
-        """A restarted dsPIC stands still: ask for the current speeds again."""
-        super().restarted()
-        if self._speed != (0, 0):
-            self._pending = Request(Command.SET_SPEED, self._speed)
+        self.readback.require_values()
+        return self.readback.held
