@@ -1,6 +1,6 @@
 """What every benchmark shares: the thesis' figures, interleaved timing, statistics, tables.
 
-Rules (../shared/spec/benchmarks.md): medians over repeated runs with min and max and
+Rules (README, "Measured"): medians over repeated runs with min and max and
 the count; a speed claim is a ratio measured in one run with A and B interleaved; the
 thesis' figure printed beside ours with the ratio.
 """

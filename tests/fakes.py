@@ -1,6 +1,6 @@
 """Test doubles: a scripted transport that answers each write from a script, and fast settings.
 
-Hardware is injected, never monkeypatched (style.md): tests hand a
+Hardware is injected, never monkeypatched: tests hand a
 :class:`ScriptedTransport` to ``Link`` the way a robot hands it a serial port.
 """
 

@@ -1,7 +1,7 @@
 """The Webots C API names (appendix B) and wbr_* (C.12.2) behave on the emulator (item 5).
 
 Every function is called with the integer tag that ``wb_robot_get_device`` returns and,
-as api.md allows, with the device's name: both must work alike.
+as the face allows, with the device's name: both must work alike.
 """
 
 from __future__ import annotations

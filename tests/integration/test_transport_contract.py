@@ -1,8 +1,8 @@
-"""One contract every transport must pass (style.md: "one contract test suite that every
-stream implementation must pass").
+"""One contract every byte transport must pass (docs/architecture.md, "The seam").
 
 Each transport comes with a far end that can be made to send known bytes. To add a
-transport (the network client, say), add a factory to ``FAR_ENDS``.
+transport (a Bluetooth socket, say), add a factory to ``FAR_ENDS``. Channels, which
+carry batches rather than bytes, have their own suite: tests/contract.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The error tree: each ego error is also the builtin it refines (style.md, "Errors")."""
+"""The error tree: each ego error is also the builtin it refines (the house rule: one ego.errors tree)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Where to connect: the argument, else EGO_PORT, else /dev/ttyS0 (api.md)."""
+"""Where to connect: the argument, else EGO_PORT, else /dev/ttyS0 (README, "Use")."""
 
 from __future__ import annotations
 
