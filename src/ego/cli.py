@@ -28,6 +28,16 @@ def _positive(text: str) -> float:
     return value
 
 
+def _deadline_ms(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of ms") from None
+    if not 1 <= value <= 60000:
+        raise argparse.ArgumentTypeError(f"{value} ms is outside 1..60000")
+    return value
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     from ego.demo import run_demo
     from ego.scheduler import tune_for_stepping
@@ -40,6 +50,25 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 def _cmd_run(args: argparse.Namespace) -> int:
     from ego.runner import run_controller
     from ego.scheduler import tune_for_stepping
+    from ego.supervisor import run_supervised, wants_supervision
+
+    if args.supervised is None:
+        args.supervised = wants_supervision(args.port)
+    if args.supervised:
+        passed = [
+            *(["--duration", str(args.duration)] if args.duration is not None else []),
+            "--time-step",
+            str(args.time_step),
+            *(["-" + "v" * args.verbose] if args.verbose else []),
+        ]
+        return run_supervised(
+            args.controller,
+            passed,
+            args.args,
+            port=args.port,
+            firmware=args.firmware or "auto",
+            deadline_s=args.supervisor_deadline_ms / 1000,
+        )
 
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
 
@@ -151,6 +180,22 @@ def build_parser() -> argparse.ArgumentParser:
         help="what getBasicTimeStep() answers, ms (default 32)",
     )
     run.add_argument("--seed", type=int, default=None, help="seed of the emulator (port sim)")
+    run.add_argument(
+        "--supervised",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="a supervisor process owns the port and stops the robot however the controller "
+        "ends (SIGKILL, out of memory, a loop that stops stepping); default: on for the "
+        "robot's own UART (/dev/ttyS*), off elsewhere",
+    )
+    run.add_argument(
+        "--supervisor-deadline-ms",
+        type=_deadline_ms,
+        default=500,
+        metavar="MS",
+        help="a supervised controller that does not step for this long has its robot "
+        "stopped (1..60000, default 500)",
+    )
     run.add_argument("controller", help="the controller's .py file")
     run.add_argument("args", nargs=argparse.REMAINDER, help="arguments for the controller")
     run.set_defaults(func=_cmd_run)
