@@ -20,6 +20,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from typing import Any
@@ -77,13 +78,17 @@ class _ServeProcess:
 
     def __init__(self, scheme: str, secret: str = "") -> None:
         self.secret = secret or None
+        self._folder = tempfile.mkdtemp(prefix="ego-bench-") if scheme == "unix" else ""
+        listen = (
+            f"unix://{self._folder}/robot.sock" if scheme == "unix" else f"{scheme}://127.0.0.1:0"
+        )
         self.process = subprocess.Popen(
             [
                 sys.executable,
                 "-c",
                 _SERVE,
                 str(THESIS_LINE_BAUD),
-                f"{scheme}://127.0.0.1:0",
+                listen,
                 secret,
             ],
             cwd=REPO,
@@ -116,13 +121,14 @@ def roundtrip_table(steps: int) -> Table:
     profile = PROFILES[Firmware.WEBOTS]
     batch = encode_batch(SENSORS, profile)
     servers = [_ServeProcess("tcp"), _ServeProcess("udp"), _ServeProcess("tcp", SECRET),
-               _ServeProcess("udp", SECRET)]  # fmt: skip
+               _ServeProcess("udp", SECRET), _ServeProcess("unix")]  # fmt: skip
     emu = Emulator("webots", baud=THESIS_LINE_BAUD, seed=1).start()
     links: dict[str, Channel] = {}
     try:
         links["pty (direct)"] = Link(SerialTransport(emu.path), Firmware.WEBOTS)
         for server in servers:
             name = server.url.split(":")[0].upper() + (" sealed" if server.secret else "")
+            name = "Unix (ego run --supervised)" if name == "UNIX" else name
             links[name] = RemoteChannel.from_url(server.url, server.secret)
         stats = interleaved(
             {name: (lambda link=link: link.exchange(batch)) for name, link in links.items()},

@@ -1,4 +1,5 @@
-"""The one integer check of ego's public calls: device families, the camera, image encoding.
+"""The checks of ego's public calls, each in one place: integers (device families, the
+camera, image encoding) and image rotations.
 
 Refused, never clamped: a value out of range raises :class:`~ego.errors.OutOfRangeError`,
 a value of the wrong type ``TypeError``.
@@ -11,7 +12,10 @@ import numbers
 
 from ego.errors import OutOfRangeError
 
-__all__ = ["check_int"]
+__all__ = ["ROTATIONS", "check_int", "check_rotation"]
+
+#: The rotations a frame can be given, degrees counter-clockwise (as ``np.rot90``).
+ROTATIONS = (0, 90, 180, 270)
 
 
 def check_int(
@@ -50,3 +54,11 @@ def check_int(
     if (low is not None and number < low) or (high is not None and number > high):
         raise OutOfRangeError(f"{what} {value}{unit} is outside {span}: refused, not clamped")
     return number
+
+
+def check_rotation(rotation: object) -> int:
+    """``rotation`` if it is one of :data:`ROTATIONS` (a bool is not), else OutOfRangeError."""
+    if isinstance(rotation, bool) or rotation not in ROTATIONS:
+        choices = ", ".join(map(str, ROTATIONS))
+        raise OutOfRangeError(f"rotation {rotation!r} is not one of {choices} degrees")
+    return int(rotation)  # one of ROTATIONS

@@ -48,6 +48,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ego.errors import FrameSizeError, OutOfRangeError
+from ego.validate import ROTATIONS, check_rotation  # re-exported: the camera's checks
 
 try:
     import cv2
@@ -73,8 +74,6 @@ Image = npt.NDArray[np.uint8]
 ByteOrder = Literal["little", "big"]
 Backend = Literal["auto", "opencv", "numpy"]
 
-#: The rotations a frame can be given, degrees counter-clockwise (as ``np.rot90``).
-ROTATIONS: Final = (0, 90, 180, 270)
 
 _i5 = np.arange(32, dtype=np.int64)
 _i6 = np.arange(64, dtype=np.int64)
@@ -126,14 +125,6 @@ class YuvFormula(str, Enum):
 
 
 # -- validation -------------------------------------------------------------------------
-
-
-def check_rotation(rotation: object) -> int:
-    """``rotation`` if it is one of :data:`ROTATIONS` (a bool is not), else OutOfRangeError."""
-    if isinstance(rotation, bool) or rotation not in ROTATIONS:
-        choices = ", ".join(map(str, ROTATIONS))
-        raise OutOfRangeError(f"rotation {rotation!r} is not one of {choices} degrees")
-    return int(rotation)  # one of ROTATIONS
 
 
 def _check_geometry(width: int, height: int, bytes_per_pixel: int, stride: int | None) -> int:

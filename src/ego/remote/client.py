@@ -339,8 +339,8 @@ class RemoteFrameSource:
         """The next frame as a JPEG (``quality`` 1..100) or PNG file's bytes, converted
         and rotated (degrees counter-clockwise; 180 undoes the camera's mounting) on the
         robot."""
-        from ego.camera.convert import ROTATIONS
         from ego.camera.encode import check_quality
+        from ego.validate import ROTATIONS
 
         if kind not in ("jpeg", "png"):
             raise ImageFormatError(f"image kind {kind!r} is not jpeg or png")

@@ -15,7 +15,6 @@ import struct
 from dataclasses import dataclass
 from typing import Any
 
-from ego.camera.convert import ROTATIONS
 from ego.errors import FrameError
 from ego.remote.wire import (
     Frame,
@@ -28,6 +27,7 @@ from ego.remote.wire import (
     unpack_json,
 )
 from ego.serial.protocol import Command, Request
+from ego.validate import ROTATIONS
 
 __all__ = [
     "Ascii",
