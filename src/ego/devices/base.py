@@ -37,6 +37,7 @@ __all__ = [
     "FINE",
     "MAX_PERIOD_MS",
     "PHASE",
+    "ActingFamily",
     "Actuator",
     "ArraySensor",
     "Device",
@@ -333,3 +334,41 @@ class ArraySensor(Sensor):
         """One member's last sample."""
         self.require_values()
         return self._values[self.member_names.index(self.check_name(name))]
+
+
+class ActingFamily(Device):
+    """A family with an actuator part and a sensor part behind one public object (the
+    motors: speeds set and held; the encoders: counters set and read). Sampling is the
+    sensor part's; the transaction sees both parts."""
+
+    def __init__(self, profile: Profile, acting: Device, reading: Sensor) -> None:
+        super().__init__(profile)
+        self._acting = acting
+        self._reading = reading
+
+    @property
+    def parts(self) -> tuple[Device, ...]:
+        return (self._acting, self._reading)
+
+    def set_profile(self, profile: Profile) -> None:
+        super().set_profile(profile)
+        for part in self.parts:
+            part.set_profile(profile)
+
+    def enable(self, period_ms: int, names: Iterable[str] | None = None) -> None:
+        """Read the family's values every ``period_ms`` milliseconds."""
+        self._reading.enable(period_ms, names)
+
+    def disable(self, names: Iterable[str] | None = None) -> None:
+        self._reading.disable(names)
+
+    def sampling_period(self, name: str | None = None) -> int | None:
+        return self._reading.sampling_period(name)
+
+    @property
+    def enabled(self) -> bool:
+        return self._reading.enabled
+
+    @property
+    def has_values(self) -> bool:
+        return self._reading.has_values

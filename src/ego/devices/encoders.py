@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from typing import ClassVar
 
-from ego.devices.base import FINE, Device, Sensor, Verdict, check_int
+from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict, check_int
 from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
 
 __all__ = ["Encoders", "wrap_int16"]
@@ -125,7 +125,7 @@ def _set_back(raw: Sequence[int]) -> Request:
     return Request(Command.SET_STEPS, (raw[0], raw[1]))
 
 
-class Encoders(Device):
+class Encoders(ActingFamily):
     """Steps counted by each stepper motor since start or since set, unwrapped.
 
     The dsPIC's counters are int16 and wrap at +-32768 (about 4 m of travel); ego keeps
@@ -139,18 +139,9 @@ class Encoders(Device):
     names: ClassVar[tuple[str, ...]] = ("left wheel sensor", "right wheel sensor")
 
     def __init__(self, profile: Profile) -> None:
-        super().__init__(profile)
         self.reset_part = CounterReset(profile)
         self.counters = StepCounters(profile, self.reset_part)
-
-    @property
-    def parts(self) -> tuple[Device, ...]:
-        return (self.reset_part, self.counters)
-
-    def set_profile(self, profile: Profile) -> None:
-        super().set_profile(profile)
-        for part in self.parts:
-            part.set_profile(profile)
+        super().__init__(profile, self.reset_part, self.counters)
 
     def set(self, left: int, right: int) -> None:
         """Overwrite both counters (steps); the firmware stores them as int16."""
@@ -161,24 +152,6 @@ class Encoders(Device):
         self.counters.total = values
         self.counters.last_raw = [wrap_int16(v) for v in values]
         self.reset_part.pending = _set_back(self.counters.last_raw)
-
-    def enable(self, period_ms: int, names: Iterable[str] | None = None) -> None:
-        """Read the counters every ``period_ms`` milliseconds."""
-        self.counters.enable(period_ms, names)
-
-    def disable(self, names: Iterable[str] | None = None) -> None:
-        self.counters.disable(names)
-
-    def sampling_period(self, name: str | None = None) -> int | None:
-        return self.counters.sampling_period(name)
-
-    @property
-    def enabled(self) -> bool:
-        return self.counters.enabled
-
-    @property
-    def has_values(self) -> bool:
-        return self.counters.has_values
 
     @property
     def values(self) -> tuple[int, int]:

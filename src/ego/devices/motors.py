@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from typing import ClassVar
 
-from ego.devices.base import FINE, Device, Sensor, Verdict, check_int
+from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict, check_int
 from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
 
 __all__ = ["MAX_SPEED_RAD_S", "Motors", "rad_s_to_steps", "real_speed_steps", "steps_to_rad_s"]
@@ -117,7 +117,7 @@ class SpeedReadback(Sensor):
         self.held = (int(values[0]), int(values[1]))
 
 
-class Motors(Device):
+class Motors(ActingFamily):
     """Wheel speeds in steps/s within +-1000 (one turn a second); refused beyond, not clamped.
 
     A ``D`` command goes out only when the speeds changed, with an ``E`` behind it that
@@ -138,19 +138,10 @@ class Motors(Device):
     names: ClassVar[tuple[str, ...]] = ("left wheel motor", "right wheel motor")
 
     def __init__(self, profile: Profile) -> None:
-        super().__init__(profile)
         self.wheels = WheelSpeeds(profile)
         self.readback = SpeedReadback(profile, self.wheels)
         self.wheels.echo = self.readback
-
-    @property
-    def parts(self) -> tuple[Device, ...]:
-        return (self.wheels, self.readback)
-
-    def set_profile(self, profile: Profile) -> None:
-        super().set_profile(profile)
-        for part in self.parts:
-            part.set_profile(profile)
+        super().__init__(profile, self.wheels, self.readback)
 
     def set_speed(self, left: float, right: float) -> None:
         """Both wheel speeds in steps/s, each within +-1000."""
@@ -180,24 +171,6 @@ class Motors(Device):
         """
         self.wheels.speed = (0, 0)
         self.wheels.pending = Request(Command.SET_SPEED, (0, 0)) if resend else None
-
-    def enable(self, period_ms: int, names: Iterable[str] | None = None) -> None:
-        """Read back the speeds the firmware holds (``E``) every ``period_ms``."""
-        self.readback.enable(period_ms, names)
-
-    def disable(self, names: Iterable[str] | None = None) -> None:
-        self.readback.disable(names)
-
-    def sampling_period(self, name: str | None = None) -> int | None:
-        return self.readback.sampling_period(name)
-
-    @property
-    def enabled(self) -> bool:
-        return self.readback.enabled
-
-    @property
-    def has_values(self) -> bool:
-        return self.readback.has_values
 
     @property
     def values(self) -> tuple[int, int]:
