@@ -1,7 +1,7 @@
 """Every name of the thesis' appendices B and C that the faces promise exists (issue 3, item 5).
 
-The lists below are the appendices', spelled out one name per entry (the appendices abbreviate them as
-``overo_accelerometer_enable_raw/_spherical, _get_value, _disable``...).
+The lists below are the appendices', spelled out one name per entry (the appendices
+abbreviate them as ``overo_accelerometer_enable_raw/_spherical, _get_value, _disable``...).
 """
 
 from __future__ import annotations

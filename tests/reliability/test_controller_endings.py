@@ -207,7 +207,6 @@ def test_ego_serve_stops_the_robot_on_every_terminating_signal(
     """The server on the robot is a controller too: its ssh session dropping must not leave
     the wheels turning for the PC that drove them."""
     from ego.remote.client import RemoteChannel
-    from ego.serial.link import Link
     from ego.serial.protocol import Command, Request, encode_batch
 
     args = [*ego_command(), "serve", "--port", emulator.path, "--listen", "tcp://127.0.0.1:0"]

@@ -11,7 +11,6 @@ from ego.camera import Camera
 from ego.errors import CameraError, RemoteError
 from ego.remote.client import RemoteFrameSource
 from ego.remote.wire import MAX_PAYLOAD
-from ego.serial.transport import SerialTransport
 from firmware_sim.camera import SimulatedSource
 
 

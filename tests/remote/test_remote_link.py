@@ -110,8 +110,15 @@ def test_batch_the_server_firmware_cannot_serve_is_refused(
         (b"\x9e\x00", UnsupportedDeviceError),
         (b"\xbc\x01\x01\x00\x00\x00", ProtocolError),
     ],
-    ids=["empty", "count cut", "arguments cut", "unknown command", "end byte",
-         "not on this firmware", "wrong arity"],  # fmt: skip
+    ids=[
+        "empty",
+        "count cut",
+        "arguments cut",
+        "unknown command",
+        "end byte",
+        "not on this firmware",
+        "wrong arity",
+    ],
 )
 def test_malformed_step_is_refused_before_the_robot(
     serve: ServeFactory, connect: ConnectFactory, garbage: bytes, error: type[Exception]

@@ -12,7 +12,7 @@ from remote_helpers import ConnectFactory, DatagramProxy, FakeCamera, ServeFacto
 
 from ego.errors import LinkTimeoutError
 from ego.remote.client import RemoteChannel
-from ego.serial.link import Link, LinkSettings
+from ego.serial.link import LinkSettings
 from ego.serial.protocol import Command, Request, encode_batch
 
 #: The client link must not retry on its own here: a retry runs the batch again,

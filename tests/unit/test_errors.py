@@ -1,4 +1,4 @@
-"""The error tree: each ego error is also the builtin it refines (the house rule: one ego.errors tree)."""
+"""The error tree (one ego.errors): each ego error is also the builtin it refines."""
 
 from __future__ import annotations
 
