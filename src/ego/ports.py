@@ -9,6 +9,7 @@ from ego.serial.protocol import DEFAULT_BAUD, PROFILES, Firmware
 
 __all__ = [
     "BLUETOOTH_PORT_PREFIX",
+    "DEFAULT_CAMERA_DEVICE",
     "DEFAULT_PORT",
     "default_baud",
     "resolve_port",
@@ -16,6 +17,8 @@ __all__ = [
 
 #: The Overo's UART to the dsPIC.
 DEFAULT_PORT = "/dev/ttyS0"
+#: The Overo's camera, unless EGO_CAMERA names another device (or "none").
+DEFAULT_CAMERA_DEVICE = "/dev/video0"
 
 
 def resolve_port(port: str | os.PathLike[str] | None) -> str:

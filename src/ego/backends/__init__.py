@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
 from ego.errors import PortNotFoundError
+from ego.ports import DEFAULT_CAMERA_DEVICE
 from ego.serial.protocol import Firmware
 
 if TYPE_CHECKING:
@@ -53,8 +54,6 @@ __all__ = [
 
 #: Where packages declare backends: ``[project.entry-points."ego.backends"] sim = ...``.
 ENTRY_POINT_GROUP = "ego.backends"
-#: The Overo's camera, unless EGO_CAMERA names another device (or "none").
-DEFAULT_CAMERA_DEVICE = "/dev/video0"
 
 
 @dataclass

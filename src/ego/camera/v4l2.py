@@ -38,6 +38,7 @@ from typing import Final, Protocol
 
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
 from ego.errors import CameraCaptureError, CameraError, CameraTimeoutError, UnsupportedControlError
+from ego.ports import DEFAULT_CAMERA_DEVICE
 
 __all__ = [
     "CONTROL_IDS",
@@ -286,7 +287,7 @@ class V4L2Source:
 
     def __init__(
         self,
-        device: str = "/dev/video0",
+        device: str = DEFAULT_CAMERA_DEVICE,
         *,
         syscalls: V4L2Syscalls | None = None,
         buffer_count: int = 4,

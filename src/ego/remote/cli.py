@@ -20,9 +20,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from ego.backends import DEFAULT_CAMERA_DEVICE, open_port
+from ego.backends import open_port
 from ego.channel import Channel
 from ego.errors import EgoError
+from ego.ports import DEFAULT_CAMERA_DEVICE
 from ego.remote.auth import load_secret
 from ego.remote.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, Server, check_listen
 from ego.safety import TERMINATING_SIGNALS
