@@ -7,12 +7,13 @@ import logging
 import math
 import subprocess
 import sys
+import traceback
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from ego import __version__, runtime
-from ego.errors import EgoError
+from ego.errors import ControllerError, EgoError
 from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES
 
 __all__ = ["build_parser", "main"]
@@ -59,7 +60,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
             *(["--duration", str(args.duration)] if args.duration is not None else []),
             "--time-step",
             str(args.time_step),
-            *(["-" + "v" * args.verbose] if args.verbose else []),
+            *(["-" + "v" * args.verbose] if args.verbose > 0 else []),
+            *(["-q"] if args.verbose < 0 else []),
         ]
         return run_supervised(
             args.controller,
@@ -134,12 +136,28 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return subprocess.call(cmd, cwd=root)
 
 
+def _add_verbosity(parser: argparse.ArgumentParser, default: object) -> None:
+    """-v/-q before or after the subcommand (``ego run -v x.py`` as ``ego -v run x.py``)."""
+    parser.add_argument(
+        "-v", "--verbose", action="count", default=default, help="log more (-vv: debug)"
+    )
+    parser.add_argument(
+        "-q",
+        "--quiet",
+        action="store_const",
+        const=-1,
+        dest="verbose",
+        default=default,
+        help="log errors only",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="ego", description="Run e-puck controllers on the robot, the emulator or remotely."
     )
     parser.add_argument("--version", action="version", version=f"ego {__version__}")
-    parser.add_argument("-v", "--verbose", action="count", default=0, help="log more (-vv: debug)")
+    _add_verbosity(parser, default=0)
     sub = parser.add_subparsers(dest="command", required=True)
 
     demo = sub.add_parser("demo", help="obstacle avoidance on the built-in emulator, shown live")
@@ -198,6 +216,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("controller", help="the controller's .py file")
     run.add_argument("args", nargs=argparse.REMAINDER, help="arguments for the controller")
+    _add_verbosity(run, default=argparse.SUPPRESS)
     run.set_defaults(func=_cmd_run)
 
     sim = sub.add_parser(
@@ -244,10 +263,16 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    level = (logging.WARNING, logging.INFO, logging.DEBUG)[min(args.verbose, 2)]
+    level = (logging.ERROR, logging.WARNING, logging.INFO, logging.DEBUG)[min(args.verbose, 2) + 1]
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     try:
         return int(args.func(args))
+    except ControllerError as exc:
+        # The user's own file and line, always: ego's frames are left out (-vv: all).
+        shown = "".join(traceback.format_exception(exc.__cause__)) if args.verbose > 1 else None
+        print(shown or exc.traceback, end="", file=sys.stderr)
+        print(f"ego: error: {exc}", file=sys.stderr)
+        return 1
     except EgoError as exc:
         print(f"ego: error: {exc}", file=sys.stderr)
         return 1

@@ -49,6 +49,7 @@ __all__ = [
     "CameraError",
     "CameraTimeoutError",
     "ConfigSyntaxError",
+    "ControllerError",
     "DeprecatedNameWarning",
     "DeviceError",
     "EgoError",
@@ -83,6 +84,18 @@ __all__ = [
 
 class EgoError(Exception):
     """Base of every error ego raises on purpose."""
+
+
+class ControllerError(EgoError):
+    """The controller ``ego run`` ran raised an error; its traceback was shown.
+
+    ``traceback`` holds that traceback, the frames of ego itself left out, so that it
+    ends in the line of the controller's own file that made the failing call.
+    """
+
+    def __init__(self, message: str, traceback: str = "") -> None:
+        super().__init__(message)
+        self.traceback = traceback
 
 
 class DeviceError(EgoError):

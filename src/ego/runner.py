@@ -9,6 +9,7 @@ from pathlib import Path
 
 import ego.controller
 from ego.default_robot import FaceContext, activate
+from ego.errors import CameraCaptureError, ControllerError, LinkError, RemoteError
 from ego.runtime import RunOptions
 from ego.safety import RobotKeeper, install_signal_handlers
 
@@ -41,6 +42,12 @@ def run_controller(path: str | Path, options: RunOptions, argv: Sequence[str] = 
         with RobotKeeper(), activate(context):
             try:
                 runpy.run_path(str(script), run_name="__main__")
+            except (LinkError, RemoteError, CameraCaptureError):
+                raise  # the robot's, not a line of the controller's: said in one line
+            except Exception as exc:
+                raise ControllerError(
+                    f"{script.name}: {type(exc).__name__}: {exc}", _user_traceback(exc)
+                ) from exc
             finally:
                 context.close()
     finally:
@@ -49,3 +56,23 @@ def run_controller(path: str | Path, options: RunOptions, argv: Sequence[str] = 
             sys.modules.pop("controller", None)
         else:
             sys.modules["controller"] = saved_module
+
+
+#: ego's own sources: their frames are left out of a controller's traceback.
+_EGO_DIR = str(Path(ego.__file__).resolve().parent)
+
+
+def _user_traceback(exc: BaseException) -> str:
+    """The traceback of ``exc`` without ego's frames (nor runpy's): from the controller's
+    file down to the line of it that made the failing call."""
+    import traceback
+
+    frames = [
+        frame
+        for frame in traceback.extract_tb(exc.__traceback__)
+        if not frame.filename.startswith((_EGO_DIR, "<frozen "))
+        and "runpy" not in Path(frame.filename).name
+    ]
+    lines = ["Traceback (most recent call last):\n", *traceback.format_list(frames)]
+    lines += traceback.format_exception_only(type(exc), exc)
+    return "".join(lines)
