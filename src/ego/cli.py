@@ -62,6 +62,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
             str(args.time_step),
             *(["-" + "v" * args.verbose] if args.verbose > 0 else []),
             *(["-q"] if args.verbose < 0 else []),
+            *(["--strict"] if args.strict else []),
         ]
         return run_supervised(
             args.controller,
@@ -80,6 +81,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         duration_s=args.duration,
         basic_time_step_ms=args.time_step,
         seed=args.seed,
+        strict=args.strict,
     )
     run_controller(args.controller, options, args.args)
     return 0
@@ -198,6 +200,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="what getBasicTimeStep() answers, ms (default 32)",
     )
     run.add_argument("--seed", type=int, default=None, help="seed of the emulator (port sim)")
+    run.add_argument(
+        "--strict",
+        action="store_true",
+        help="where Webots warns and carries on (a device the e-puck has not), raise ego's "
+        "error instead",
+    )
     run.add_argument(
         "--supervised",
         action=argparse.BooleanOptionalAction,

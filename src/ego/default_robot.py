@@ -43,6 +43,9 @@ class FaceContext:
         self._robot: Robot | None = None
         #: What ``wbr_has_failed()`` answers: ``wbr_init`` failed, or a step returned -1.
         self.failed = False
+        #: The Webots Python face's Robot of this run: Webots allows one a process, and
+        #: R2023b's constructors by name (``Motor("left wheel motor")``) find it here.
+        self.webots_robot: object | None = None
 
     def open_robot(self, port: str | None = None, baudrate: int | None = None) -> Robot:
         """Open the robot (closing a previous one); ``port`` None: the options' or EGO_PORT."""

@@ -142,6 +142,11 @@ class Robot:
     # -- devices ---------------------------------------------------------------------
 
     @property
+    def closed(self) -> bool:
+        """Whether close() was called (or the robot never opened)."""
+        return self._closed
+
+    @property
     def remote(self) -> bool:
         """Whether this robot is driven over a network (through ``ego serve``)."""
         return self._opened.remote

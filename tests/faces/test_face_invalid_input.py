@@ -25,7 +25,17 @@ ALL_TAGS = len(DEVICE_NAMES)
 # -- unknown devices and tags ------------------------------------------------------------
 
 
-def test_get_device_of_an_unknown_name_lists_the_valid_names(webots_robot: WebotsRobot) -> None:
+def test_get_device_of_an_unknown_name_warns_as_webots_and_gives_none(
+    webots_robot: WebotsRobot, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert webots_robot.getDevice("gps") is None
+    assert capsys.readouterr().err == 'Device "gps" was not found on robot "e-puck"\n'
+
+
+def test_strict_get_device_of_an_unknown_name_lists_the_valid_names(
+    webots_robot: WebotsRobot,
+) -> None:
+    webots_robot._options.strict = True  # what ego run --strict sets
     with pytest.raises(UnknownDeviceError) as info:
         webots_robot.getDevice("ps 0")
     message = str(info.value)

@@ -223,6 +223,12 @@ def namespace() -> Iterator[Namespace]:
         stack.callback(controller.cleanup)
         controller.getDevice("camera").enable(32)
         controller.step(32)
+        # ego run --strict's: one Robot a process, so in a face context of its own.
+        with default_robot.activate(
+            default_robot.FaceContext(runtime.RunOptions(port="sim", seed=3, strict=True))
+        ):
+            strict_controller = DifferentialWheels()
+        stack.callback(strict_controller.cleanup)
         ego.webots.wb_robot_init()
         stack.callback(default_robot.close)
         ego.webots.wb_camera_enable("camera", 32)
@@ -273,6 +279,7 @@ def namespace() -> Iterator[Namespace]:
             overo_robot=overo_robot,
             overo_emulator_port=overo_emu.path,
             controller=controller,
+            strict_controller=strict_controller,
             webots=ego.webots,
             overo=ego.overo,
             Camera=Camera,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 import math
+import sys
 from typing import ClassVar, TypeVar
 
 from ego.controller.devices import (
@@ -20,13 +21,18 @@ from ego.controller.devices import (
     whole_steps,
 )
 from ego.default_robot import current_context
-from ego.errors import UnknownDeviceError
+from ego.errors import EgoError, UnknownDeviceError
 from ego.robot import Robot as CoreRobot
 from ego.runtime import RunOptions
 
 __all__ = ["DifferentialWheels", "Robot"]
 
 log = logging.getLogger(__name__)
+
+#: The ``model`` field of Webots' E-puck PROTO (projects/robots/gctronic/e-puck).
+EPUCK_MODEL = "GCtronic e-puck"
+#: What Webots prints for a second ``Robot()`` in one controller process.
+ONE_ROBOT_ONLY = "Error: only one Robot instance can be created per controller process."
 
 _D = TypeVar("_D", bound=Device)
 
@@ -47,12 +53,24 @@ class Robot:
 
     def __init__(self, *, options: RunOptions | None = None) -> None:
         """``options`` None: the current face context's (what ``ego run`` was given)."""
+        context = current_context()
+        first = context.webots_robot
+        if isinstance(first, Robot) and not first.core.closed:
+            # Webots allows one Robot a process and says so; the second one here is the
+            # same robot under another name (in Webots it would be unusable).
+            if (options or context.options).strict:
+                raise EgoError("only one Robot instance can be created per controller process")
+            print(ONE_ROBOT_ONLY, file=sys.stderr)
+            self.__dict__ = first.__dict__
+            return
         if options is None:
-            options = current_context().options
+            options = context.options
         self._options = options
+        self._custom_data = ""
         self._core = CoreRobot(options.port, firmware=options.firmware, seed=options.seed)
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
+        context.webots_robot = self
         for callback in options.on_robot:
             callback(self._core)
 
@@ -61,8 +79,11 @@ class Robot:
         """The ego Robot underneath, for what Webots' API does not cover."""
         return self._core
 
-    def step(self, duration: int) -> int:
-        """One time step of ``duration`` ms; -1 when the run ends or the link is lost."""
+    def step(self, duration: int | None = None) -> int:
+        """One time step of ``duration`` ms (the basic time step if None); -1 when the run
+        ends or the link is lost."""
+        if duration is None:
+            duration = int(self.getBasicTimeStep())
         if self._options.time_is_up(self._core.time_s):
             self._core.close()
             return -1
@@ -71,12 +92,22 @@ class Robot:
             motor.step_update()
         return result
 
-    def getDevice(self, name: str) -> Device:
-        """The device called ``name`` (``ps0``, ``left wheel motor``, ``camera``...)."""
+    def getDevice(self, name: str) -> Device | None:
+        """The device called ``name`` (``ps0``, ``left wheel motor``, ``camera``...).
+
+        A name the e-puck has not (``gps``): Webots' warning on stderr and None, as in
+        Webots; under ``ego run --strict``, UnknownDeviceError listing the valid names.
+        """
         device = self._devices.get(name)
         if device is None:
             cls = view_class(name) if name in self._core.device_names else None
             if cls is None:
+                if not self._options.strict:
+                    print(
+                        f'Device "{name}" was not found on robot "{self.getName()}"',
+                        file=sys.stderr,
+                    )
+                    return None
                 raise UnknownDeviceError(
                     f"no device named {name!r}; valid names: {', '.join(self._device_names())}"
                 )
@@ -99,6 +130,10 @@ class Robot:
 
     def _typed(self, name: str, cls: type[_D]) -> _D:
         device = self.getDevice(name)
+        if device is None:
+            raise UnknownDeviceError(
+                f"no device named {name!r}; valid names: {', '.join(self._device_names(cls))}"
+            )
         if not isinstance(device, cls):
             raise UnknownDeviceError(
                 f"{name!r} is a {type(device).__name__}, not a {cls.__name__}; valid names: "
@@ -137,6 +172,49 @@ class Robot:
 
     def getName(self) -> str:
         return "e-puck"
+
+    def getModel(self) -> str:
+        """The model field of Webots' E-puck PROTO, which controllers branch on."""
+        return EPUCK_MODEL
+
+    def getCustomData(self) -> str:
+        return self._custom_data
+
+    def setCustomData(self, data: str) -> None:
+        self._custom_data = str(data)
+
+    def getNumberOfDevices(self) -> int:
+        return len(self._core.device_names)
+
+    def getDeviceByIndex(self, index: int) -> Device | None:
+        names = self._core.device_names
+        if not 0 <= index < len(names):
+            raise UnknownDeviceError(f"device index {index} is outside 0..{len(names) - 1}")
+        return self.getDevice(names[index])
+
+    def getSynchronization(self) -> bool:
+        """Always: the controller's step paces the robot, as a synchronised Webots robot."""
+        return True
+
+    def getSupervisor(self) -> bool:
+        return False
+
+    def getProjectPath(self) -> str:
+        return ""
+
+    def getWorldPath(self) -> str:
+        return ""
+
+    # The Python properties of Webots' own module.
+    time = property(lambda self: self.getTime())
+    name = property(lambda self: self.getName())
+    model = property(lambda self: self.getModel())
+    basic_time_step = property(lambda self: self.getBasicTimeStep())
+    custom_data = property(lambda self: self.getCustomData(), lambda self, v: self.setCustomData(v))
+    number_of_devices = property(lambda self: self.getNumberOfDevices())
+    synchronization = property(lambda self: self.getSynchronization())
+    supervisor = property(lambda self: self.getSupervisor())
+    mode = property(lambda self: self.getMode())
 
     def getMode(self) -> int:
         """Cross-compilation on the robot; remote control over tcp:// or udp://."""

@@ -5,7 +5,7 @@ from controller import Robot
 
 
 def setup(robot):
-    return robot.getDevice("ps9x")  # the bug: no such sensor
+    return robot.getDevice("ps9x").enable(32)  # the bug: no such sensor, None
 
 
 def main():
