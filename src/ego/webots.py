@@ -73,7 +73,7 @@ Tag = int | str
 _V = TypeVar("_V", bound=Device)
 
 
-def _view(tag: Tag, cls: type[_V]) -> _V:
+def _view(tag: Tag, cls: type[_V], strict: bool | None = None) -> _V:
     """The device ``tag`` names, as a ``cls``; a device of another kind is refused, as
     Webots refuses ``wb_distance_sensor_enable`` on a light sensor's tag."""
     robot = default_robot.get()
@@ -85,7 +85,7 @@ def _view(tag: Tag, cls: type[_V]) -> _V:
         raise UnknownDeviceError(
             f"device {name!r} is not {article} {kind}; valid names: {', '.join(valid)}"
         )
-    return cls(robot, name)
+    return cls(robot, name, strict=strict)
 
 
 def _distance(tag: Tag) -> DistanceSensor:
@@ -252,7 +252,8 @@ def wb_distance_sensor_get_value(tag: Tag) -> float:
 
 
 def wb_led_set(tag: Tag, value: int) -> None:
-    _view(tag, LED).set(value)
+    """An int, as C's ``wb_led_set`` takes (a float or a bool is a TypeError here)."""
+    _view(tag, LED, strict=True).set(value)
 
 
 def wb_light_sensor_enable(tag: Tag, ms: int) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
+import sys
 from typing import TYPE_CHECKING
 
 from ego.devices.base import Sampled
@@ -47,9 +48,16 @@ def _is_real(value: object) -> bool:
 class Device:
     """A named device of the robot (Webots' ``Device``)."""
 
-    def __init__(self, core: CoreRobot, name: str) -> None:
+    def __init__(self, core: CoreRobot, name: str, *, strict: bool | None = None) -> None:
+        """``strict``: refuse what Webots lets through (``ego run --strict``); None: as the
+        current run was asked."""
+        if strict is None:
+            from ego.default_robot import current_context
+
+            strict = current_context().options.strict
         self._core = core
         self._name = name
+        self._strict = strict
 
     def getName(self) -> str:
         return self._name
@@ -143,9 +151,14 @@ class Motor(Device):
     """
 
     def __init__(
-        self, core: CoreRobot, name: str, *, basic_time_step_ms: float | None = None
+        self,
+        core: CoreRobot,
+        name: str,
+        *,
+        basic_time_step_ms: float | None = None,
+        strict: bool | None = None,
     ) -> None:
-        super().__init__(core, name)
+        super().__init__(core, name, strict=strict)
         self._side = spec(name).index
         #: The encoders' sampling period when position control enables them (ms); None:
         #: the current face context's basic time step.
@@ -163,14 +176,31 @@ class Motor(Device):
         return self._target
 
     def setVelocity(self, velocity: float) -> None:
-        """Wheel speed in rad/s within +-getMaxVelocity(); refused beyond (OutOfRangeError)."""
+        """Wheel speed in rad/s within +-getMaxVelocity().
+
+        As Webots: beyond it, clamped with Webots' warning; NaN reported and ignored.
+        Under ``ego run --strict`` both are refused (OutOfRangeError), as ego's core does.
+        """
+        if isinstance(velocity, float) and math.isnan(velocity) and not self._strict:
+            print(
+                "Error: wb_motor_set_velocity() called with an invalid 'velocity' argument (NaN).",
+                file=sys.stderr,
+            )
+            return
         if not _is_real(velocity):
             raise TypeError(f"velocity must be a number of rad/s, not {velocity!r}")
         if abs(velocity) > MAX_SPEED_RAD_S + 1e-9:
-            raise OutOfRangeError(
-                f"velocity {velocity} rad/s is outside +-{MAX_SPEED_RAD_S:.2f} rad/s: "
-                "refused, not clamped"
+            if self._strict:
+                raise OutOfRangeError(
+                    f"velocity {velocity} rad/s is outside +-{MAX_SPEED_RAD_S:.2f} rad/s: "
+                    "refused, not clamped"
+                )
+            print(
+                f'WARNING: e-puck > RotationalMotor "{self._name}": The requested velocity '
+                f"{velocity:g} exceeds 'maxVelocity' = {MAX_SPEED_RAD_S:g}.",
+                file=sys.stderr,
             )
+            velocity = math.copysign(MAX_SPEED_RAD_S, velocity)
         self._velocity = float(velocity)
         self._apply()
 
@@ -217,9 +247,12 @@ class LED(Device):
     """An LED: ``set(0)`` off, any other value on (Webots' meaning for the e-puck's LEDs)."""
 
     def set(self, value: int) -> None:
-        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        """Any number, as Webots takes it (``True`` and ``1.0`` switch it on); strict: ints."""
+        if self._strict and (isinstance(value, bool) or not isinstance(value, numbers.Integral)):
             raise TypeError(f"LED value must be an int, not {type(value).__name__}")
-        self._core.leds.set(self._name, 1 if value else 0)
+        if not isinstance(value, numbers.Real):
+            raise TypeError(f"LED value must be a number, not {type(value).__name__}")
+        self._core.leds.set(self._name, 1 if int(value) else 0)
 
     def get(self) -> int:
         return self._core.leds.get(self._name)

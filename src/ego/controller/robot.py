@@ -112,11 +112,16 @@ class Robot:
                     f"no device named {name!r}; valid names: {', '.join(self._device_names())}"
                 )
             if cls is Motor:
-                motor = Motor(self._core, name, basic_time_step_ms=self.getBasicTimeStep())
+                motor = Motor(
+                    self._core,
+                    name,
+                    basic_time_step_ms=self.getBasicTimeStep(),
+                    strict=self._options.strict,
+                )
                 self._motors.append(motor)
                 device = motor
             else:
-                device = cls(self._core, name)
+                device = cls(self._core, name, strict=self._options.strict)
             self._devices[name] = device
         return device
 
@@ -252,6 +257,9 @@ class DifferentialWheels(Robot):
     """Webots' old e-puck base class: wheel speeds in steps/s (1 step = 0.00628 rad)."""
 
     def setSpeed(self, left: float, right: float) -> None:
+        """Steps/s; beyond +-1000 clamped with a warning, as Webots did (strict: refused)."""
+        if not self._options.strict:
+            left, right = (_clamp_speed(v) for v in (left, right))
         self._core.motors.set_speed(left, right)
 
     def getLeftSpeed(self) -> float:
@@ -286,3 +294,14 @@ class DifferentialWheels(Robot):
 
     def setEncoders(self, left: float, right: float) -> None:
         self._core.encoders.set(whole_steps(left), whole_steps(right))
+
+
+def _clamp_speed(speed: float) -> float:
+    """A DifferentialWheels speed within +-1000 steps/s, with Webots' warning beyond."""
+    if isinstance(speed, int | float) and not isinstance(speed, bool) and abs(speed) > 1000:
+        print(
+            f"Warning: the requested speed {speed:g} exceeds the maximum speed 1000.",
+            file=sys.stderr,
+        )
+        return math.copysign(1000, speed)
+    return speed
