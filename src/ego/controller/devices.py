@@ -12,7 +12,7 @@ from ego.devices.base import Sampled
 from ego.devices.motors import MAX_SPEED_RAD_S, rad_s_to_steps
 from ego.devices.position_control import position_speed
 from ego.devices.table import find, spec
-from ego.errors import EgoError, OutOfRangeError
+from ego.errors import EgoError, OutOfRangeError, UnknownDeviceError
 
 if TYPE_CHECKING:
     from ego.robot import Robot as CoreRobot
@@ -36,6 +36,23 @@ log = logging.getLogger(__name__)
 _NAN = float("nan")
 
 
+def _by_name(cls: type[Device], name: str) -> Device:
+    """The device ``name`` of the run's Robot, if it is a ``cls`` (Webots' R2023b style)."""
+    from ego.default_robot import current_context
+
+    robot = current_context().webots_robot
+    if robot is None or robot.core.closed:  # type: ignore[attr-defined]
+        raise EgoError(f"{cls.__name__}({name!r}): create the Robot() first, as Webots requires")
+    device = robot.getDevice(name)  # type: ignore[attr-defined]
+    if not isinstance(device, cls):
+        valid = robot._device_names(cls)  # type: ignore[attr-defined]
+        what = "no device" if device is None else f"a {type(device).__name__}"
+        raise UnknownDeviceError(
+            f"{name!r} is {what}, not a {cls.__name__}; valid names: {', '.join(valid) or 'none'}"
+        )
+    return device
+
+
 def _is_real(value: object) -> bool:
     """A real number (numpy's too), neither a bool nor NaN."""
     return (
@@ -46,11 +63,24 @@ def _is_real(value: object) -> bool:
 
 
 class Device:
-    """A named device of the robot (Webots' ``Device``)."""
+    """A named device of the robot (Webots' ``Device``).
 
-    def __init__(self, core: CoreRobot, name: str, *, strict: bool | None = None) -> None:
+    ``Motor("left wheel motor")``, Webots' constructor by name since R2023b, gives the
+    device of that name of the run's one ``Robot()``.
+    """
+
+    def __new__(cls, *args: object, **kwargs: object) -> Device:
+        if len(args) == 1 and isinstance(args[0], str) and not kwargs:
+            return _by_name(cls, args[0])
+        return super().__new__(cls)
+
+    def __init__(
+        self, core: CoreRobot | str, name: str = "", *, strict: bool | None = None
+    ) -> None:
         """``strict``: refuse what Webots lets through (``ego run --strict``); None: as the
         current run was asked."""
+        if isinstance(core, str):
+            return  # made by name (__new__): the robot's own device, already set up
         if strict is None:
             from ego.default_robot import current_context
 
@@ -152,12 +182,14 @@ class Motor(Device):
 
     def __init__(
         self,
-        core: CoreRobot,
-        name: str,
+        core: CoreRobot | str,
+        name: str = "",
         *,
         basic_time_step_ms: float | None = None,
         strict: bool | None = None,
     ) -> None:
+        if isinstance(core, str):
+            return  # made by name: the robot's own motor (Device.__new__)
         super().__init__(core, name, strict=strict)
         self._side = spec(name).index
         #: The encoders' sampling period when position control enables them (ms); None:

@@ -20,6 +20,7 @@ from ego.controller.devices import (
     view_class,
     whole_steps,
 )
+from ego.controller.inputs import Joystick, Keyboard, Mouse
 from ego.default_robot import current_context
 from ego.errors import EgoError, UnknownDeviceError
 from ego.robot import Robot as CoreRobot
@@ -67,6 +68,9 @@ class Robot:
             options = context.options
         self._options = options
         self._custom_data = ""
+        self._keyboard: Keyboard | None = None
+        self._mouse: Mouse | None = None
+        self._joystick: Joystick | None = None
         self._core = CoreRobot(options.port, firmware=options.firmware, seed=options.seed)
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
@@ -189,13 +193,33 @@ class Robot:
         self._custom_data = str(data)
 
     def getNumberOfDevices(self) -> int:
-        return len(self._core.device_names)
+        return len(self._device_names())
 
     def getDeviceByIndex(self, index: int) -> Device | None:
-        names = self._core.device_names
+        names = self._device_names()
         if not 0 <= index < len(names):
             raise UnknownDeviceError(f"device index {index} is outside 0..{len(names) - 1}")
         return self.getDevice(names[index])
+
+    def getKeyboard(self) -> Keyboard:
+        """The terminal's keyboard (see ego.controller.inputs)."""
+        if self._keyboard is None:
+            self._keyboard = Keyboard()
+        return self._keyboard
+
+    def getMouse(self) -> Mouse:
+        if self._mouse is None:
+            self._mouse = Mouse()
+        return self._mouse
+
+    def getJoystick(self) -> Joystick:
+        if self._joystick is None:
+            self._joystick = Joystick()
+        return self._joystick
+
+    keyboard = property(getKeyboard)
+    mouse = property(getMouse)
+    joystick = property(getJoystick)
 
     def getSynchronization(self) -> bool:
         """Always: the controller's step paces the robot, as a synchronised Webots robot."""
@@ -249,7 +273,9 @@ class Robot:
         return self._core.battery.value
 
     def cleanup(self) -> None:
-        """Stop the robot and close the link (also done at exit)."""
+        """Stop the robot and close the link (also done at exit); the terminal back."""
+        if self._keyboard is not None:
+            self._keyboard.disable()
         self._core.close()
 
 

@@ -1,0 +1,179 @@
+"""The classes of Webots' ``controller`` module for devices the e-puck does not have.
+
+Every class a Webots controller may import exists, so that ``from controller import GPS``
+never fails; a device of one is never found on the robot: ``getDevice("gps")`` prints
+Webots' own warning and returns None, and constructing one by name (``GPS("gps")``)
+raises UnknownDeviceError listing the names the robot has. The supervisor API likewise
+exists, and says that a real robot has no simulation to supervise.
+"""
+
+from __future__ import annotations
+
+from typing import NoReturn
+
+from ego.controller.devices import Device
+from ego.controller.robot import Robot
+from ego.errors import UnsupportedDeviceError
+
+__all__ = [
+    "GPS",
+    "Altimeter",
+    "Brake",
+    "CameraRecognitionObject",
+    "Compass",
+    "Connector",
+    "Display",
+    "Emitter",
+    "Field",
+    "Gyro",
+    "InertialUnit",
+    "Lidar",
+    "Node",
+    "Pen",
+    "Radar",
+    "RangeFinder",
+    "Receiver",
+    "Skin",
+    "Speaker",
+    "Supervisor",
+    "TouchSensor",
+    "VacuumGripper",
+]
+
+
+class Altimeter(Device):
+    """Webots' Altimeter; the e-puck has none."""
+
+
+class Brake(Device):
+    """Webots' Brake; the e-puck's wheels have none."""
+
+
+class Compass(Device):
+    """Webots' Compass; the e-puck has none."""
+
+
+class Connector(Device):
+    """Webots' Connector; the e-puck has none."""
+
+
+class Display(Device):
+    """Webots' Display; the e-puck has none."""
+
+
+class Emitter(Device):
+    """Webots' radio Emitter; the e-puck has none (its IR is the proximity sensors')."""
+
+
+class GPS(Device):
+    """Webots' GPS; the e-puck has none."""
+
+
+class Gyro(Device):
+    """Webots' Gyro; the e-puck (rev 1.3 and older) has none."""
+
+
+class InertialUnit(Device):
+    """Webots' InertialUnit; the e-puck has none."""
+
+
+class Lidar(Device):
+    """Webots' Lidar; the e-puck has none."""
+
+
+class Pen(Device):
+    """Webots' Pen; the e-puck has none."""
+
+
+class Radar(Device):
+    """Webots' Radar; the e-puck has none."""
+
+
+class RangeFinder(Device):
+    """Webots' RangeFinder; the e-puck has none."""
+
+
+class Receiver(Device):
+    """Webots' radio Receiver; the e-puck has none."""
+
+
+class Skin(Device):
+    """Webots' Skin; the e-puck has none."""
+
+
+class Speaker(Device):
+    """Webots' Speaker; the e-puck's speaker is not served by its serial protocol."""
+
+
+class TouchSensor(Device):
+    """Webots' TouchSensor; the e-puck has none."""
+
+
+class VacuumGripper(Device):
+    """Webots' VacuumGripper; the e-puck has none."""
+
+
+class CameraRecognitionObject:
+    """What Webots' camera recognition returns; the e-puck's camera recognises nothing."""
+
+    def __init__(self) -> None:
+        self.id = 0
+        self.position = [0.0, 0.0, 0.0]
+        self.orientation = [0.0, 0.0, 1.0, 0.0]
+        self.size = [0.0, 0.0]
+        self.position_on_image = [0, 0]
+        self.size_on_image = [0, 0]
+        self.number_of_colors = 0
+        self.colors: list[float] = []
+        self.model = ""
+
+
+def _no_simulation(what: str) -> NoReturn:
+    raise UnsupportedDeviceError(
+        f"{what} supervises a simulation, and a real e-puck has none to supervise"
+    )
+
+
+class Node:
+    """Webots' scene-tree Node: a supervisor's, and there is no scene tree on a robot."""
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        _no_simulation("Node")
+
+
+class Field:
+    """Webots' scene-tree Field: a supervisor's, and there is no scene tree on a robot."""
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        _no_simulation("Field")
+
+
+class Supervisor(Robot):
+    """Webots' Supervisor: the robot's API works; the simulation's says there is none."""
+
+    def getSupervisor(self) -> bool:
+        return False
+
+    def getRoot(self) -> Node:
+        _no_simulation("Supervisor.getRoot")
+
+    def getSelf(self) -> Node:
+        _no_simulation("Supervisor.getSelf")
+
+    def getFromDef(self, name: str) -> Node:
+        _no_simulation("Supervisor.getFromDef")
+
+    def getFromId(self, id: int) -> Node:
+        _no_simulation("Supervisor.getFromId")
+
+    def simulationQuit(self, status: int) -> None:
+        _no_simulation("Supervisor.simulationQuit")
+
+    def simulationReset(self) -> None:
+        _no_simulation("Supervisor.simulationReset")
+
+    def simulationSetMode(self, mode: int) -> None:
+        _no_simulation("Supervisor.simulationSetMode")
+
+    def worldReload(self) -> None:
+        _no_simulation("Supervisor.worldReload")

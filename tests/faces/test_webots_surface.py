@@ -1,0 +1,201 @@
+"""Webots' Python API beyond the e-puck's own devices: every class importable, devices the
+robot lacks answered the Webots way, R2023b constructors, the Robot's other calls, and
+the terminal's keyboard."""
+
+from __future__ import annotations
+
+import os
+import pty
+import select
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+from helpers import ego_command
+
+import ego.controller as controller
+from ego import runtime
+from ego.controller import GPS, LED, Keyboard, Motor, Robot, Supervisor
+from ego.controller.inputs import decode_keys
+from ego.errors import EgoError, UnknownDeviceError, UnsupportedDeviceError
+from firmware_sim import Emulator
+
+CONTROLLERS = Path(__file__).parent / "controllers"
+
+#: Every class of Webots' Python controller module (R2023b).
+WEBOTS_CLASSES = [
+    "Accelerometer",
+    "Altimeter",
+    "Brake",
+    "Camera",
+    "CameraRecognitionObject",
+    "Compass",
+    "Connector",
+    "Device",
+    "Display",
+    "DistanceSensor",
+    "Emitter",
+    "Field",
+    "GPS",
+    "Gyro",
+    "InertialUnit",
+    "Joystick",
+    "Keyboard",
+    "LED",
+    "Lidar",
+    "LightSensor",
+    "Motor",
+    "Mouse",
+    "Node",
+    "Pen",
+    "PositionSensor",
+    "Radar",
+    "RangeFinder",
+    "Receiver",
+    "Robot",
+    "Skin",
+    "Speaker",
+    "Supervisor",
+    "TouchSensor",
+    "VacuumGripper",
+]
+
+
+def test_every_webots_class_can_be_imported() -> None:
+    missing = [name for name in WEBOTS_CLASSES if not hasattr(controller, name)]
+    assert missing == []
+
+
+def test_a_device_the_epuck_lacks_is_none_and_cannot_be_made_by_name(
+    face_options: runtime.RunOptions, capsys: pytest.CaptureFixture[str]
+) -> None:
+    robot = Robot()
+    try:
+        assert robot.getDevice("gps") is None
+        with pytest.raises(UnknownDeviceError, match="not a GPS"):
+            GPS("gps")
+        assert capsys.readouterr().err.count('Device "gps" was not found on robot "e-puck"') == 2
+    finally:
+        robot.cleanup()
+
+
+def test_r2023b_constructors_by_name_give_the_robots_devices(
+    face_options: runtime.RunOptions,
+) -> None:
+    with pytest.raises(EgoError, match="create the Robot"):
+        Motor("left wheel motor")
+    robot = Robot()
+    try:
+        motor = Motor("left wheel motor")
+        assert motor is robot.getDevice("left wheel motor")
+        motor.setPosition(float("inf"))
+        motor.setVelocity(2.0)
+        LED("led0").set(True)
+        robot.step()  # the basic time step
+        assert robot.core.motors.speed[0] == 318
+        assert robot.core.leds.get("led0") == 1
+        with pytest.raises(UnknownDeviceError, match="is a DistanceSensor, not a Motor"):
+            Motor("ps0")
+    finally:
+        robot.cleanup()
+
+
+def test_a_second_robot_is_refused_the_webots_way(
+    face_options: runtime.RunOptions, capsys: pytest.CaptureFixture[str]
+) -> None:
+    first = Robot()
+    try:
+        second = Robot()
+        assert "only one Robot instance can be created" in capsys.readouterr().err
+        assert second.core is first.core  # the same robot, under another name
+        face_options.strict = True
+        with pytest.raises(EgoError, match="only one Robot"):
+            Robot()
+    finally:
+        first.cleanup()
+
+
+def test_the_robots_other_calls_and_properties(face_options: runtime.RunOptions) -> None:
+    robot = Robot()
+    try:
+        assert robot.getModel() == robot.model == "GCtronic e-puck"
+        robot.setCustomData("lab 3")
+        assert robot.getCustomData() == robot.custom_data == "lab 3"
+        names = [robot.getDeviceByIndex(i).getName() for i in range(robot.getNumberOfDevices())]
+        assert "ps0" in names and "left wheel motor" in names and "camera" in names
+        assert robot.getSynchronization() and not robot.getSupervisor()
+        robot.step(32)
+        assert robot.time == robot.getTime() == pytest.approx(0.032)
+        with pytest.raises(UnknownDeviceError):
+            robot.getDeviceByIndex(robot.getNumberOfDevices())
+    finally:
+        robot.cleanup()
+
+
+def test_a_supervisor_runs_the_robot_and_says_there_is_no_simulation(
+    face_options: runtime.RunOptions,
+) -> None:
+    supervisor = Supervisor()
+    try:
+        assert supervisor.step(32) == 0
+        with pytest.raises(UnsupportedDeviceError, match="none to supervise"):
+            supervisor.getFromDef("EPUCK")
+    finally:
+        supervisor.cleanup()
+
+
+def test_terminal_bytes_become_webots_key_codes() -> None:
+    assert decode_keys(b"\x1b[A\x1b[D\x1b[5~") == [Keyboard.UP, Keyboard.LEFT, Keyboard.PAGEUP]
+    assert decode_keys(b"aZ\x01 ") == [65, Keyboard.SHIFT | 90, Keyboard.CONTROL | 65, 32]
+
+
+def test_keyboard_teleop_drives_the_robot_from_the_terminal(tmp_path: Path) -> None:
+    """Keys typed into the terminal running ego run (a pty here) reach getKey()."""
+    with Emulator("webots", seed=1) as emu:
+        master, slave = pty.openpty()
+        command = [
+            *ego_command(),
+            "run",
+            "--port",
+            emu.path,
+            str(CONTROLLERS / "keyboard_teleop.py"),
+        ]
+        proc = subprocess.Popen(
+            command, stdin=slave, stdout=subprocess.PIPE, text=True, cwd=tmp_path
+        )
+        os.close(slave)
+        try:
+            assert proc.stdout is not None
+            assert _line(proc) == "ready"
+            os.write(master, b"\x1b[A")
+            assert _line(proc) == f"key {Keyboard.UP}"
+            assert _until(lambda: emu.world.speeds == (477, 477))
+            os.write(master, b"\x1b[D")
+            assert _line(proc) == f"key {Keyboard.LEFT}"
+            assert _until(lambda: emu.world.speeds == (-318, 318))
+            os.write(master, b"s")
+            assert _line(proc) == f"key {ord('S')}"
+            os.write(master, b"q")
+            assert proc.wait(timeout=15) == 0
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+            os.close(master)
+        assert emu.world.speeds == (0, 0)
+
+
+def _line(proc: subprocess.Popen[str]) -> str:
+    assert proc.stdout is not None
+    ready, _, _ = select.select([proc.stdout], [], [], 15.0)
+    return proc.stdout.readline().strip() if ready else ""
+
+
+def _until(condition: object, timeout_s: float = 3.0) -> bool:
+    assert callable(condition)
+    end = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > end:
+            return False
+        time.sleep(0.005)
+    return True
