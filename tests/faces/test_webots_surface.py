@@ -15,6 +15,7 @@ import pytest
 from helpers import ego_command
 
 import ego.controller as controller
+import ego.errors
 from ego import runtime
 from ego.controller import GPS, LED, Keyboard, Motor, Robot, Supervisor
 from ego.controller.inputs import decode_keys
@@ -199,3 +200,48 @@ def _until(condition: object, timeout_s: float = 3.0) -> bool:
             return False
         time.sleep(0.005)
     return True
+
+
+def test_device_calls_of_webots_with_the_epuck_protos_values(
+    face_options: runtime.RunOptions,
+) -> None:
+    robot = Robot()
+    try:
+        ps0 = robot.getDevice("ps0")
+        assert ps0.getType() == ps0.INFRA_RED and ps0.getAperture() == 0.1
+        assert ps0.getLookupTable()[:3] == [0, 4095, 0.002] and ps0.getMinValue() == 67.19
+        assert robot.getDevice("ls0").getLookupTable() == [1, 4095, 0.01, 2, 0, 0.01]
+        assert robot.getDevice("accelerometer").getLookupTable()[0] == -100
+        motor = robot.getDevice("left wheel motor")
+        sensor = motor.getPositionSensor()
+        assert sensor is robot.getDevice("left wheel sensor") and sensor.getMotor() is motor
+        assert motor.getType() == motor.ROTATIONAL and motor.getBrake() is None
+        assert (motor.getMinPosition(), motor.getMaxPosition()) == (0.0, 0.0)
+        camera = robot.getDevice("camera")
+        assert camera.getNear() == 0.0055 and not camera.hasRecognition()
+        assert camera.getRecognitionObjects() == []
+        ps0.enable(32)
+        robot.step(32)
+        assert ps0.value == ps0.getValue() and ps0.sampling_period == 32
+        motor.velocity = 1.0
+        assert motor.getVelocity() == 1.0 and motor.name == "left wheel motor"
+    finally:
+        robot.cleanup()
+
+
+def test_set_acceleration_ramps_the_speed_step_by_step(face_options: runtime.RunOptions) -> None:
+    robot = Robot()
+    try:
+        motor = robot.getDevice("left wheel motor")
+        motor.setAcceleration(31.4)  # 1 rad/s more each 32 ms step: 0 -> 6.28 in 7 steps
+        motor.setPosition(float("inf"))
+        motor.setVelocity(6.28)
+        seen = []
+        for _ in range(8):
+            robot.step(32)
+            seen.append(robot.core.motors.speed[0])
+        assert seen[0] == 160 and seen == sorted(seen) and seen[-1] == 999  # 6.28 rad/s
+        with pytest.raises(ego.errors.OutOfRangeError):
+            motor.setAcceleration(0)
+    finally:
+        robot.cleanup()

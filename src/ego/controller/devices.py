@@ -33,6 +33,21 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
+# Webots' E-puck PROTO (projects/robots/gctronic/e-puck/protos), what its devices report.
+#: E-puckDistanceSensor's lookupTable: distance (m), value, noise; rows flattened.
+PROXIMITY_TABLE = (
+    0, 4095, 0.002, 0.005, 2133.33, 0.003, 0.01, 1465.73, 0.007, 0.015, 601.46, 0.0406,
+    0.02, 383.84, 0.01472, 0.03, 234.93, 0.0241, 0.04, 158.03, 0.0287, 0.05, 120, 0.04225,
+    0.06, 104.09, 0.03065, 0.07, 67.19, 0.04897,
+)  # fmt: skip
+PROXIMITY_APERTURE_RAD = 0.1
+#: The light sensors' lookupTable.
+LIGHT_TABLE = (1, 4095, 0.01, 2, 0, 0.01)
+#: The accelerometer's lookupTable.
+ACCELEROMETER_TABLE = (-100, -100, 0.003, 100, 100, 0.003)
+#: The camera's near plane.
+CAMERA_NEAR_M = 0.0055
+
 _NAN = float("nan")
 
 
@@ -51,6 +66,18 @@ def _by_name(cls: type[Device], name: str) -> Device:
             f"{name!r} is {what}, not a {cls.__name__}; valid names: {', '.join(valid) or 'none'}"
         )
     return device
+
+
+def _sibling(device: Device, name: str) -> Device | None:
+    """Another device of the same robot, as its Webots Robot serves it."""
+    from ego.default_robot import current_context
+
+    robot = current_context().webots_robot
+    if robot is not None and robot.core is device._core:  # type: ignore[attr-defined]
+        found = robot.getDevice(name)  # type: ignore[attr-defined]
+        return found if isinstance(found, Device) else None
+    view = view_class(name)
+    return view(device._core, name, strict=device._strict) if view is not None else None
 
 
 def _is_real(value: object) -> bool:
@@ -95,6 +122,9 @@ class Device:
     def getModel(self) -> str:
         return "e-puck"
 
+    name = property(lambda self: self.getName())
+    model = property(lambda self: self.getModel())
+
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self._name!r}>"
 
@@ -117,6 +147,8 @@ class _SampledDevice(Device):
         """The period in ms, 0 when disabled (Webots' convention)."""
         return self._family().sampling_period(self._name) or 0
 
+    sampling_period = property(lambda self: self.getSamplingPeriod())
+
     def _readable(self) -> bool:
         family = self._family()
         return family.sampling_period(self._name) is not None and family.has_values
@@ -131,18 +163,47 @@ class DistanceSensor(_SampledDevice):
         family = self._family()
         return float(family.value(self._name))  # type: ignore[attr-defined]
 
+    GENERIC = 0
+    INFRA_RED = 1
+    SONAR = 2
+    LASER = 3
+
+    def getLookupTable(self) -> list[float]:
+        """Webots' e-puck table (distance m, value, noise per row), flattened."""
+        return list(PROXIMITY_TABLE)
+
     def getMinValue(self) -> float:
-        return 0.0
+        """The table's smallest value, as Webots gives it."""
+        return min(PROXIMITY_TABLE[1::3])
 
     def getMaxValue(self) -> float:
-        return 4095.0
+        return max(PROXIMITY_TABLE[1::3])
+
+    def getAperture(self) -> float:
+        return PROXIMITY_APERTURE_RAD
+
+    def getType(self) -> int:
+        return self.INFRA_RED
+
+    value = property(lambda self: self.getValue())
+    lookup_table = property(lambda self: self.getLookupTable())
+    min_value = property(lambda self: self.getMinValue())
+    max_value = property(lambda self: self.getMaxValue())
 
 
 class LightSensor(DistanceSensor):
     """ls0..ls7: 0..4095, lower is brighter (the e-puck's own convention)."""
 
+    def getLookupTable(self) -> list[float]:
+        return list(LIGHT_TABLE)
+
 
 class Accelerometer(_SampledDevice):
+    def getLookupTable(self) -> list[float]:
+        return list(ACCELEROMETER_TABLE)
+
+    value = property(lambda self: self.getValues())
+
     def getValues(self) -> list[float]:
         """x, y, z in m/s^2 (NaN while not enabled)."""
         if not self._readable():
@@ -166,6 +227,22 @@ def encoder_steps(core: CoreRobot, side: int) -> float:
 
 class PositionSensor(_SampledDevice):
     """A wheel's step counter as an angle in radians."""
+
+    ROTATIONAL = 0
+    LINEAR = 1
+
+    def getType(self) -> int:
+        return self.ROTATIONAL
+
+    def getMotor(self) -> Device | None:
+        """The wheel's motor (``left wheel sensor`` -> ``left wheel motor``)."""
+        return _sibling(self, self._name.replace("sensor", "motor"))
+
+    def getBrake(self) -> None:
+        """None: the e-puck's wheels have no brake device."""
+        return None
+
+    value = property(lambda self: self.getValue())
 
     def getValue(self) -> float:
         if not self._readable():
@@ -197,9 +274,49 @@ class Motor(Device):
         self._period_ms = basic_time_step_ms
         self._velocity = MAX_SPEED_RAD_S
         self._target = 0.0  # Webots' default: position control towards 0 rad
+        self._acceleration = -1.0
+        #: The speed (rad/s) sent last, for the acceleration ramp.
+        self._sent_rad_s = 0.0
+
+    ROTATIONAL = 0
+    LINEAR = 1
 
     def getMaxVelocity(self) -> float:
         return MAX_SPEED_RAD_S
+
+    def getType(self) -> int:
+        return self.ROTATIONAL
+
+    def getMinPosition(self) -> float:
+        """0: no limit, as Webots says of a wheel (minPosition = maxPosition = 0)."""
+        return 0.0
+
+    def getMaxPosition(self) -> float:
+        return 0.0
+
+    def getPositionSensor(self) -> Device | None:
+        """The wheel's position sensor (``left wheel motor`` -> ``left wheel sensor``)."""
+        return _sibling(self, self._name.replace("motor", "sensor"))
+
+    def getBrake(self) -> None:
+        """None: the e-puck's wheels have no brake device."""
+        return None
+
+    def setAcceleration(self, acceleration: float) -> None:
+        """rad/s^2, -1 for none (Webots' default). The dsPIC has no ramp: the face ramps
+        the speed it sends, step by step."""
+        if not _is_real(acceleration) or (acceleration <= 0 and acceleration != -1):
+            raise OutOfRangeError(f"acceleration {acceleration!r} must be positive, or -1 for none")
+        self._acceleration = float(acceleration)
+
+    def getAcceleration(self) -> float:
+        return self._acceleration
+
+    velocity = property(lambda self: self.getVelocity(), lambda self, v: self.setVelocity(v))
+    target_position = property(
+        lambda self: self.getTargetPosition(), lambda self, p: self.setPosition(p)
+    )
+    max_velocity = property(lambda self: self.getMaxVelocity())
 
     def getVelocity(self) -> float:
         return self._velocity
@@ -245,15 +362,27 @@ class Motor(Device):
             self._core.encoders.enable(int(self._position_period_ms()))
         self._apply()
 
-    def _apply(self) -> None:
+    def _apply(self, stepping: bool = False) -> None:
         speeds = list(self._core.motors.speed)
         if math.isinf(self._target):
             # Webots' velocity control: the velocity's own sign gives the direction, whichever
             # infinity the position is (WbMotor ignores the target once it is infinite).
-            speeds[self._side] = round(rad_s_to_steps(self._velocity))
+            speeds[self._side] = round(rad_s_to_steps(self._ramped(self._velocity, stepping)))
         else:
             speeds[self._side] = self._position_speed()
         self._core.motors.set_speed(speeds[0], speeds[1])
+
+    def _ramped(self, wanted_rad_s: float, stepping: bool) -> float:
+        """``wanted_rad_s``, or with an acceleration set, one step's worth closer to it
+        at each step (the speed sent stays as it is between steps)."""
+        if self._acceleration > 0:
+            if not stepping:
+                return self._sent_rad_s
+            most = self._acceleration * self._position_period_ms() / 1000.0
+            change = max(-most, min(most, wanted_rad_s - self._sent_rad_s))
+            wanted_rad_s = self._sent_rad_s + change
+        self._sent_rad_s = wanted_rad_s
+        return wanted_rad_s
 
     def _position_speed(self) -> int:
         """Steps/s towards the target (:func:`ego.devices.position_control.position_speed`)."""
@@ -270,9 +399,11 @@ class Motor(Device):
         return current_context().options.basic_time_step_ms
 
     def step_update(self) -> None:
-        """Position control: recompute the speed after each step."""
-        if not math.isinf(self._target):
-            self._apply()
+        """Position control, or an acceleration ramp: recompute the speed after each step."""
+        if not math.isinf(self._target) or (
+            self._acceleration > 0 and self._sent_rad_s != self._velocity
+        ):
+            self._apply(stepping=True)
 
 
 class LED(Device):
@@ -288,6 +419,8 @@ class LED(Device):
 
     def get(self) -> int:
         return self._core.leds.get(self._name)
+
+    value = property(lambda self: self.get(), lambda self, v: self.set(v))
 
 
 class Camera(_SampledDevice):
@@ -310,6 +443,59 @@ class Camera(_SampledDevice):
 
     def getFov(self) -> float:
         return float(self._core.camera.fov_rad)
+
+    def setFov(self, fov: float) -> None:
+        """Webots zooms within getMinFov()..getMaxFov(); the e-puck's optics are fixed, so
+        only the emulator's renderer follows (a real camera keeps its own)."""
+        self._core.camera.fov_rad = fov
+
+    def getMinFov(self) -> float:
+        return float(self._core.camera.fov_rad)
+
+    def getMaxFov(self) -> float:
+        return float(self._core.camera.fov_rad)
+
+    def getNear(self) -> float:
+        """The PROTO's near plane, metres."""
+        return CAMERA_NEAR_M
+
+    def getFocalLength(self) -> float:
+        return 0.0  # no Focus node on the e-puck's camera, as Webots answers
+
+    def getFocalDistance(self) -> float:
+        return 0.0
+
+    def getExposure(self) -> float:
+        """The V4L2 brightness control stands for Webots' exposure (None set: 1.0)."""
+        brightness = self._core.camera.brightness
+        return 1.0 if brightness is None else brightness / 64.0
+
+    def setExposure(self, exposure: float) -> None:
+        self._core.camera.brightness = max(0, min(255, round(float(exposure) * 64)))
+
+    def hasRecognition(self) -> bool:
+        return False
+
+    def getRecognitionNumberOfObjects(self) -> int:
+        return 0
+
+    def getRecognitionObjects(self) -> list[object]:
+        return []
+
+    def getRecognitionSamplingPeriod(self) -> int:
+        return 0
+
+    def recognitionEnable(self, samplingPeriod: int) -> None:
+        """Webots says the camera has no Recognition node; so does this."""
+        print(
+            "Error: wb_camera_recognition_enable() called on a Camera without Recognition node.",
+            file=sys.stderr,
+        )
+
+    width = property(lambda self: self.getWidth())
+    height = property(lambda self: self.getHeight())
+    fov = property(lambda self: self.getFov(), lambda self, f: self.setFov(f))
+    image = property(lambda self: self.getImage())
 
     def getImage(self) -> bytes:
         """BGRA bytes, row by row, as Webots' ``getImage``."""
