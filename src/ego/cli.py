@@ -29,6 +29,13 @@ def _positive(text: str) -> float:
     return value
 
 
+def _camera_size(text: str) -> tuple[int, int]:
+    width, sep, height = text.lower().partition("x")
+    if not (sep and width.isdigit() and height.isdigit()):
+        raise argparse.ArgumentTypeError(f"{text!r} is not WIDTHxHEIGHT, as 160x120")
+    return int(width), int(height)
+
+
 def _deadline_ms(text: str) -> int:
     try:
         value = int(text)
@@ -63,6 +70,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
             *(["-" + "v" * args.verbose] if args.verbose > 0 else []),
             *(["-q"] if args.verbose < 0 else []),
             *(["--strict"] if args.strict else []),
+            *(["--camera", "{}x{}".format(*args.camera)] if args.camera else []),
         ]
         return run_supervised(
             args.controller,
@@ -82,6 +90,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         basic_time_step_ms=args.time_step,
         seed=args.seed,
         strict=args.strict,
+        camera_size=args.camera,
     )
     run_controller(args.controller, options, args.args)
     return 0
@@ -200,6 +209,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="what getBasicTimeStep() answers, ms (default 32)",
     )
     run.add_argument("--seed", type=int, default=None, help="seed of the emulator (port sim)")
+    run.add_argument(
+        "--camera",
+        type=_camera_size,
+        default=None,
+        metavar="WxH",
+        help="the Webots face's camera size (default 52x39, Webots' e-puck's)",
+    )
     run.add_argument(
         "--strict",
         action="store_true",

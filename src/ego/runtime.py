@@ -32,6 +32,8 @@ class RunOptions:
     #: ``ego run --strict``: where Webots would print a warning and carry on (an unknown
     #: device, a speed beyond the maximum), the Webots face raises ego's error instead.
     strict: bool = False
+    #: ``ego run --camera WxH``: the Webots face's camera size (None: Webots' e-puck 52x39).
+    camera_size: tuple[int, int] | None = None
     #: Called with each core Robot a face creates (progress displays subscribe here).
     on_robot: list[Callable[[Robot], None]] = field(default_factory=list)
 

@@ -21,6 +21,7 @@ from ego.controller.devices import (
     LightSensor,
     encoder_steps,
     view_class,
+    webots_camera_size,
     whole_steps,
 )
 from ego.errors import EgoError, OutOfRangeError, UnknownDeviceError
@@ -146,7 +147,9 @@ def wb_accelerometer_get_values(tag: Tag) -> list[float]:
 
 
 def wb_camera_enable(tag: Tag, ms: int) -> None:
-    _camera(tag).enable(ms)
+    camera = _camera(tag)
+    webots_camera_size(default_robot.get())  # the size a Webots controller expects
+    camera.enable(ms)
 
 
 def wb_camera_disable(tag: Tag) -> None:

@@ -245,3 +245,41 @@ def test_set_acceleration_ramps_the_speed_step_by_step(face_options: runtime.Run
             motor.setAcceleration(0)
     finally:
         robot.cleanup()
+
+
+def test_the_webots_faces_camera_is_webots_size_unless_asked(
+    face_options: runtime.RunOptions,
+) -> None:
+    face_options.port = "sim"  # the built-in emulator, which has a rendered camera
+    robot = Robot()
+    try:
+        camera = robot.getDevice("camera")
+        assert (camera.getWidth(), camera.getHeight()) == (52, 39)
+        camera.enable(32)
+        robot.step(32)
+        array = camera.getImageArray()
+        assert len(array) == 52 and len(array[0]) == 39 and len(array[0][0]) == 3
+        rgb = robot.core.camera.image
+        assert array[10][20].tolist() == rgb[20, 10].tolist()  # image[x][y], as Webots
+        assert array.dtype.kind == "i" and array.dtype.itemsize >= 4  # r + g + b never wraps
+        assert len(camera.getImage()) == 52 * 39 * 4
+    finally:
+        robot.cleanup()
+    face_options.camera_size = (160, 120)  # ego run --camera 160x120
+    robot = Robot()
+    try:
+        camera = robot.getDevice("camera")
+        assert (camera.getWidth(), camera.getHeight()) == (160, 120)
+    finally:
+        robot.cleanup()
+
+
+def test_ego_run_camera_option_is_checked(tmp_path: Path) -> None:
+    result = subprocess.run(
+        [*ego_command(), "run", "--camera", "big", "x.py"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=30,
+    )
+    assert result.returncode == 2 and "WIDTHxHEIGHT" in result.stderr

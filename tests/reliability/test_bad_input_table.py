@@ -231,7 +231,9 @@ def namespace() -> Iterator[Namespace]:
         stack.callback(strict_controller.cleanup)
         ego.webots.wb_robot_init()
         stack.callback(default_robot.close)
-        ego.webots.wb_camera_enable("camera", 32)
+        # Through the E-GO face, which keeps the full 640x480 its rows speak of (the
+        # Webots faces would ask Webots' 52x39).
+        ego.overo.overo_camera_enable("camera", 32)
         ego.webots.wb_robot_step(32)
 
         camera = stack.enter_context(Camera(source=SimulatedSource(emu.world), width=64, height=48))

@@ -18,6 +18,7 @@ from ego.controller.devices import (
     PositionSensor,
     encoder_steps,
     view_class,
+    webots_camera_size,
     whole_steps,
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
@@ -126,6 +127,8 @@ class Robot:
                 device = motor
             else:
                 device = cls(self._core, name, strict=self._options.strict)
+                if cls is Camera:
+                    webots_camera_size(self._core)
             self._devices[name] = device
         return device
 
