@@ -105,6 +105,10 @@ class Keyboard:
         except queue.Empty:
             return -1
 
+    def empty(self) -> bool:
+        """Whether no key waits (for Robot.waitForUserInputEvent)."""
+        return self._keys.empty()
+
     def press(self, key: int) -> None:
         """A key from another source than the terminal (a dashboard)."""
         self._keys.put(int(key))

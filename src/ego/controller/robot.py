@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 import math
 import sys
+import time
 from typing import ClassVar, TypeVar
 
 from ego.controller.devices import (
@@ -23,7 +24,7 @@ from ego.controller.devices import (
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
 from ego.default_robot import current_context
-from ego.errors import EgoError, UnknownDeviceError
+from ego.errors import EgoError, UnknownDeviceError, UnsupportedDeviceError
 from ego.robot import Robot as CoreRobot
 from ego.runtime import RunOptions
 
@@ -175,6 +176,15 @@ class Robot:
     def getPositionSensor(self, name: str) -> PositionSensor:
         return self._typed(name, PositionSensor)
 
+    # Deprecated getters of devices the e-puck has not: Webots' warning and None.
+    def _absent_getter(self, name: str) -> None:
+        return self.getDevice(name)  # type: ignore[return-value]
+
+    getGPS = getCompass = getGyro = getInertialUnit = getTouchSensor = _absent_getter
+    getEmitter = getReceiver = getSpeaker = getDisplay = getPen = getLidar = _absent_getter
+    getRangeFinder = getRadar = getConnector = getBrake = getAltimeter = _absent_getter
+    getSkin = getVacuumGripper = _absent_getter
+
     def getBasicTimeStep(self) -> float:
         return float(self._options.basic_time_step_ms)
 
@@ -223,6 +233,54 @@ class Robot:
     keyboard = property(getKeyboard)
     mouse = property(getMouse)
     joystick = property(getJoystick)
+
+    EVENT_QUIT = -1
+    EVENT_NO_EVENT = 0
+    EVENT_MOUSE_CLICK = 1
+    EVENT_MOUSE_MOVE = 2
+    EVENT_KEYBOARD = 4
+    EVENT_JOYSTICK_BUTTON = 8
+    EVENT_JOYSTICK_AXIS = 16
+    EVENT_JOYSTICK_POV = 32
+
+    def stepBegin(self, duration: int | None = None) -> int:
+        """The whole step runs here (the dsPIC's batch cannot be split); stepEnd() returns."""
+        return self.step(duration)
+
+    def stepEnd(self) -> int:
+        return 0
+
+    def waitForUserInputEvent(self, event_type: int, timeout: int) -> int:
+        """Wait up to ``timeout`` ms for a key (the only input a robot has); the event."""
+        if event_type & self.EVENT_KEYBOARD and self._keyboard is not None:
+            end = time.monotonic() + timeout / 1000.0
+            while time.monotonic() < end:
+                if not self._keyboard.empty():
+                    return self.EVENT_KEYBOARD
+                time.sleep(0.005)
+        else:
+            time.sleep(timeout / 1000.0)
+        return self.EVENT_NO_EVENT
+
+    def setMode(self, mode: int, arg: str) -> None:
+        """Webots switches to remote control here; ego chooses by port: ``ego run --port
+        tcp://robot:4242`` drives a robot served by ``ego serve``."""
+        if mode != self.getMode():
+            raise UnsupportedDeviceError(
+                "the mode follows the port: run with --port tcp://ROBOT:4242 (ego serve on "
+                "the robot) for remote control, or on the robot itself for cross-compilation"
+            )
+
+    def wwiSendText(self, text: str) -> None:
+        """A robot window's channel: a real robot has no window, so nothing listens."""
+
+    def wwiReceiveText(self) -> str | None:
+        return None
+
+    def getUrdf(self, prefix: str = "") -> str:
+        raise UnsupportedDeviceError(
+            "the e-puck's URDF is Webots' to export: there is no world here"
+        )
 
     def getSynchronization(self) -> bool:
         """Always: the controller's step paces the robot, as a synchronised Webots robot."""
