@@ -8,11 +8,10 @@ import os
 import pty
 import select
 import subprocess
-import time
 from pathlib import Path
 
 import pytest
-from helpers import ego_command
+from helpers import ego_command, wait_until
 
 import ego.controller as controller
 import ego.errors
@@ -171,10 +170,10 @@ def test_keyboard_teleop_drives_the_robot_from_the_terminal(tmp_path: Path) -> N
             assert _line(proc) == "ready"
             os.write(master, b"\x1b[A")
             assert _line(proc) == f"key {Keyboard.UP}"
-            assert _until(lambda: emu.world.speeds == (477, 477))
+            assert wait_until(lambda: emu.world.speeds == (477, 477))
             os.write(master, b"\x1b[D")
             assert _line(proc) == f"key {Keyboard.LEFT}"
-            assert _until(lambda: emu.world.speeds == (-318, 318))
+            assert wait_until(lambda: emu.world.speeds == (-318, 318))
             os.write(master, b"s")
             assert _line(proc) == f"key {ord('S')}"
             os.write(master, b"q")
@@ -190,16 +189,6 @@ def _line(proc: subprocess.Popen[str]) -> str:
     assert proc.stdout is not None
     ready, _, _ = select.select([proc.stdout], [], [], 15.0)
     return proc.stdout.readline().strip() if ready else ""
-
-
-def _until(condition: object, timeout_s: float = 3.0) -> bool:
-    assert callable(condition)
-    end = time.monotonic() + timeout_s
-    while not condition():
-        if time.monotonic() > end:
-            return False
-        time.sleep(0.005)
-    return True
 
 
 def test_device_calls_of_webots_with_the_epuck_protos_values(

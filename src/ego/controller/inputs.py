@@ -202,12 +202,11 @@ class MouseState:
         self.u = self.v = self.x = self.y = self.z = math.nan
 
 
-class Mouse:
-    """Webots' Mouse: a robot has no 3D view to click in, so nothing ever happens."""
+class _Polled:
+    """An input device enabled at a sampling period, which Webots polls each step."""
 
     def __init__(self, sampling_period: int | None = None) -> None:
         self._period = int(sampling_period or 0)
-        self._3d = False
 
     def enable(self, samplingPeriod: int) -> None:
         self._period = int(samplingPeriod)
@@ -217,6 +216,14 @@ class Mouse:
 
     def getSamplingPeriod(self) -> int:
         return self._period
+
+
+class Mouse(_Polled):
+    """Webots' Mouse: a robot has no 3D view to click in, so nothing ever happens."""
+
+    def __init__(self, sampling_period: int | None = None) -> None:
+        super().__init__(sampling_period)
+        self._3d = False
 
     def enable3dPosition(self) -> None:
         self._3d = True
@@ -231,20 +238,8 @@ class Mouse:
         return MouseState()
 
 
-class Joystick:
+class Joystick(_Polled):
     """Webots' Joystick: none is connected to a robot's controller."""
-
-    def __init__(self, sampling_period: int | None = None) -> None:
-        self._period = int(sampling_period or 0)
-
-    def enable(self, samplingPeriod: int) -> None:
-        self._period = int(samplingPeriod)
-
-    def disable(self) -> None:
-        self._period = 0
-
-    def getSamplingPeriod(self) -> int:
-        return self._period
 
     def isConnected(self) -> bool:
         return False
