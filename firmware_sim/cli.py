@@ -74,6 +74,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--seed", type=int, default=None, help="seed for noise and faults")
     parser.add_argument(
+        "--world",
+        default=None,
+        metavar="NAME|FILE",
+        help="the world: a TOML world file, or a built-in one (arena, line-track, maze, "
+        "light; default arena)",
+    )
+    parser.add_argument(
         "--hardware-version",
         type=_hex_word,
         default=0xFFFF,
@@ -152,6 +159,7 @@ def run(args: argparse.Namespace) -> int:
             selector=args.selector,
             ground_module=args.ground_module,
             latency_s=args.latency_ms / 1000,
+            world=args.world,
         )
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)

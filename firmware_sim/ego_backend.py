@@ -59,7 +59,8 @@ class SimulatedCamera:
 class SimBackend:
     """``Robot("sim", seed=..., firmware=...)``: a fresh emulator for this robot.
 
-    Options: ``seed`` (the world's), ``baudrate`` (default: the firmware's line rate),
+    Options: ``seed`` (the world's), ``world`` (a built-in world's name or a world file:
+    firmware_sim.worlds), ``baudrate`` (default: the firmware's line rate),
     ``link_settings``, and any of the Emulator's own (``hardware_version``, ``rev13``,
     ``selector``, ``ground_module``, ``latency_s``).
     """

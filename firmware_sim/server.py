@@ -54,13 +54,17 @@ class Emulator:
         faults: Iterable[FaultSpec] = (),
         seed: int | None = None,
         timings: FaultTimings | None = None,
-        world: World | None = None,
+        world: World | str | None = None,
         hardware_version: int = 0xFFFF,
         rev13: bool = False,
         selector: int | None = None,
         ground_module: bool = True,
         latency_s: float = 0.0,
     ) -> None:
+        if isinstance(world, str):
+            from firmware_sim.worlds import load_world
+
+            world = load_world(world, seed)  # a built-in world's name or a file's path
         self.world = world or World(seed=seed)
         self.dspic = Dspic(
             self.world,

@@ -20,6 +20,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from firmware_sim.floor import LineTrack, Marks
+
 __all__ = [
     "IR_RESPONSE",
     "Arena",
@@ -155,8 +157,13 @@ class World:
         sound: SoundSource | None = None,
         start: Pose | None = None,
         noise: bool = True,
+        floor: Marks | LineTrack | None = None,
+        devices: frozenset[str] = frozenset(),
     ) -> None:
         self.arena = arena or Arena()
+        self.floor_pattern = floor or Marks()
+        #: Ground-truth devices the world declares ("gps", "compass", "touch sensor").
+        self.devices = frozenset(devices)
         self.blocks = _default_blocks() if blocks is None else list(blocks)
         self.lamp = lamp or Lamp()
         self.sound = sound or SoundSource()
@@ -291,6 +298,31 @@ class World:
                 y = cy + (y - cy) / d * ROBOT_RADIUS_M
         return x, y
 
+    # -- ground-truth devices (a world file may declare them; a real e-puck has none) --
+
+    def declared_devices(self) -> frozenset[str]:
+        """Which of "gps", "compass", "touch sensor" this world gives the robot."""
+        return self.devices
+
+    def gps_position(self) -> tuple[float, float, float]:
+        """The robot's centre in metres, Webots' ENU frame (x east, y north, z up)."""
+        with self._lock:
+            self.advance()
+            return (self._body.x_m, self._body.y_m, 0.0)
+
+    def compass_vector(self) -> tuple[float, float, float]:
+        """North (+y) in the robot's frame (x forward, y left, z up), as Webots' Compass."""
+        with self._lock:
+            self.advance()
+            theta = self._body.theta_rad
+            return (math.sin(theta), math.cos(theta), 0.0)
+
+    def touching(self) -> bool:
+        """Whether the body touches a wall or a box (a bumper's TouchSensor)."""
+        with self._lock:
+            self.advance()
+            return self._clearance() <= 0.0005
+
     def _clearance(self) -> float:
         b = self._body
         h = self.arena.half_size_m
@@ -368,12 +400,10 @@ class World:
             return values
 
     def floor_reflectance(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
-        """1.0 on the white floor, 0.15 on the black pattern (a stripe and a disc)."""
+        """1.0 on the white floor, 0.15 on black (the floor's marks or line track)."""
         x = np.asarray(x_m, dtype=float)
         y = np.asarray(y_m, dtype=float)
-        stripe = np.abs(y - 0.2) < 0.02
-        disc = (x + 0.3) ** 2 + (y + 0.3) ** 2 < 0.08**2
-        return np.where(stripe | disc, 0.15, 1.0)
+        return self.floor_pattern.reflectance(x, y)
 
     def floor_rgb_at(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
         """The floor's colour where the camera looks, (..., 3) uint8."""

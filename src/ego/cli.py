@@ -51,7 +51,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     from ego.scheduler import tune_for_stepping
 
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
-    run_demo(args.duration, args.firmware, args.seed)
+    run_demo(args.duration, args.firmware, args.seed, world=args.world)
     return 0
 
 
@@ -91,6 +91,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         seed=args.seed,
         strict=args.strict,
         camera_size=args.camera,
+        world=args.world,
     )
     run_controller(args.controller, options, args.args)
     return 0
@@ -181,6 +182,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="which firmware the emulator answers as (default: webots)",
     )
     demo.add_argument("--seed", type=int, default=1)
+    demo.add_argument(
+        "--world",
+        default=None,
+        metavar="NAME|FILE",
+        help="the emulator's world: arena (default), line-track, maze, light, or a TOML file",
+    )
     demo.set_defaults(func=_cmd_demo)
 
     run = sub.add_parser("run", help="run a Webots controller file unchanged")
@@ -209,6 +216,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="what getBasicTimeStep() answers, ms (default 32)",
     )
     run.add_argument("--seed", type=int, default=None, help="seed of the emulator (port sim)")
+    run.add_argument(
+        "--world",
+        default=None,
+        metavar="NAME|FILE",
+        help="the emulator's world (port sim): arena, line-track, maze, light, or a TOML file",
+    )
     run.add_argument(
         "--camera",
         type=_camera_size,

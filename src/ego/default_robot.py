@@ -55,6 +55,7 @@ class FaceContext:
             port or options.port,
             firmware=options.firmware,
             seed=options.seed,
+            world=options.world,
             baudrate=baudrate or DEFAULT_BAUD,
         )
         self._robot = robot

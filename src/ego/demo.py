@@ -74,6 +74,7 @@ def run_demo(
     firmware: str = "webots",
     seed: int | None = 1,
     out: TextIO = sys.stdout,
+    world: str | None = None,
 ) -> DemoReport:
     """Run the bundled obstacle-avoidance controller on the built-in emulator."""
     report = DemoReport()
@@ -83,6 +84,7 @@ def run_demo(
         firmware=firmware,
         duration_s=duration_s,
         seed=seed,
+        world=world,
         on_robot=[progress.attach],
     )
     baud = default_baud("sim", Firmware.choose(firmware))

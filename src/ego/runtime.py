@@ -29,6 +29,8 @@ class RunOptions:
     #: What getBasicTimeStep() answers (ms); e-puck worlds commonly use 32.
     basic_time_step_ms: float = 32.0
     seed: int | None = None
+    #: ``ego run --world``: the emulator's world (a built-in name or a TOML file; port sim).
+    world: str | None = None
     #: ``ego run --strict``: where Webots would print a warning and carry on (an unknown
     #: device, a speed beyond the maximum), the Webots face raises ego's error instead.
     strict: bool = False

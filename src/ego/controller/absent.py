@@ -9,11 +9,15 @@ exists, and says that a real robot has no simulation to supervise.
 
 from __future__ import annotations
 
-from typing import NoReturn
+import math
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from ego.controller.devices import Device
 from ego.controller.robot import Robot
 from ego.errors import UnsupportedDeviceError
+
+if TYPE_CHECKING:
+    from ego.robot import Robot as CoreRobot
 
 __all__ = [
     "GPS",
@@ -41,6 +45,52 @@ __all__ = [
 ]
 
 
+class _GroundTruth(Device):
+    """A device the real e-puck lacks, read from the emulator's world where it declares it
+    (localisation labs add a GPS or a compass to the e-puck in Webots)."""
+
+    def __init__(
+        self, core: CoreRobot | str, name: str = "", *, strict: bool | None = None
+    ) -> None:
+        if isinstance(core, str):
+            return  # made by name (Device.__new__)
+        super().__init__(core, name, strict=strict)
+        self._period = 0
+
+    def _world(self) -> Any:
+        return self._core.emulator.world
+
+    def enable(self, samplingPeriod: int) -> None:
+        self._period = int(samplingPeriod)
+
+    def disable(self) -> None:
+        self._period = 0
+
+    def getSamplingPeriod(self) -> int:
+        return self._period
+
+    def getValues(self) -> list[float]:
+        """GPS: x, y, z (m); Compass: north in the robot's frame. NaN while disabled."""
+        if not self._period:
+            return [math.nan] * 3
+        world = self._world()
+        values = world.gps_position() if isinstance(self, GPS) else world.compass_vector()
+        return [float(v) for v in values]
+
+    def getValue(self) -> float:
+        """TouchSensor: 1.0 when the body touches a wall or a box (NaN while disabled)."""
+        if not self._period:
+            return math.nan
+        return 1.0 if self._world().touching() else 0.0
+
+    value = property(lambda self: self.getValue())
+
+
+#: The ground-truth devices a world file may declare, and their classes.
+def ground_truth_class(name: str) -> type[Device] | None:
+    return {"gps": GPS, "compass": Compass, "touch sensor": TouchSensor}.get(name)
+
+
 class Altimeter(Device):
     """Webots' Altimeter; the e-puck has none."""
 
@@ -49,8 +99,9 @@ class Brake(Device):
     """Webots' Brake; the e-puck's wheels have none."""
 
 
-class Compass(Device):
-    """Webots' Compass; the e-puck has none."""
+class Compass(_GroundTruth):
+    """Webots' Compass; the e-puck has none: on the emulator only (``--port sim``), when
+    the world file declares one, it reads the emulated world's ground truth."""
 
 
 class Connector(Device):
@@ -65,8 +116,9 @@ class Emitter(Device):
     """Webots' radio Emitter; the e-puck has none (its IR is the proximity sensors')."""
 
 
-class GPS(Device):
-    """Webots' GPS; the e-puck has none."""
+class GPS(_GroundTruth):
+    """Webots' GPS; the e-puck has none: on the emulator only (``--port sim``), when
+    the world file declares one, it reads the emulated world's ground truth."""
 
 
 class Gyro(Device):
@@ -105,8 +157,9 @@ class Speaker(Device):
     """Webots' Speaker; the e-puck's speaker is not served by its serial protocol."""
 
 
-class TouchSensor(Device):
-    """Webots' TouchSensor; the e-puck has none."""
+class TouchSensor(_GroundTruth):
+    """Webots' TouchSensor; the e-puck has none: on the emulator only (``--port sim``), when
+    the world file declares one, it reads the emulated world's ground truth."""
 
 
 class VacuumGripper(Device):

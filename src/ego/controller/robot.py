@@ -73,7 +73,9 @@ class Robot:
         self._keyboard: Keyboard | None = None
         self._mouse: Mouse | None = None
         self._joystick: Joystick | None = None
-        self._core = CoreRobot(options.port, firmware=options.firmware, seed=options.seed)
+        self._core = CoreRobot(
+            options.port, firmware=options.firmware, seed=options.seed, world=options.world
+        )
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
         context.webots_robot = self
@@ -107,6 +109,10 @@ class Robot:
         device = self._devices.get(name)
         if device is None:
             cls = view_class(name) if name in self._core.device_names else None
+            if cls is None and self._ground_truth(name):
+                from ego.controller.absent import ground_truth_class
+
+                cls = ground_truth_class(name)
             if cls is None:
                 if not self._options.strict:
                     print(
@@ -132,6 +138,13 @@ class Robot:
                     webots_camera_size(self._core)
             self._devices[name] = device
         return device
+
+    def _ground_truth(self, name: str) -> bool:
+        """Whether the emulator's world declares ``name`` (gps, compass, touch sensor)."""
+        emulator = self._core.emulator
+        world = getattr(emulator, "world", None)
+        declared = getattr(world, "declared_devices", None)
+        return bool(declared is not None and name in declared())
 
     def _device_names(self, cls: type[Device] = Device) -> list[str]:
         """The names ``getDevice`` serves under the connected firmware, of class ``cls``."""

@@ -1,0 +1,193 @@
+"""World files for the emulator: TOML, by path or by the name of a built-in world.
+
+A world file describes what the emulated e-puck lives in::
+
+    [arena]
+    size_m = 1.0                      # a square arena of this side, walled
+
+    [robot]                           # where the robot starts
+    x_m = 0.0
+    y_m = -0.3
+    heading_deg = 0.0
+
+    [floor]                           # "marks" (a stripe and a disc) or a line track
+    kind = "track"
+    width_m = 0.02
+    points = [[-0.3, -0.3], [0.3, -0.3], [0.3, 0.3], [-0.3, 0.3]]
+
+    [[box]]                           # as many as wanted
+    x_m = 0.2
+    y_m = 0.1
+    size_m = 0.08
+    rgb = [200, 30, 30]
+
+    [lamp]                            # the light the light sensors see
+    x_m = 0.3
+    y_m = 0.3
+    height_m = 0.15
+
+    [sound]                           # what the microphones hear
+    x_m = -0.3
+    y_m = 0.3
+    frequency_hz = 1000.0
+
+    devices = ["gps", "compass", "touch sensor"]   # ground truth, emulator only (top level)
+
+Built in, by name: ``arena`` (the default), ``line-track``, ``maze``, ``light``. A file
+with a key it does not know, or a value of the wrong kind, is refused with ValueError
+naming the file and the key.
+"""
+
+from __future__ import annotations
+
+import math
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import tomllib
+
+from firmware_sim.floor import LineTrack, Marks
+from firmware_sim.world import Arena, Block, Lamp, Pose, SoundSource, World
+
+__all__ = ["BUILT_IN", "load_world", "world_names"]
+
+#: The worlds shipped with the emulator (firmware_sim/worlds/NAME.toml).
+BUILT_IN = ("arena", "line-track", "maze", "light")
+_DEVICES = frozenset({"gps", "compass", "touch sensor"})
+_TABLES = {
+    "arena": {"size_m"},
+    "robot": {"x_m", "y_m", "heading_deg"},
+    "floor": {"kind", "width_m", "points", "closed"},
+    "box": {"x_m", "y_m", "size_m", "rgb"},
+    "lamp": {"x_m", "y_m", "height_m"},
+    "sound": {"x_m", "y_m", "frequency_hz", "amplitude"},
+}
+
+
+def world_names() -> tuple[str, ...]:
+    return BUILT_IN
+
+
+def load_world(spec: str | Path, seed: int | None = None) -> World:
+    """The World a file (or a built-in world's name) describes."""
+    if isinstance(spec, str) and spec in BUILT_IN:
+        text = resources.files("firmware_sim").joinpath(f"worlds/{spec}.toml").read_text()
+        where = f"built-in world {spec!r}"
+    else:
+        path = Path(spec)
+        if not path.is_file():
+            raise ValueError(
+                f"world {str(spec)!r} is neither a file nor one of {', '.join(BUILT_IN)}"
+            )
+        text, where = path.read_text(encoding="utf-8"), str(path)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{where}: not TOML: {exc}") from exc
+    return _build(data, where, seed)
+
+
+def _build(data: dict[str, Any], where: str, seed: int | None) -> World:
+    unknown = set(data) - {*_TABLES, "devices", "name"}
+    if unknown:
+        raise ValueError(f"{where}: unknown key {sorted(unknown)[0]!r}")
+    tables = {
+        name: _table(data, name, where) for name in ("arena", "robot", "floor", "lamp", "sound")
+    }
+    boxes = data.get("box", [])
+    if not isinstance(boxes, list):
+        raise ValueError(f"{where}: [[box]] must be an array of tables")
+    arena = Arena(half_size_m=_number(tables["arena"], "size_m", where, 1.0, 0.2, 10.0) / 2)
+    robot = tables["robot"]
+    start = Pose(
+        _number(robot, "x_m", where, 0.0, -5.0, 5.0),
+        _number(robot, "y_m", where, 0.0, -5.0, 5.0),
+        math.radians(_number(robot, "heading_deg", where, 0.0, -360.0, 360.0)),
+    )
+    blocks = [_box(box, where) for box in boxes]
+    lamp = tables["lamp"]
+    sound = tables["sound"]
+    devices = data.get("devices", [])
+    if not isinstance(devices, list) or not set(devices) <= _DEVICES:
+        raise ValueError(f"{where}: devices must be some of {', '.join(sorted(_DEVICES))}")
+    return World(
+        seed=seed,
+        arena=arena,
+        blocks=blocks if "box" in data else None,
+        lamp=Lamp(
+            _number(lamp, "x_m", where, 0.3, -5, 5),
+            _number(lamp, "y_m", where, 0.3, -5, 5),
+            _number(lamp, "height_m", where, 0.15, 0.0, 5.0),
+        ),
+        sound=SoundSource(
+            _number(sound, "x_m", where, -0.3, -5, 5),
+            _number(sound, "y_m", where, 0.3, -5, 5),
+            _number(sound, "frequency_hz", where, 1000.0, 10.0, 8000.0),
+            _number(sound, "amplitude", where, 900.0, 0.0, 2047.0),
+        ),
+        start=start,
+        floor=_floor(tables["floor"], where),
+        devices=frozenset(devices),
+    )
+
+
+def _table(data: dict[str, Any], name: str, where: str) -> dict[str, Any]:
+    table = data.get(name, {})
+    if not isinstance(table, dict):
+        raise ValueError(f"{where}: [{name}] must be a table")
+    unknown = set(table) - _TABLES[name]
+    if unknown:
+        raise ValueError(f"{where}: unknown key {sorted(unknown)[0]!r} in [{name}]")
+    return table
+
+
+def _number(table: dict[str, Any], key: str, where: str, default: float, low: float,
+            high: float) -> float:  # fmt: skip
+    value = table.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, int | float) or not low <= value <= high:
+        raise ValueError(f"{where}: {key} = {value!r} is not a number in {low}..{high}")
+    return float(value)
+
+
+def _box(box: Any, where: str) -> Block:
+    if not isinstance(box, dict):
+        raise ValueError(f"{where}: each [[box]] must be a table")
+    unknown = set(box) - _TABLES["box"]
+    if unknown:
+        raise ValueError(f"{where}: unknown key {sorted(unknown)[0]!r} in [[box]]")
+    rgb = box.get("rgb", [160, 120, 80])
+    if not (
+        isinstance(rgb, list)
+        and len(rgb) == 3
+        and all(isinstance(c, int) and 0 <= c <= 255 for c in rgb)
+    ):
+        raise ValueError(f"{where}: a box's rgb must be three integers 0..255, not {rgb!r}")
+    return Block(
+        _number(box, "x_m", where, 0.0, -5, 5),
+        _number(box, "y_m", where, 0.0, -5, 5),
+        _number(box, "size_m", where, 0.08, 0.01, 2.0) / 2,
+        (rgb[0], rgb[1], rgb[2]),
+    )
+
+
+def _floor(table: dict[str, Any], where: str) -> Marks | LineTrack:
+    kind = table.get("kind", "marks")
+    if kind == "marks":
+        return Marks()
+    if kind != "track":
+        raise ValueError(f"{where}: floor kind {kind!r} is not marks or track")
+    points = table.get("points")
+    if not (isinstance(points, list) and all(
+        isinstance(p, list) and len(p) == 2 and all(isinstance(v, int | float) for v in p)
+        for p in points
+    )):  # fmt: skip
+        raise ValueError(f"{where}: floor points must be a list of [x, y] pairs")
+    try:
+        return LineTrack(
+            tuple((float(x), float(y)) for x, y in points),
+            _number(table, "width_m", where, 0.02, 0.001, 0.2),
+            bool(table.get("closed", True)),
+        )
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from exc
