@@ -11,9 +11,10 @@ delivers ``RGBP`` (or big-endian if asked), and **upside down**, the way the cam
 mounted, so that the camera's default rotation of 180 degrees turns them upright.
 
 The world contract used here: ``world.snapshot()`` -> ``x_m, y_m, theta_rad`` (theta 0
-faces +x, counter-clockwise positive); ``world.arena.half_size_m`` and ``.wall_rgb``;
-``world.lamp.x_m, .y_m`` (``.height_m`` if present); ``world.blocks``, each with
-``x_m, y_m, half_size_m, rgb``; optionally ``world.floor_rgb_at(x_m, y_m)``.
+faces +x, counter-clockwise positive); ``world.arena.half_size_m`` and ``.wall_rgb``
+(``.half_y_m``, ``.wall_height_m`` if present); ``world.lamp.x_m, .y_m`` (``.height_m``
+if present); ``world.blocks``, each with ``x_m, y_m, half_size_m, rgb`` (``half_y_m``,
+``yaw_rad``, ``height_m`` if present); optionally ``world.floor_rgb_at(x_m, y_m)``.
 """
 
 from __future__ import annotations
@@ -67,15 +68,28 @@ class _Pose(Protocol):
 def _ray_boxes(
     ox: float, oy: float, dx: Floats, dy: Floats, boxes: Floats
 ) -> tuple[Floats, npt.NDArray[np.bool_]]:
-    """Slab test of every ray against every box (x, y, half): distance (n, w), y-face hit."""
-    x, y, half = boxes[:, 0:1], boxes[:, 1:2], boxes[:, 2:3]
-    tx1, tx2 = (x - half - ox) / dx, (x + half - ox) / dx
-    ty1, ty2 = (y - half - oy) / dy, (y + half - oy) / dy
+    """Slab test of every ray against every box (x, y, half x, half y, yaw), each in its
+    own frame: distance (n, w), and whether the face hit is one of the box's y faces."""
+    x, y, hx, hy, yaw = (boxes[:, i : i + 1] for i in range(5))
+    c, s = np.cos(yaw), np.sin(yaw)
+    lox, loy = c * (ox - x) + s * (oy - y), c * (oy - y) - s * (ox - x)
+    ldx, ldy = c * dx + s * dy, c * dy - s * dx
+    ldx = np.where(np.abs(ldx) < 1e-12, 1e-12, ldx)  # no division by zero
+    ldy = np.where(np.abs(ldy) < 1e-12, 1e-12, ldy)
+    tx1, tx2 = (-hx - lox) / ldx, (hx - lox) / ldx
+    ty1, ty2 = (-hy - loy) / ldy, (hy - loy) / ldy
     tx_near, ty_near = np.minimum(tx1, tx2), np.minimum(ty1, ty2)
     near = np.maximum(tx_near, ty_near)
     far = np.minimum(np.maximum(tx1, tx2), np.maximum(ty1, ty2))
     hit = (near <= far) & (near > 0)
     return np.where(hit, near, np.inf), ty_near > tx_near
+
+
+def _box_row(block: Any) -> list[float]:
+    half = float(block.half_size_m)
+    half_y = getattr(block, "half_y_m", None)
+    return [block.x_m, block.y_m, half, half if half_y is None else half_y,
+            getattr(block, "yaw_rad", 0.0)]  # fmt: skip
 
 
 def render_rgb888(
@@ -117,16 +131,21 @@ def render_rgb888(
 
     # Everything standing on the floor: (distance along each ray, y face?, top, rgb).
     things: list[tuple[Floats, npt.NDArray[np.bool_], float, tuple[int, int, int]]] = []
-    half = float(world.arena.half_size_m)
-    tx = (np.sign(dx) * half - ox) / dx
-    ty = (np.sign(dy) * half - oy) / dy
-    things.append((np.minimum(tx, ty), ty < tx, WALL_HEIGHT_M, tuple(world.arena.wall_rgb)))
+    arena = world.arena
+    half_x = float(arena.half_size_m)
+    half_y = getattr(arena, "half_y_m", None)
+    half_y = half_x if half_y is None else float(half_y)
+    tx = (np.sign(dx) * half_x - ox) / dx
+    ty = (np.sign(dy) * half_y - oy) / dy
+    wall_height = float(getattr(arena, "wall_height_m", WALL_HEIGHT_M))
+    things.append((np.minimum(tx, ty), ty < tx, wall_height, tuple(arena.wall_rgb)))
     blocks = list(world.blocks)
     if blocks:
-        boxes = np.array([[b.x_m, b.y_m, b.half_size_m] for b in blocks], dtype=np.float64)
+        boxes = np.array([_box_row(b) for b in blocks], dtype=np.float64)
         distance, y_face = _ray_boxes(ox, oy, dx, dy, boxes)
         for i, block in enumerate(blocks):
-            things.append((distance[i], y_face[i], BLOCK_HEIGHT_M, tuple(block.rgb)))
+            block_height = float(getattr(block, "height_m", BLOCK_HEIGHT_M))
+            things.append((distance[i], y_face[i], block_height, tuple(block.rgb)))
     lamp = world.lamp
     mx, my = ox - float(lamp.x_m), oy - float(lamp.y_m)
     b = mx * dx + my * dy

@@ -1,19 +1,21 @@
 """What the floor under the e-puck looks like to its ground sensors and its camera.
 
 A floor gives a reflectance (1.0 white, 0.15 black) at any point; the ground sensors read
-it under their three spots and the camera renders it. Two kinds: the default marks (a
-black stripe and a disc on white), and a line track (a black line of some width along a
-polyline) for line followers.
+it under their three spots and the camera renders it. Four kinds: the default marks (a
+black stripe and a disc on white), a line track (a black line of some width along a
+polyline) for line followers, a plain white floor, and an image laid on the floor (a
+Webots world's floor texture), which also gives the camera its colours.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
-__all__ = ["BLACK", "WHITE", "LineTrack", "Marks"]
+__all__ = ["BLACK", "WHITE", "ImageFloor", "LineTrack", "Marks", "Plain"]
 
 WHITE = 1.0
 BLACK = 0.15
@@ -60,3 +62,64 @@ class LineTrack:
 
     def reflectance(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         return np.where(self.distance(x, y) <= self.width_m / 2, BLACK, WHITE)
+
+
+@dataclass(frozen=True)
+class Plain:
+    """A white floor with nothing on it."""
+
+    def reflectance(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return np.full(np.broadcast(x, y).shape, WHITE)
+
+
+@dataclass(frozen=True)
+class ImageFloor:
+    """An image laid on the floor, as Webots' RectangleArena lays its floor texture: the
+    floor is ``size_m`` (x, y) centred on the origin, tiled with copies of the image each
+    ``tile_m`` across, the image's top row towards +y and its left column towards -x.
+    Reflectance follows the image's luminance, from BLACK (black) to WHITE (white)."""
+
+    rgb_image: np.ndarray  # (height, width, 3) uint8
+    size_m: tuple[float, float]
+    tile_m: tuple[float, float]
+    _grey: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        image = np.asarray(self.rgb_image)
+        if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
+            raise ValueError("a floor image must be (height, width, 3) uint8")
+        if min(*self.size_m, *self.tile_m) <= 0:
+            raise ValueError("a floor's size and tile size must be positive")
+        luminance = image @ np.array([0.299, 0.587, 0.114]) / 255.0
+        object.__setattr__(self, "_grey", BLACK + (WHITE - BLACK) * luminance)
+
+    @classmethod
+    def from_file(cls, path: Path, size_m: tuple[float, float],
+                  tile_m: tuple[float, float]) -> ImageFloor:  # fmt: skip
+        from PIL import Image, UnidentifiedImageError
+
+        try:
+            with Image.open(path) as image:
+                rgb = np.asarray(image.convert("RGB"), dtype=np.uint8)
+        except (OSError, UnidentifiedImageError) as exc:
+            raise ValueError(f"floor image {str(path)!r} cannot be read: {exc}") from exc
+        return cls(rgb, size_m, tile_m)
+
+    def _pixels(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        height, width = self._grey.shape
+        u = np.mod(np.asarray(x) + self.size_m[0] / 2, self.tile_m[0]) / self.tile_m[0]
+        v = np.mod(self.size_m[1] / 2 - np.asarray(y), self.tile_m[1]) / self.tile_m[1]
+        cols = np.clip((u * width).astype(np.intp), 0, width - 1)
+        rows = np.clip((v * height).astype(np.intp), 0, height - 1)
+        return rows, cols
+
+    def reflectance(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        rows, cols = self._pixels(x, y)
+        grey: np.ndarray = self._grey[rows, cols]
+        return grey
+
+    def rgb(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """The image's colour at each point, (..., 3) uint8: what the camera sees."""
+        rows, cols = self._pixels(x, y)
+        colours: np.ndarray = np.asarray(self.rgb_image)[rows, cols]
+        return colours

@@ -20,7 +20,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from firmware_sim.floor import LineTrack, Marks
+from firmware_sim.floor import ImageFloor, LineTrack, Marks, Plain
+
+Floor = Marks | LineTrack | Plain | ImageFloor
 
 __all__ = [
     "IR_RESPONSE",
@@ -74,20 +76,46 @@ class Pose:
 
 @dataclass(frozen=True, slots=True)
 class Arena:
-    """Square arena with walls at x, y = +-half_size_m."""
+    """A walled arena: walls at x = +-half_size_m and y = +-half_y_m (square unless a
+    world file gives it two sides, as Webots' RectangleArena's floorSize does)."""
 
     half_size_m: float = 0.5
     wall_rgb: tuple[int, int, int] = (200, 190, 170)
+    half_y_m: float | None = None
+    wall_height_m: float = 0.10
+
+    @property
+    def half_extents(self) -> tuple[float, float]:
+        return self.half_size_m, self.half_size_m if self.half_y_m is None else self.half_y_m
 
 
 @dataclass(frozen=True, slots=True)
 class Block:
-    """An axis-aligned square box, 5 cm high: an obstacle with a colour to follow."""
+    """A box standing on the floor: an obstacle with a colour to follow. Square, 5 cm high
+    and axis-aligned unless a world file gives it two sides, a height and a yaw (the
+    boxes of a Webots world); ``half_size_m`` is its half extent along its own x."""
 
     x_m: float
     y_m: float
     half_size_m: float
     rgb: tuple[int, int, int]
+    half_y_m: float | None = None
+    yaw_rad: float = 0.0
+    height_m: float = 0.05
+
+    @property
+    def half_extents(self) -> tuple[float, float]:
+        return self.half_size_m, self.half_size_m if self.half_y_m is None else self.half_y_m
+
+    def to_local(self, x: float, y: float) -> tuple[float, float]:
+        """A world point in the box's frame (centred, its sides along the axes)."""
+        c, s = math.cos(self.yaw_rad), math.sin(self.yaw_rad)
+        dx, dy = x - self.x_m, y - self.y_m
+        return c * dx + s * dy, c * dy - s * dx
+
+    def to_world(self, lx: float, ly: float) -> tuple[float, float]:
+        c, s = math.cos(self.yaw_rad), math.sin(self.yaw_rad)
+        return self.x_m + c * lx - s * ly, self.y_m + s * lx + c * ly
 
 
 @dataclass(frozen=True, slots=True)
@@ -157,13 +185,16 @@ class World:
         sound: SoundSource | None = None,
         start: Pose | None = None,
         noise: bool = True,
-        floor: Marks | LineTrack | None = None,
+        floor: Floor | None = None,
         devices: frozenset[str] = frozenset(),
+        camera_size: tuple[int, int] | None = None,
     ) -> None:
         self.arena = arena or Arena()
         self.floor_pattern = floor or Marks()
         #: Ground-truth devices the world declares ("gps", "compass", "touch sensor").
         self.devices = frozenset(devices)
+        #: The camera size the world file sets (Webots' camera_width/height), else None.
+        self.camera_size = camera_size
         self.blocks = _default_blocks() if blocks is None else list(blocks)
         self.lamp = lamp or Lamp()
         self.sound = sound or SoundSource()
@@ -281,21 +312,22 @@ class World:
 
     def _resolve_collisions(self, x: float, y: float) -> tuple[float, float]:
         """Keep the body inside the walls and outside the blocks (the wheels slip)."""
-        limit = self.arena.half_size_m - ROBOT_RADIUS_M
-        x = min(max(x, -limit), limit)
-        y = min(max(y, -limit), limit)
+        hx, hy = self.arena.half_extents
+        x = min(max(x, -(hx - ROBOT_RADIUS_M)), hx - ROBOT_RADIUS_M)
+        y = min(max(y, -(hy - ROBOT_RADIUS_M)), hy - ROBOT_RADIUS_M)
         for blk in self.blocks:
-            cx = min(max(x, blk.x_m - blk.half_size_m), blk.x_m + blk.half_size_m)
-            cy = min(max(y, blk.y_m - blk.half_size_m), blk.y_m + blk.half_size_m)
-            d = math.hypot(x - cx, y - cy)
+            lx, ly = blk.to_local(x, y)
+            bx, by = blk.half_extents
+            cx, cy = min(max(lx, -bx), bx), min(max(ly, -by), by)
+            d = math.hypot(lx - cx, ly - cy)
             if d >= ROBOT_RADIUS_M:
                 continue
-            if d < 1e-9:  # the centre got inside the box: out through the x face
-                side = 1.0 if x >= blk.x_m else -1.0
-                x = blk.x_m + side * (blk.half_size_m + ROBOT_RADIUS_M)
+            if d < 1e-9:  # the centre got inside the box: out through its x face
+                lx = math.copysign(bx + ROBOT_RADIUS_M, lx if lx else 1.0)
             else:  # touch the nearest point of the box from outside
-                x = cx + (x - cx) / d * ROBOT_RADIUS_M
-                y = cy + (y - cy) / d * ROBOT_RADIUS_M
+                lx = cx + (lx - cx) / d * ROBOT_RADIUS_M
+                ly = cy + (ly - cy) / d * ROBOT_RADIUS_M
+            x, y = blk.to_world(lx, ly)
         return x, y
 
     # -- ground-truth devices (a world file may declare them; a real e-puck has none) --
@@ -325,20 +357,19 @@ class World:
 
     def _clearance(self) -> float:
         b = self._body
-        h = self.arena.half_size_m
-        gaps = [h - abs(b.x_m), h - abs(b.y_m)]
+        hx, hy = self.arena.half_extents
+        gaps = [hx - abs(b.x_m), hy - abs(b.y_m)]
         for blk in self.blocks:
-            dx = max(abs(b.x_m - blk.x_m) - blk.half_size_m, 0.0)
-            dy = max(abs(b.y_m - blk.y_m) - blk.half_size_m, 0.0)
-            gaps.append(math.hypot(dx, dy))
+            lx, ly = blk.to_local(b.x_m, b.y_m)
+            bx, by = blk.half_extents
+            gaps.append(math.hypot(max(abs(lx) - bx, 0.0), max(abs(ly) - by, 0.0)))
         return max(0.0, min(gaps) - ROBOT_RADIUS_M)
 
     def ray_distance(self, ox: float, oy: float, angle: float) -> float:
         """Distance from (ox, oy) along ``angle`` to the first wall or block face."""
         c, s = math.cos(angle), math.sin(angle)
-        h = self.arena.half_size_m
         best = math.inf
-        for pos, d in ((ox, c), (oy, s)):
+        for pos, d, h in zip((ox, oy), (c, s), self.arena.half_extents, strict=True):
             if abs(d) > 1e-12:
                 best = min(best, ((h if d > 0 else -h) - pos) / d)
         for blk in self.blocks:
@@ -407,6 +438,9 @@ class World:
 
     def floor_rgb_at(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
         """The floor's colour where the camera looks, (..., 3) uint8."""
+        if isinstance(self.floor_pattern, ImageFloor):
+            x, y = np.asarray(x_m, dtype=float), np.asarray(y_m, dtype=float)
+            return self.floor_pattern.rgb(x, y)
         r = self.floor_reflectance(x_m, y_m)
         grey = (40 + 200 * r).astype(np.uint8)
         return np.stack([grey, grey, grey], axis=-1)
@@ -503,17 +537,18 @@ class World:
 
 
 def _ray_box(ox: float, oy: float, c: float, s: float, blk: Block) -> float | None:
-    """Slab test: distance along the ray to the box, or None if it misses."""
+    """Slab test in the box's frame: distance along the ray to the box, or None."""
+    lx, ly = blk.to_local(ox, oy)
+    bc, bs = math.cos(blk.yaw_rad), math.sin(blk.yaw_rad)
+    dx, dy = bc * c + bs * s, bc * s - bs * c
+    bx, by = blk.half_extents
     t0, t1 = -math.inf, math.inf
-    for o, d, lo, hi in (
-        (ox, c, blk.x_m - blk.half_size_m, blk.x_m + blk.half_size_m),
-        (oy, s, blk.y_m - blk.half_size_m, blk.y_m + blk.half_size_m),
-    ):
+    for o, d, h in ((lx, dx, bx), (ly, dy, by)):
         if abs(d) < 1e-12:
-            if not lo <= o <= hi:
+            if not -h <= o <= h:
                 return None
             continue
-        a, b = (lo - o) / d, (hi - o) / d
+        a, b = (-h - o) / d, (h - o) / d
         t0, t1 = max(t0, min(a, b)), min(t1, max(a, b))
     if t1 < max(t0, 0.0):
         return None

@@ -33,13 +33,17 @@ A world file describes what the emulated e-puck lives in::
 
     devices = ["gps", "compass", "touch sensor"]   # ground truth, emulator only (top level)
 
+    [robot] camera_width = 52, camera_height = 39  # the size Webots controllers get
+
 Built in, by name: ``arena`` (the default), ``line-track``, ``maze``, ``light``. A file
 with a key it does not know, or a value of the wrong kind, is refused with ValueError
-naming the file and the key.
+naming the file and the key. A Webots world file (``.wbt``) is read too, for the part
+the emulator models (firmware_sim.wbt); what it skips is logged.
 """
 
 from __future__ import annotations
 
+import logging
 import math
 from importlib import resources
 from pathlib import Path
@@ -48,16 +52,24 @@ from typing import Any
 import tomllib
 
 from firmware_sim.floor import LineTrack, Marks
+from firmware_sim.wbt import world_from_wbt
 from firmware_sim.world import Arena, Block, Lamp, Pose, SoundSource, World
 
 __all__ = ["BUILT_IN", "load_world", "world_names"]
+
+log = logging.getLogger(__name__)
+#: Nodes of a Webots world that only change how Webots draws it: skipped quietly.
+_COSMETIC = frozenset(
+    {"WorldInfo", "Viewpoint", "TexturedBackground", "TexturedBackgroundLight",
+     "Background", "DirectionalLight"}
+)  # fmt: skip
 
 #: The worlds shipped with the emulator (firmware_sim/worlds/NAME.toml).
 BUILT_IN = ("arena", "line-track", "maze", "light")
 _DEVICES = frozenset({"gps", "compass", "touch sensor"})
 _TABLES = {
     "arena": {"size_m"},
-    "robot": {"x_m", "y_m", "heading_deg"},
+    "robot": {"x_m", "y_m", "heading_deg", "camera_width", "camera_height"},
     "floor": {"kind", "width_m", "points", "closed"},
     "box": {"x_m", "y_m", "size_m", "rgb"},
     "lamp": {"x_m", "y_m", "height_m"},
@@ -80,12 +92,22 @@ def load_world(spec: str | Path, seed: int | None = None) -> World:
             raise ValueError(
                 f"world {str(spec)!r} is neither a file nor one of {', '.join(BUILT_IN)}"
             )
+        if path.suffix == ".wbt":
+            return _webots_world(path, seed)
         text, where = path.read_text(encoding="utf-8"), str(path)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{where}: not TOML: {exc}") from exc
     return _build(data, where, seed)
+
+
+def _webots_world(path: Path, seed: int | None) -> World:
+    read = world_from_wbt(path, seed)
+    for note in read.notes:
+        cosmetic = note.rsplit(" ", 1)[-1] in _COSMETIC
+        log.log(logging.INFO if cosmetic else logging.WARNING, "%s: %s", path.name, note)
+    return read.world
 
 
 def _build(data: dict[str, Any], where: str, seed: int | None) -> World:
@@ -129,7 +151,17 @@ def _build(data: dict[str, Any], where: str, seed: int | None) -> World:
         start=start,
         floor=_floor(tables["floor"], where),
         devices=frozenset(devices),
+        camera_size=_camera_size(robot, where),
     )
+
+
+def _camera_size(robot: dict[str, Any], where: str) -> tuple[int, int] | None:
+    if "camera_width" not in robot and "camera_height" not in robot:
+        return None
+    size = robot.get("camera_width", 52), robot.get("camera_height", 39)
+    if not all(isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= 640 for v in size):
+        raise ValueError(f"{where}: camera_width/camera_height must be whole pixels 1..640")
+    return size[0], size[1]
 
 
 def _table(data: dict[str, Any], name: str, where: str) -> dict[str, Any]:

@@ -17,7 +17,7 @@ from firmware_sim import Emulator
 from firmware_sim.floor import LineTrack
 from firmware_sim.worlds import BUILT_IN, load_world
 
-CONTROLLERS = Path(__file__).parent / "controllers"
+CONTROLLERS = Path(__file__).parents[1] / "faces" / "controllers"
 
 
 @pytest.mark.parametrize("name", BUILT_IN)

@@ -8,9 +8,13 @@ import select
 import signal
 import subprocess
 from pathlib import Path
+from typing import Any
 
+import pytest
 from helpers import ego_command
 
+from ego import runtime
+from ego.runner import run_controller
 from firmware_sim import Emulator
 
 CONTROLLERS = Path(__file__).parent / "controllers"
@@ -80,3 +84,41 @@ def test_a_device_prober_checks_for_none(tmp_path: Path) -> None:
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "found ps0,camera"
     assert 'Device "gps" was not found on robot "e-puck"' in result.stderr
+
+
+RED_BOX_WORLD = """
+[robot]
+x_m = -0.2
+y_m = -0.1
+heading_deg = 0
+
+[[box]]
+x_m = 0.3
+y_m = 0.2
+size_m = 0.08
+rgb = [210, 20, 20]
+"""
+
+
+def test_a_colour_follower_at_52x39_drives_up_to_the_red_box(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Started with the box out of view (31 degrees left of its heading, the camera sees
+    24 either side), it turns to find it and stops in front of it, facing it."""
+    world_file = tmp_path / "red.toml"
+    world_file.write_text(RED_BOX_WORLD)
+    robots: list[Any] = []
+    options = runtime.RunOptions(
+        port="sim", world=str(world_file), seed=3, duration_s=20.0, on_robot=[robots.append]
+    )
+    run_controller(CONTROLLERS / "colour_follower.py", options)
+    out = capsys.readouterr().out.split()
+    assert out[:3] == ["camera", "52", "39"]  # Webots' e-puck camera, unasked
+    assert out[-1] == "arrived"
+    world = robots[0].emulator.world
+    pose, box = world.snapshot(), world.blocks[0]
+    bearing = math.atan2(box.y_m - pose.y_m, box.x_m - pose.x_m)
+    assert abs(math.remainder(bearing - pose.theta_rad, 2 * math.pi)) < math.radians(15)
+    gap = math.hypot(box.x_m - pose.x_m, box.y_m - pose.y_m) - box.half_size_m
+    assert gap < 0.2, gap  # it drove up to the box: it started 0.50 m from its face
+    assert world.speeds == (0, 0)

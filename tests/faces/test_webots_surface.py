@@ -218,6 +218,27 @@ def test_device_calls_of_webots_with_the_epuck_protos_values(
         robot.cleanup()
 
 
+def test_node_types_are_webots_numbers(face_options: runtime.RunOptions) -> None:
+    """Webots numbers node types in the order of its WbNodeType enum (R2023a on)."""
+    robot = Robot()
+    try:
+        expected = {
+            "ps0": ("DISTANCE_SENSOR", 42), "gs1": ("DISTANCE_SENSOR", 42),
+            "ls3": ("LIGHT_SENSOR", 49), "accelerometer": ("ACCELEROMETER", 35),
+            "left wheel motor": ("ROTATIONAL_MOTOR", 57), "led4": ("LED", 47),
+            "right wheel sensor": ("POSITION_SENSOR", 52), "camera": ("CAMERA", 38),
+        }  # fmt: skip
+        for name, (constant, number) in expected.items():
+            device = robot.getDevice(name)
+            assert device.getNodeType() == getattr(controller.Node, constant) == number, name
+            assert device.node_type == number
+        node = controller.Node
+        last = len(controller.node_types.NODE_TYPES) - 1
+        assert [0, 34, last] == [node.NO_NODE, node.ROBOT, node.RADIO]
+    finally:
+        robot.cleanup()
+
+
 def test_set_acceleration_ramps_the_speed_step_by_step(face_options: runtime.RunOptions) -> None:
     robot = Robot()
     try:

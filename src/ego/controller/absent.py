@@ -13,6 +13,7 @@ import math
 from typing import TYPE_CHECKING, Any, NoReturn
 
 from ego.controller.devices import Device
+from ego.controller.node_types import NODE_TYPES
 from ego.controller.robot import Robot
 from ego.errors import UnsupportedDeviceError
 
@@ -94,76 +95,112 @@ def ground_truth_class(name: str) -> type[Device] | None:
 class Altimeter(Device):
     """Webots' Altimeter; the e-puck has none."""
 
+    _node_type = "ALTIMETER"
+
 
 class Brake(Device):
     """Webots' Brake; the e-puck's wheels have none."""
+
+    _node_type = "BRAKE"
 
 
 class Compass(_GroundTruth):
     """Webots' Compass; the e-puck has none: on the emulator only (``--port sim``), when
     the world file declares one, it reads the emulated world's ground truth."""
 
+    _node_type = "COMPASS"
+
 
 class Connector(Device):
     """Webots' Connector; the e-puck has none."""
+
+    _node_type = "CONNECTOR"
 
 
 class Display(Device):
     """Webots' Display; the e-puck has none."""
 
+    _node_type = "DISPLAY"
+
 
 class Emitter(Device):
     """Webots' radio Emitter; the e-puck has none (its IR is the proximity sensors')."""
+
+    _node_type = "EMITTER"
 
 
 class GPS(_GroundTruth):
     """Webots' GPS; the e-puck has none: on the emulator only (``--port sim``), when
     the world file declares one, it reads the emulated world's ground truth."""
 
+    _node_type = "GPS"
+
 
 class Gyro(Device):
     """Webots' Gyro; the e-puck (rev 1.3 and older) has none."""
+
+    _node_type = "GYRO"
 
 
 class InertialUnit(Device):
     """Webots' InertialUnit; the e-puck has none."""
 
+    _node_type = "INERTIAL_UNIT"
+
 
 class Lidar(Device):
     """Webots' Lidar; the e-puck has none."""
+
+    _node_type = "LIDAR"
 
 
 class Pen(Device):
     """Webots' Pen; the e-puck has none."""
 
+    _node_type = "PEN"
+
 
 class Radar(Device):
     """Webots' Radar; the e-puck has none."""
+
+    _node_type = "RADAR"
 
 
 class RangeFinder(Device):
     """Webots' RangeFinder; the e-puck has none."""
 
+    _node_type = "RANGE_FINDER"
+
 
 class Receiver(Device):
     """Webots' radio Receiver; the e-puck has none."""
+
+    _node_type = "RECEIVER"
 
 
 class Skin(Device):
     """Webots' Skin; the e-puck has none."""
 
+    _node_type = "SKIN"
+
 
 class Speaker(Device):
     """Webots' Speaker; the e-puck's speaker is not served by its serial protocol."""
+
+    _node_type = "SPEAKER"
 
 
 class TouchSensor(_GroundTruth):
     """Webots' TouchSensor; the e-puck has none: on the emulator only (``--port sim``), when
     the world file declares one, it reads the emulated world's ground truth."""
 
+    _node_type = "TOUCH_SENSOR"
+
 
 class VacuumGripper(Device):
     """Webots' VacuumGripper; the e-puck has none."""
+
+    _node_type = "VACUUM_GRIPPER"
 
 
 class CameraRecognitionObject:
@@ -188,10 +225,15 @@ def _no_simulation(what: str) -> NoReturn:
 
 
 class Node:
-    """Webots' scene-tree Node: a supervisor's, and there is no scene tree on a robot."""
+    """Webots' scene-tree Node: a supervisor's, and there is no scene tree on a robot.
+    Its type constants (``Node.DISTANCE_SENSOR``) are there, for ``getNodeType()``."""
 
     def __init__(self, *args: object, **kwargs: object) -> None:
         _no_simulation("Node")
+
+
+for _number, _name in enumerate(NODE_TYPES):
+    setattr(Node, _name, _number)
 
 
 class Field:

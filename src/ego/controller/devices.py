@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from ego.controller.node_types import node_type
 from ego.devices.base import Sampled
 from ego.devices.motors import MAX_SPEED_RAD_S, rad_s_to_steps
 from ego.devices.position_control import position_speed
@@ -76,10 +77,16 @@ def _by_name(cls: type[Device], name: str) -> Device:
 
 def webots_camera_size(core: CoreRobot) -> None:
     """Give ``core``'s camera the size a Webots controller expects: the run's
-    ``--camera WxH``, else Webots' e-puck's 52x39 (the E-GO face keeps 640x480)."""
+    ``--camera WxH``, else the emulator's world's (its camera_width/camera_height, as a
+    Webots world sets them), else Webots' e-puck's 52x39 (the E-GO face keeps 640x480)."""
     from ego.default_robot import current_context
 
-    size = current_context().options.camera_size or WEBOTS_CAMERA_SIZE
+    world = getattr(core.emulator, "world", None)
+    size = (
+        current_context().options.camera_size
+        or getattr(world, "camera_size", None)
+        or WEBOTS_CAMERA_SIZE
+    )
     if (core.camera.width, core.camera.height) != size:
         core.camera.set_size(*size)
 
@@ -138,8 +145,18 @@ class Device:
     def getModel(self) -> str:
         return "e-puck"
 
+    #: The Webots node of a device the table does not hold (a ground-truth GPS...).
+    _node_type = "NO_NODE"
+
+    def getNodeType(self) -> int:
+        """Webots' number for this device's node (``Node.DISTANCE_SENSOR``...): the device
+        table's node type for the robot's own devices."""
+        row = find(self._name)
+        return node_type(row.kind if row is not None else self._node_type)
+
     name = property(lambda self: self.getName())
     model = property(lambda self: self.getModel())
+    node_type = property(lambda self: self.getNodeType())
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self._name!r}>"

@@ -1,0 +1,336 @@
+"""Webots world files (``.wbt``) read for the part the emulator can model.
+
+A ``.wbt`` file is VRML97-like text: nodes ``Type { field value ... }``, values that are
+numbers, strings, ``TRUE``/``FALSE``, a node, or a ``[ ... ]`` list of either, with
+``DEF``/``USE`` names and ``#`` comments. :func:`parse_wbt` turns it into plain
+:class:`Node` trees; :func:`world_from_wbt` reads from them what the emulator models:
+
+* ``RectangleArena``: ``floorSize`` (x, y), ``wallHeight``, ``floorTileSize``, and the
+  floor texture where ``floorAppearance`` names an ``ImageTexture`` (read from beside the
+  world file, as Webots does): the ground sensors and the camera then see that image;
+* boxes: ``WoodenBox`` (``translation``, ``rotation``, ``size``) and any ``Solid`` whose
+  children hold a ``Shape`` with ``Box`` geometry (its ``size``, and its colour from the
+  appearance's ``baseColor`` or ``diffuseColor``);
+* the first ``E-puck``: ``translation`` and ``rotation`` (the start pose), and the
+  ``camera_width``/``camera_height`` fields (the camera size a Webots controller gets);
+* a ``PointLight``'s ``location``: the lamp the light sensors see.
+
+Everything else (Viewpoint, backgrounds, other robots...) is skipped, each skipped node
+type listed in :attr:`WbtWorld.notes`. Worlds are read in the frame Webots has used since
+R2022a (ENU: z up, the floor in x-y); an older file (y up) is refused with the advice
+Webots itself gives (open and save it once in a newer Webots, which converts it). A box
+or robot rotated about anything but the vertical is refused: the emulator's world is
+flat.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from firmware_sim.floor import ImageFloor, Plain
+from firmware_sim.world import Arena, Block, Lamp, Pose, World
+
+__all__ = ["Node", "WbtWorld", "parse_wbt", "world_from_wbt"]
+
+_TOKEN = re.compile(
+    r'\s*(?:#[^\n]*|("(?:[^"\\]|\\.)*")|([\[\]{}])|([^\s\[\]{}"#]+))', re.DOTALL
+)
+_LITERALS = {"TRUE": True, "FALSE": False}
+
+
+@dataclass
+class Node:
+    """One node of the file: its type, its DEF name, and its fields as parsed values."""
+
+    type: str
+    fields: dict[str, Any] = field(default_factory=dict)
+    name: str | None = None
+
+    def numbers(self, key: str, count: int, default: tuple[float, ...]) -> tuple[float, ...]:
+        value = self.fields.get(key)
+        if value is None:
+            return default
+        if (
+            not isinstance(value, list)
+            or len(value) != count
+            or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
+        ):
+            raise ValueError(f"{self.type}.{key} must be {count} numbers, not {value!r}")
+        return tuple(float(v) for v in value)
+
+    def walk(self) -> Iterator[Node]:
+        """This node and every node below it, depth first."""
+        yield self
+        for value in self.fields.values():
+            for item in value if isinstance(value, list) else [value]:
+                if isinstance(item, Node):
+                    yield from item.walk()
+
+
+def _tokens(text: str) -> list[str]:
+    out: list[str] = []
+    pos = 0
+    while pos < len(text):
+        match = _TOKEN.match(text, pos)
+        if match is None or match.end() == pos:
+            if text[pos:].strip():
+                raise ValueError(f"unreadable text at offset {pos}: {text[pos:pos + 20]!r}")
+            break
+        pos = match.end()
+        token = match.group(1) or match.group(2) or match.group(3)
+        if token:
+            out.append(token)
+    return out
+
+
+class _Parser:
+    def __init__(self, tokens: list[str]) -> None:
+        self.tokens = tokens
+        self.i = 0
+        self.defs: dict[str, Node] = {}
+
+    def peek(self, ahead: int = 0) -> str | None:
+        j = self.i + ahead
+        return self.tokens[j] if j < len(self.tokens) else None
+
+    def take(self) -> str:
+        token = self.peek()
+        if token is None:
+            raise ValueError("the file ends inside a node")
+        self.i += 1
+        return token
+
+    def at_node(self) -> bool:
+        token = self.peek()
+        return token in ("DEF", "USE") or (
+            token is not None and self.peek(1) == "{" and _is_name(token)
+        )
+
+    def node(self) -> Node:
+        token = self.take()
+        if token == "USE":
+            used = self.take()
+            if used not in self.defs:
+                raise ValueError(f"USE {used} before its DEF")
+            return self.defs[used]
+        name: str | None = None
+        if token == "DEF":
+            name, token = self.take(), self.take()
+        if self.take() != "{":
+            raise ValueError(f"{token} is not followed by {{")
+        node = Node(token, name=name)
+        while (key := self.take()) != "}":
+            if not _is_name(key):
+                raise ValueError(f"in {token}: {key!r} is not a field name")
+            node.fields[key] = self.value()
+        if name is not None:
+            self.defs[name] = node
+        return node
+
+    def value(self) -> Any:
+        if self.peek() == "[":
+            self.take()
+            items: list[Any] = []
+            while self.peek() != "]":
+                if self.peek() is None:
+                    raise ValueError("the file ends inside [ ]")
+                items.append(self.node() if self.at_node() else _scalar(self.take()))
+            self.take()
+            return items
+        if self.at_node():
+            return self.node()
+        if self.peek() == "NULL":
+            self.take()
+            return None
+        values = []
+        while (token := self.peek()) is not None and _is_scalar(token):
+            values.append(_scalar(self.take()))
+        return values
+
+
+def _is_name(token: str) -> bool:
+    return re.fullmatch(r"[A-Za-z_][\w\-]*", token) is not None and token not in _LITERALS
+
+
+def _is_scalar(token: str) -> bool:
+    return token.startswith('"') or token in _LITERALS or _number(token) is not None
+
+
+def _number(token: str) -> float | int | None:
+    try:
+        return int(token, 0) if re.fullmatch(r"[+-]?(0x[0-9a-fA-F]+|\d+)", token) else float(token)
+    except ValueError:
+        return None
+
+
+def _scalar(token: str) -> Any:
+    if token.startswith('"'):
+        return bytes(token[1:-1], "utf-8").decode("unicode_escape")
+    if token in _LITERALS:
+        return _LITERALS[token]
+    number = _number(token)
+    if number is None:
+        raise ValueError(f"{token!r} is not a value")
+    return number
+
+
+def parse_wbt(text: str) -> tuple[str, list[Node]]:
+    """The file's header version (``R2023b``; ``""`` if none) and its top-level nodes."""
+    header = re.match(r"#VRML_SIM\s+(\S+)", text)
+    parser = _Parser(_tokens(text))
+    nodes: list[Node] = []
+    while (token := parser.peek()) is not None:
+        if token in ("EXTERNPROTO", "IMPORTABLE"):
+            parser.take()
+            if token == "IMPORTABLE":
+                parser.take()  # EXTERNPROTO
+            parser.take()  # its URL
+            continue
+        nodes.append(parser.node())
+    return (header.group(1) if header else ""), nodes
+
+
+@dataclass
+class WbtWorld:
+    """What :func:`world_from_wbt` made of a file: the World, and the notes on what it
+    skipped."""
+
+    world: World
+    notes: list[str]
+
+
+def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
+    """The emulator's World for a Webots world file (the subset in this module's doc)."""
+    where = str(path)
+    try:
+        version, nodes = parse_wbt(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{where}: {exc}") from exc
+    if _before_r2022a(version):
+        raise ValueError(f"{where}: a {version} world is y-up; open and save it once in "
+                         "Webots R2022a or newer, which converts it to z-up")  # fmt: skip
+    arena, floor = Arena(), None
+    blocks: list[Block] = []
+    start: Pose | None = None
+    camera_size: tuple[int, int] | None = None
+    lamp: Lamp | None = None
+    skipped: dict[str, int] = {}
+    try:
+        for node in nodes:
+            if node.type == "RectangleArena":
+                arena, floor = _arena(node, path.parent)
+            elif node.type == "WoodenBox":
+                size = node.numbers("size", 3, (0.6, 0.6, 0.6))
+                blocks.append(_block(node, size, (150, 110, 60)))
+            elif node.type == "Solid" and (shape := _box_shape(node)) is not None:
+                blocks.append(_block(node, *shape))
+            elif node.type == "E-puck" and start is None:
+                start = _pose(node)
+                camera_size = _camera_size(node)
+            elif node.type == "PointLight" and lamp is None:
+                x, y, z = node.numbers("location", 3, (0.0, 0.0, 0.0))
+                lamp = Lamp(x, y, max(z, 0.0))
+            else:
+                skipped[node.type] = skipped.get(node.type, 0) + 1
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from exc
+    notes = [f"skipped {count} {kind}" for kind, count in sorted(skipped.items())]
+    if start is None:
+        notes.append("no E-puck in the world: the robot starts at the origin")
+    world = World(
+        seed=seed,
+        arena=arena,
+        blocks=blocks,
+        lamp=lamp,
+        start=start,
+        floor=floor or Plain(),
+        camera_size=camera_size,
+    )
+    return WbtWorld(world, notes)
+
+
+def _before_r2022a(version: str) -> bool:
+    match = re.fullmatch(r"R(\d{4})([ab])(?:-.*)?", version)
+    return match is not None and (int(match.group(1)), match.group(2)) < (2022, "a")
+
+
+def _yaw(rotation: tuple[float, ...], what: str) -> float:
+    """The angle about +z of a Webots axis-angle rotation; refused if it tilts."""
+    ax, ay, az, angle = rotation
+    if abs(math.sin(angle)) < 1e-6 and math.cos(angle) > 0:
+        return 0.0
+    norm = math.sqrt(ax * ax + ay * ay + az * az)
+    if norm == 0 or math.hypot(ax, ay) / norm > 1e-3:
+        raise ValueError(f"{what} is rotated about {rotation[:3]}, not the vertical: "
+                         "the emulator's world is flat")  # fmt: skip
+    return angle * math.copysign(1.0, az)
+
+
+def _arena(node: Node, folder: Path) -> tuple[Arena, ImageFloor | Plain]:
+    tx, ty, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
+    if abs(tx) > 1e-6 or abs(ty) > 1e-6:
+        raise ValueError("a RectangleArena off the origin is not modelled")
+    sx, sy = node.numbers("floorSize", 2, (1.0, 1.0))
+    tile = node.numbers("floorTileSize", 2, (0.5, 0.5))
+    height = node.numbers("wallHeight", 1, (0.1,))[0]
+    if min(sx, sy, tile[0], tile[1], height) <= 0:
+        raise ValueError("RectangleArena sizes must be positive")
+    arena = Arena(half_size_m=sx / 2, half_y_m=sy / 2, wall_height_m=height)
+    appearance = node.fields.get("floorAppearance")
+    for sub in appearance.walk() if isinstance(appearance, Node) else ():
+        urls = sub.fields.get("url") if sub.type == "ImageTexture" else None
+        if urls:
+            image = (folder / str(urls[0])).resolve()
+            return arena, ImageFloor.from_file(image, (sx, sy), (tile[0], tile[1]))
+    return arena, Plain()
+
+
+def _box_shape(solid: Node) -> tuple[tuple[float, ...], tuple[int, int, int]] | None:
+    children = solid.fields.get("children") or []
+    for child in children if isinstance(children, list) else [children]:
+        if not isinstance(child, Node) or child.type != "Shape":
+            continue
+        geometry = child.fields.get("geometry")
+        if isinstance(geometry, Node) and geometry.type == "Box":
+            return geometry.numbers("size", 3, (2.0, 2.0, 2.0)), _colour(child)
+    return None
+
+
+def _colour(shape: Node) -> tuple[int, int, int]:
+    appearance = shape.fields.get("appearance")
+    for sub in appearance.walk() if isinstance(appearance, Node) else ():
+        for key in ("baseColor", "diffuseColor"):
+            if key in sub.fields:
+                r, g, b = sub.numbers(key, 3, (1.0, 1.0, 1.0))
+                return (round(255 * r), round(255 * g), round(255 * b))
+    return (200, 200, 200)
+
+
+def _block(node: Node, size: tuple[float, ...], rgb: tuple[int, int, int]) -> Block:
+    x, y, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
+    sx, sy, sz = size
+    if min(sx, sy, sz) <= 0:
+        raise ValueError(f"{node.type} size must be positive, not {size}")
+    yaw = _yaw(node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0)), node.type)
+    return Block(x, y, sx / 2, rgb, half_y_m=sy / 2, yaw_rad=yaw, height_m=sz)
+
+
+def _pose(node: Node) -> Pose:
+    """The robot's start pose: in an ENU world the e-puck's front is its own +x."""
+    x, y, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
+    return Pose(x, y, _yaw(node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0)), "E-puck"))
+
+
+def _camera_size(node: Node) -> tuple[int, int] | None:
+    if "camera_width" not in node.fields and "camera_height" not in node.fields:
+        return None
+    width = node.numbers("camera_width", 1, (52.0,))[0]
+    height = node.numbers("camera_height", 1, (39.0,))[0]
+    if not (width.is_integer() and height.is_integer() and min(width, height) >= 1):
+        raise ValueError(f"E-puck camera size {width}x{height} is not whole pixels")
+    return int(width), int(height)
