@@ -23,7 +23,7 @@ if TYPE_CHECKING:
     from ego.serial.link import LinkStats
     from ego.serial.protocol import Batch, Profile
 
-__all__ = ["Channel", "reconnect_within"]
+__all__ = ["Channel", "TappedChannel", "reconnect_within"]
 
 
 @runtime_checkable
@@ -98,3 +98,45 @@ def reconnect_within(
                     f"{name}: lost, and not back within {timeout_s} s: {exc}"
                 ) from cause
             time.sleep(0.05)
+
+
+class TappedChannel:
+    """A channel that also hands every completed exchange (the batch and its reply) to
+    ``tap``: what a recording keeps. Everything else goes to ``inner`` unchanged."""
+
+    def __init__(self, inner: Channel, tap: Callable[[Batch, bytes], None]) -> None:
+        self.inner = inner
+        self.tap = tap
+
+    @property
+    def name(self) -> str:
+        return self.inner.name
+
+    @property
+    def info(self) -> FirmwareInfo:
+        return self.inner.info
+
+    @property
+    def stats(self) -> LinkStats:
+        return self.inner.stats
+
+    @property
+    def profile(self) -> Profile:
+        return self.inner.profile
+
+    def exchange(self, batch: Batch) -> bytes:
+        reply = self.inner.exchange(batch)
+        self.tap(batch, reply)
+        return reply
+
+    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
+        return self.inner.ascii_command(letter, lines)
+
+    def calibrate_proximity(self) -> list[str]:
+        return self.inner.calibrate_proximity()
+
+    def waiting_until(self, deadline_s: float) -> None:
+        self.inner.waiting_until(deadline_s)
+
+    def close(self) -> None:
+        self.inner.close()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import threading
 import time
 import weakref
 from collections.abc import Callable
@@ -11,7 +12,7 @@ from types import TracebackType
 from typing import TYPE_CHECKING, Any
 
 from ego.backends import Opened, open_port
-from ego.channel import Channel
+from ego.channel import Channel, TappedChannel
 from ego.devices.accelerometer import Accelerometer
 from ego.devices.base import MAX_PERIOD_MS, Device, check_int
 from ego.devices.battery import Battery
@@ -36,6 +37,7 @@ from ego.transaction import run_step
 
 if TYPE_CHECKING:
     from ego.camera import Camera, FrameSource
+    from ego.serial.protocol import Batch
 
 __all__ = ["SIM_PORT", "Robot", "close_all_robots"]
 
@@ -133,6 +135,10 @@ class Robot:
         self._time_ms = 0
         self.steps = 0
         self._listeners: list[Callable[[Robot], None]] = []
+        self._guards: list[Callable[[Robot], None]] = []
+        #: Held while a step talks to the robot: another thread that must reach the dsPIC
+        #: at once (a dashboard's stop button) takes it between two steps' batches.
+        self.link_lock = threading.RLock()
         _OPEN_ROBOTS.add(self)
         register(self)
         if handle_signals:
@@ -165,6 +171,11 @@ class Robot:
             self._camera = Camera(source=self._camera_source or self._default_camera_source())
             self._parts.camera = self._camera
             self._local_devices.append(self._camera)
+        return self._camera
+
+    @property
+    def open_camera(self) -> Camera | None:
+        """The camera if something opened it, else None (looking does not open it)."""
         return self._camera
 
     def _default_camera_source(self) -> FrameSource:
@@ -246,6 +257,21 @@ class Robot:
         """Call ``listener(robot)`` after every step (progress displays, loggers)."""
         self._listeners.append(listener)
 
+    def add_step_guard(self, guard: Callable[[Robot], None]) -> None:
+        """Call ``guard(robot)`` before every step's batch, after the controller's own
+        commands: what it sets wins (a dashboard's stop and drive override the controller)."""
+        self._guards.append(guard)
+
+    def tap_link(self, tap: Callable[[Batch, bytes], None]) -> None:
+        """Hand ``tap`` every batch this robot exchanges, with its reply (a recording)."""
+        self.link = TappedChannel(self.link, tap)
+
+    def remove_step_hooks(self, hook: Callable[[Robot], None]) -> None:
+        """Stop calling ``hook`` as a step listener or guard."""
+        for hooks in (self._listeners, self._guards):
+            while hook in hooks:
+                hooks.remove(hook)
+
     def step(self, ms: int) -> int:
         """Run one time step of ``ms`` milliseconds: send what is due, read, wait out the rest.
 
@@ -257,8 +283,11 @@ class Robot:
         step_ms = check_int("time step", ms, 1, MAX_PERIOD_MS, " ms")
         self.clock.begin()
         now = self._time_ms
+        for guard in self._guards:
+            guard(self)
         try:
-            run_step(self._step_parts, self.link, now, self._restarted)
+            with self.link_lock:
+                run_step(self._step_parts, self.link, now, self._restarted)
         except LinkLostError as exc:
             log.error("link lost for good: %s", exc)
             self._lost = self._parts.lost = True
@@ -290,7 +319,14 @@ class Robot:
         """
         self.motors.stop_request()
         self.leds.all_off()
-        send_stop(self.link)
+        with self.link_lock:
+            send_stop(self.link)
+
+    def send_stop(self) -> None:
+        """Send the confirmed stop batch now, from any thread, between two steps' batches
+        (ego's view of the actuators is left to the step: a guard keeps them stopped)."""
+        with self.link_lock:
+            send_stop(self.link)
 
     def close(self) -> None:
         """Stop the motors, LEDs off, then close the port; calling it again does nothing."""

@@ -22,7 +22,7 @@ import sys
 import threading
 from typing import Any
 
-__all__ = ["Joystick", "Keyboard", "Mouse", "MouseState", "decode_keys"]
+__all__ = ["FaceKeys", "Joystick", "Keyboard", "Mouse", "MouseState", "decode_keys"]
 
 
 #: Escape sequences of a terminal (xterm, VT100) and Webots' key codes for them.
@@ -261,3 +261,26 @@ class Joystick(_Polled):
 
     def getPressedButton(self) -> int:
         return -1
+
+
+class FaceKeys:
+    """The keys of a run's Webots Keyboard, for a dashboard: ``context`` is the run's
+    FaceContext (captured when its robot opens: the dashboard's thread has another)."""
+
+    def __init__(self, context: Any) -> None:
+        self._context = context
+
+    def _keyboard(self) -> Keyboard | None:
+        robot = getattr(self._context, "webots_robot", None)
+        keyboard = getattr(robot, "_keyboard", None)
+        return keyboard if isinstance(keyboard, Keyboard) else None
+
+    def listening(self) -> bool:
+        """Whether the controller has enabled its Keyboard."""
+        keyboard = self._keyboard()
+        return keyboard is not None and keyboard.getSamplingPeriod() > 0
+
+    def press(self, key: int) -> None:
+        keyboard = self._keyboard()
+        if keyboard is not None:
+            keyboard.press(key)

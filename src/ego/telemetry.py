@@ -1,0 +1,168 @@
+"""What a robot did in one step, as plain data: the dashboard shows it, a recording keeps it.
+
+:class:`Telemetry` turns a :class:`~ego.Robot` after a step into a sample, a dict of
+JSON-ready values (the same keys in the dashboard's messages and in a recording's
+``/ego/sensors`` channel), and keeps the odometry from the encoders. A family the
+controller has not enabled (or that the firmware lacks) gives ``None``: the dashboard
+says "off", a recording stores null, and nothing is ever made up.
+
+:func:`describe_world` gives the emulator's world (walls, boxes, lamp, floor image) once,
+read through its public attributes only: ego never imports the emulator.
+"""
+
+from __future__ import annotations
+
+import base64
+import time
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ego.camera.encode import encode_png
+from ego.errors import EgoError
+from ego.odometry import Odometry, Pose2D
+
+if TYPE_CHECKING:
+    from ego.robot import Robot
+
+__all__ = ["SENSOR_FAMILIES", "Telemetry", "describe_robot", "describe_world", "true_pose"]
+
+#: The families a sample holds, by Robot attribute, in the order the dashboard lists them.
+SENSOR_FAMILIES = ("proximity", "light", "floor", "accelerometer", "encoders", "microphones")
+
+
+def _values(family: Any) -> list[float] | None:
+    """A family's last sample, or None when it has none (disabled or not served)."""
+    try:
+        if not family.has_values:
+            return None
+        return [round(float(v), 4) for v in family.values]
+    except EgoError:
+        return None
+
+
+def _accelerometer(robot: Robot) -> list[float] | None:
+    try:
+        if not robot.accelerometer.has_values:
+            return None
+        return [round(v, 4) for v in robot.accelerometer.acceleration_mps2]
+    except EgoError:  # spherical mode: no vector to draw
+        return None
+
+
+def true_pose(robot: Robot) -> list[float] | None:
+    """The emulator's ground-truth pose [x m, y m, theta rad]; None on a real robot."""
+    world = getattr(robot.emulator, "world", None)
+    if world is None:
+        return None
+    pose = world.snapshot()
+    return [round(pose.x_m, 5), round(pose.y_m, 5), round(pose.theta_rad, 5)]
+
+
+class Telemetry:
+    """Samples one robot step after step (call :meth:`sample` after each step)."""
+
+    def __init__(self, robot: Robot) -> None:
+        self.robot = robot
+        start = true_pose(robot)
+        self.odometry = Odometry(Pose2D(*start) if start is not None else None)
+        self._last_wall = time.monotonic()
+        self._last_time_s = robot.time_s
+
+    def sample(self) -> dict[str, Any]:
+        """The robot's state after its last step, as JSON-ready values."""
+        robot = self.robot
+        now = time.monotonic()
+        wall_ms, self._last_wall = (now - self._last_wall) * 1000.0, now
+        step_ms = (robot.time_s - self._last_time_s) * 1000.0
+        self._last_time_s = robot.time_s
+        encoders = _values(robot.encoders)
+        speed = list(robot.motors.speed)
+        if encoders is not None:
+            pose = self.odometry.from_counts(int(encoders[0]), int(encoders[1]))
+        else:
+            pose = self.odometry.from_speeds(speed[0], speed[1], step_ms / 1000.0)
+        stats = robot.link.stats
+        return {
+            "t": round(robot.time_s, 4),
+            "step": robot.steps,
+            "step_ms": round(step_ms, 3),
+            "wall_ms": round(wall_ms, 3),
+            "overruns": robot.overruns,
+            "proximity": _values(robot.proximity),
+            "light": _values(robot.light),
+            "floor": _values(robot.floor),
+            "accelerometer": _accelerometer(robot),
+            "encoders": encoders,
+            "microphones": _values(robot.microphones),
+            "speed": speed,
+            "leds": [int(v) for v in robot.leds.values],
+            "battery": _battery(robot),
+            "odometry": [round(pose.x_m, 5), round(pose.y_m, 5), round(pose.theta_rad, 5)],
+            "odometry_source": "encoders" if encoders is not None else "speeds",
+            "truth": true_pose(robot),
+            "link": {
+                "batches": stats.batches,
+                "retries": stats.retries,
+                "resyncs": stats.resyncs,
+                "restarts": stats.restarts,
+            },
+        }
+
+
+def _battery(robot: Robot) -> int | None:
+    try:
+        return robot.battery.raw if robot.battery.has_values else None
+    except EgoError:
+        return None
+
+
+def describe_robot(robot: Robot) -> dict[str, Any]:
+    """What does not change during a run: the robot's port, firmware and devices."""
+    info = robot.link.info
+    return {
+        "port": robot.port,
+        "firmware": info.firmware.value,
+        "version": info.version,
+        "profile": robot.link.profile.description,
+        "remote": robot.remote,
+        "proximity_count": len(robot.proximity.member_names),
+        "led_count": len(robot.leds.values),
+        "families": [f for f in SENSOR_FAMILIES if getattr(robot, f).member_names],
+    }
+
+
+def describe_world(robot: Robot, floor_cells: int = 160) -> dict[str, Any] | None:
+    """The emulator's world for drawing, or None on a real robot: arena half extents,
+    boxes, lamp, and the floor as a grey image (``floor_cells`` across) of reflectance."""
+    world = getattr(robot.emulator, "world", None)
+    if world is None:
+        return None
+    arena = world.arena
+    half_x = float(arena.half_size_m)
+    half_y = float(getattr(arena, "half_y_m", None) or half_x)
+    boxes = []
+    for block in world.blocks:
+        hx = float(block.half_size_m)
+        hy = getattr(block, "half_y_m", None)
+        boxes.append({
+            "x": block.x_m, "y": block.y_m, "hx": hx, "hy": float(hy if hy is not None else hx),
+            "yaw": float(getattr(block, "yaw_rad", 0.0)), "rgb": list(block.rgb),
+        })  # fmt: skip
+    cols = floor_cells
+    rows = max(1, round(cols * half_y / half_x))
+    xs = np.linspace(-half_x, half_x, cols)
+    ys = np.linspace(half_y, -half_y, rows)  # top row is +y, as drawn from above
+    grid_x, grid_y = np.meshgrid(xs, ys)
+    reflectance = np.asarray(world.floor_reflectance(grid_x, grid_y), dtype=float)
+    grey = np.clip(reflectance * 255, 0, 255).astype(np.uint8)
+    png = encode_png(np.repeat(grey[:, :, None], 3, axis=2))
+    lamp = world.lamp
+    return {
+        "half_x": half_x,
+        "half_y": half_y,
+        "boxes": boxes,
+        "lamp": [float(lamp.x_m), float(lamp.y_m)],
+        "floor_png": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
+        "start": true_pose(robot),
+    }
