@@ -51,11 +51,42 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     from ego.scheduler import tune_for_stepping
 
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
-    run_demo(args.duration, args.firmware, args.seed, world=args.world)
+    dashboard = None if args.no_dashboard else args.dashboard
+    run_demo(args.duration, args.firmware, args.seed, world=args.world, dashboard=dashboard,
+             record=args.record)  # fmt: skip
+    return 0
+
+
+def _cmd_replay(args: argparse.Namespace) -> int:
+    if args.emulate:
+        from ego.observers import observe_run
+        from ego.runner import run_controller
+
+        if not args.controller:
+            raise SystemExit("ego replay --emulate needs a controller file after the recording")
+        options = runtime.RunOptions(port=f"replay://{args.recording}")
+        with observe_run(options, dashboard=args.dashboard, secret_file=args.secret_file):
+            run_controller(args.controller[0], options, args.controller[1:])
+        return 0
+    if args.controller:
+        raise SystemExit(f"ego replay: {args.controller[0]!r}: a controller runs only with "
+                         "--emulate")  # fmt: skip
+    from ego.recording.play import play
+
+    return play(args.recording, args.dashboard or "127.0.0.1:8765", args.secret_file,
+                args.speed, args.duration)  # fmt: skip
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from ego.recording.plot import plot_recording
+
+    for path in plot_recording(args.recording, args.out):
+        print(path)
     return 0
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
+    from ego.observers import observe_run
     from ego.runner import run_controller
     from ego.scheduler import tune_for_stepping
     from ego.supervisor import run_supervised, wants_supervision
@@ -71,6 +102,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
             *(["-q"] if args.verbose < 0 else []),
             *(["--strict"] if args.strict else []),
             *(["--camera", "{}x{}".format(*args.camera)] if args.camera else []),
+            *(["--dashboard", args.dashboard] if args.dashboard else []),
+            *(["--secret-file", args.secret_file] if args.secret_file else []),
+            *(["--record", args.record] if args.record else []),
         ]
         return run_supervised(
             args.controller,
@@ -93,7 +127,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
         camera_size=args.camera,
         world=args.world,
     )
-    run_controller(args.controller, options, args.args)
+    with observe_run(options, dashboard=args.dashboard, secret_file=args.secret_file,
+                     record=args.record):  # fmt: skip
+        run_controller(args.controller, options, args.args)
     return 0
 
 
@@ -188,6 +224,14 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="NAME|FILE",
         help="the emulator's world: arena (default), line-track, maze, light, or a TOML file",
     )
+    demo.add_argument(
+        "--dashboard",
+        default="127.0.0.1:8765",
+        metavar="HOST:PORT",
+        help="where the live dashboard listens (default 127.0.0.1:8765; the URL is printed)",
+    )
+    demo.add_argument("--no-dashboard", action="store_true", help="no dashboard")
+    demo.add_argument("--record", default=None, metavar="FILE.mcap", help="record the run")
     demo.set_defaults(func=_cmd_demo)
 
     run = sub.add_parser("run", help="run a Webots controller file unchanged")
@@ -251,6 +295,24 @@ def build_parser() -> argparse.ArgumentParser:
         help="a supervised controller that does not step for this long has its robot "
         "stopped (1..60000, default 500)",
     )
+    run.add_argument(
+        "--dashboard",
+        nargs="?",
+        const="127.0.0.1:8765",
+        default=None,
+        metavar="HOST:PORT",
+        help="serve a live dashboard of the robot (default address 127.0.0.1:8765; off "
+        "loopback it needs --secret-file)",
+    )
+    run.add_argument(
+        "--secret-file",
+        default=None,
+        metavar="FILE",
+        help="the shared secret a dashboard off loopback asks for (ego secret makes one)",
+    )
+    run.add_argument(
+        "--record", default=None, metavar="FILE.mcap", help="record every step to MCAP"
+    )
     run.add_argument("controller", help="the controller's .py file")
     run.add_argument("args", nargs=argparse.REMAINDER, help="arguments for the controller")
     _add_verbosity(run, default=argparse.SUPPRESS)
@@ -281,6 +343,36 @@ def build_parser() -> argparse.ArgumentParser:
         "--out", metavar="FILE", default=None, help="write it to FILE, mode 600 (new files only)"
     )
     secret.set_defaults(func=_cmd_secret)
+
+    replay = sub.add_parser(
+        "replay",
+        help="play a recorded run back into the dashboard, or (--emulate) feed it to a "
+        "controller as if it were the robot",
+    )
+    replay.add_argument("recording", help="the .mcap file ego run --record wrote")
+    replay.add_argument(
+        "controller",
+        nargs="*",
+        help="with --emulate: the controller file, then its arguments (after --)",
+    )
+    replay.add_argument(
+        "--emulate",
+        action="store_true",
+        help="run CONTROLLER against the recording: it reads exactly what the robot answered",
+    )
+    replay.add_argument("--dashboard", default=None, metavar="HOST:PORT",
+                        help="where the dashboard listens (default 127.0.0.1:8765)")  # fmt: skip
+    replay.add_argument("--secret-file", default=None, metavar="FILE",
+                        help="the shared secret a dashboard off loopback asks for")  # fmt: skip
+    replay.add_argument("--speed", type=float, default=1.0, help="0.25, 0.5, 1, 2 or 4")
+    replay.add_argument("--duration", type=_positive, default=None,
+                        help="stop serving after this many seconds (default: Ctrl-C)")  # fmt: skip
+    replay.set_defaults(func=_cmd_replay)
+
+    plot = sub.add_parser("plot", help="PNG plots of a recorded run (sensors, path, timing)")
+    plot.add_argument("recording", help="the .mcap file ego run --record wrote")
+    plot.add_argument("--out", default=".", metavar="DIR", help="where to write (default .)")
+    plot.set_defaults(func=_cmd_plot)
 
     bench = sub.add_parser("bench", help="reproduce the thesis' tables (benchmarks/)")
     bench.add_argument(

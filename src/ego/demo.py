@@ -10,6 +10,7 @@ from importlib import resources
 from typing import TextIO
 
 from ego import runtime
+from ego.observers import observe_run
 from ego.ports import default_baud
 from ego.robot import Robot
 from ego.runner import run_controller
@@ -75,8 +76,11 @@ def run_demo(
     seed: int | None = 1,
     out: TextIO = sys.stdout,
     world: str | None = None,
+    dashboard: str | None = None,
+    record: str | None = None,
 ) -> DemoReport:
-    """Run the bundled obstacle-avoidance controller on the built-in emulator."""
+    """Run the bundled obstacle-avoidance controller on the built-in emulator, with a
+    live dashboard at ``dashboard`` (HOST:PORT) and a recording to ``record`` if asked."""
     report = DemoReport()
     progress = _Progress(out, report)
     options = runtime.RunOptions(
@@ -94,7 +98,9 @@ def run_demo(
     )
     controller = resources.files("ego.examples") / "obstacle_avoidance.py"
     started = time.monotonic()
-    with resources.as_file(controller) as path:
+    with resources.as_file(controller) as path, observe_run(
+        options, dashboard=dashboard, record=record, out=out
+    ):
         run_controller(path, options)
     report.wall_time_s = time.monotonic() - started
     if report.robots:

@@ -289,7 +289,8 @@ class Robot:
             with self.link_lock:
                 run_step(self._step_parts, self.link, now, self._restarted)
         except LinkLostError as exc:
-            log.error("link lost for good: %s", exc)
+            ended = getattr(exc, "expected", False)  # a replay's end: over, not broken
+            log.log(logging.INFO if ended else logging.ERROR, "link lost for good: %s", exc)
             self._lost = self._parts.lost = True
             return -1
         for local in self._local_devices:  # captured here, not over the link: the camera

@@ -12,6 +12,8 @@ scheme        backend
 ``udp``       the same over UDP
 ``sim``       the dsPIC emulator, found through the ``ego.backends`` entry point that
               the ``firmware_sim`` package declares (ego itself never imports it)
+``replay``    a run recorded with ``ego run --record`` (``replay://run.mcap``), answering
+              a controller as the robot did: :mod:`ego.recording.emulate`
 ============  ==========================================================================
 
 Each backend opens a :class:`~ego.channel.Channel` (the seam under ``Robot``) and takes
@@ -165,7 +167,14 @@ _REGISTRY: dict[str, Callable[[], Backend]] = {
     "tcp": RemoteBackend,
     "udp": RemoteBackend,
     "unix": RemoteBackend,
+    "replay": lambda: _replay_backend(),
 }
+
+
+def _replay_backend() -> Backend:
+    from ego.recording.emulate import ReplayBackend  # mcap is imported only for a replay
+
+    return ReplayBackend()
 
 
 def register(scheme: str, factory: Callable[[], Backend]) -> None:

@@ -137,7 +137,7 @@ class DashboardServer:
         app.router.add_get("/ws", self._socket)
         for name in _STATIC[1:]:
             app.router.add_get(f"/{name}", self._page)
-        app.router.add_get("/favicon.ico", lambda _: web.Response(status=204))
+        app.router.add_get("/favicon.ico", self._no_icon)
         self._runner = web.AppRunner(app, access_log=None)
         await self._runner.setup()
         site = web.TCPSite(self._runner, self.host, self._port)
@@ -158,10 +158,11 @@ class DashboardServer:
 
     # -- from the robot's thread -----------------------------------------------------------
 
-    def publish(self, sample: dict[str, Any]) -> None:
-        """The newest sample; sent to the pages at most SAMPLE_HZ times a second."""
+    def publish(self, sample: dict[str, Any], force: bool = False) -> None:
+        """The newest sample; sent to the pages at most SAMPLE_HZ times a second (unless
+        ``force``: a replay's seek must show where it landed)."""
         now = time.monotonic()
-        if not self._clients or now - self._sent_sample < 1.0 / SAMPLE_HZ:
+        if not self._clients or (not force and now - self._sent_sample < 1.0 / SAMPLE_HZ):
             return
         self._sent_sample = now
         self._sample = json.dumps({"type": "sample", **sample})
@@ -203,6 +204,9 @@ class DashboardServer:
                     if image is not None:
                         await ws.send_bytes(image)
                     await ws.send_json(self.feed.state(client))
+
+    async def _no_icon(self, request: web.Request) -> web.StreamResponse:
+        return web.Response(status=204)
 
     async def _page(self, request: web.Request) -> web.StreamResponse:
         if not token_matches(request.query.get("token"), self.token):

@@ -73,6 +73,7 @@ class Recorder:
             "version": info.version,
             "hardware_version": "" if info.hardware_version is None else str(info.hardware_version),
             "selector": "" if info.selector is None else str(info.selector),
+            "rev13": {None: "", True: "true", False: "false"}[robot.link.profile.rev13],
             "robot": json.dumps(describe_robot(robot)),
             "world": json.dumps(describe_world(robot)),
         }

@@ -1,0 +1,108 @@
+"""``ego plot run.mcap --out DIR``: PNG plots of a recorded run, with matplotlib.
+
+Three figures: ``sensors.png`` (every family the run sampled, against controller
+time), ``path.png`` (the odometry and, on the emulator, the true path), and
+``timing.png`` (each step's wall time against the step asked, and the overruns).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ego.recording.reader import Recording
+
+__all__ = ["plot_recording"]
+
+_FAMILIES = (
+    ("proximity", "proximity (raw)"),
+    ("light", "light (raw, lower is brighter)"),
+    ("floor", "floor (raw)"),
+    ("accelerometer", "accelerometer (m/s²)"),
+    ("encoders", "encoders (steps)"),
+    ("microphones", "microphones (amplitude)"),
+    ("speed", "wheel speeds asked (steps/s)"),
+)
+
+
+def plot_recording(path: str | Path, out: str | Path = ".") -> list[Path]:
+    """Write the run's plots into ``out`` (made if missing); their paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only: no display on a robot or a CI machine
+    import matplotlib.pyplot as plt
+
+    recording = Recording.open(path)
+    samples = recording.samples
+    if not samples:
+        raise ValueError(f"{recording.path}: the recording holds no step")
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    t = [s["t"] for s in samples]
+    written = []
+
+    sampled = [(key, title) for key, title in _FAMILIES if any(s[key] for s in samples)]
+    fig, axes = plt.subplots(len(sampled), 1, figsize=(9, 2.2 * len(sampled)), sharex=True,
+                             squeeze=False)  # fmt: skip
+    for ax, (key, title) in zip(axes[:, 0], sampled, strict=True):
+        width = max(len(s[key] or ()) for s in samples)
+        for k in range(width):
+            ax.plot(t, [s[key][k] if s[key] else float("nan") for s in samples], lw=0.9,
+                    label=f"{k}")  # fmt: skip
+        ax.set_title(title, fontsize=9, loc="left")
+        ax.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("controller time (s)")
+    fig.tight_layout()
+    written.append(_save(fig, folder / "sensors.png"))
+
+    fig, ax = plt.subplots(figsize=(6, 6))
+    world = recording.world
+    if world is not None:
+        hx, hy = world["half_x"], world["half_y"]
+        ax.plot([-hx, hx, hx, -hx, -hx], [-hy, -hy, hy, hy, -hy], color="#8a7f6a", lw=2)
+        for box in world["boxes"]:
+            ax.add_patch(_box_patch(box))
+    truth = [s["truth"] for s in samples if s["truth"] is not None]
+    if truth:
+        ax.plot([p[0] for p in truth], [p[1] for p in truth], label="true path", lw=3,
+                color="#e8871e", alpha=0.7)  # fmt: skip
+    odometry = [s["odometry"] for s in samples]
+    ax.plot([p[0] for p in odometry], [p[1] for p in odometry], "--", label="odometry", lw=1.5,
+            color="#2f6fdf")  # fmt: skip
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(f"path over {recording.duration_s:.1f} s", fontsize=10)
+    written.append(_save(fig, folder / "path.png"))
+
+    fig, ax = plt.subplots(figsize=(9, 3))
+    ax.plot(t, [s["wall_ms"] for s in samples], lw=0.8, label="step wall time")
+    ax.plot(t, [s["step_ms"] for s in samples], lw=1.2, label="step asked")
+    ax.set_xlabel("controller time (s)")
+    ax.set_ylabel("ms")
+    ax.set_title(f"step timing: {samples[-1]['overruns']} overruns", fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    written.append(_save(fig, folder / "timing.png"))
+    return written
+
+
+def _box_patch(box: dict[str, float]):  # type: ignore[no-untyped-def]
+    import math
+
+    from matplotlib.patches import Rectangle
+
+    c, s = math.cos(box["yaw"]), math.sin(box["yaw"])
+    corner = (box["x"] - c * box["hx"] + s * box["hy"], box["y"] - s * box["hx"] - c * box["hy"])
+    rgb = tuple(v / 255 for v in box["rgb"])  # type: ignore[attr-defined]
+    return Rectangle(corner, 2 * box["hx"], 2 * box["hy"], angle=math.degrees(box["yaw"]),
+                     color=rgb)  # fmt: skip
+
+
+def _save(fig, path: Path) -> Path:  # type: ignore[no-untyped-def]
+    import matplotlib.pyplot as plt
+
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

@@ -1,0 +1,78 @@
+"""A robot on the emulator, stepped by a controller function in a thread and served by a
+real dashboard on loopback."""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import ego
+from ego.dashboard.live import RobotDashboard
+
+#: An empty walled arena: the robot starts facing the east wall, 25 cm from it.
+OPEN_WORLD = """
+box = []
+[arena]
+size_m = 1.0
+[robot]
+x_m = 0.2
+y_m = 0.0
+heading_deg = 0
+"""
+
+
+@dataclass
+class Served:
+    robot: ego.Robot
+    url: str
+    dashboard: RobotDashboard
+
+    @property
+    def world(self) -> Any:
+        return self.robot.emulator.world
+
+
+@contextmanager
+def served_robot(
+    tmp_path: Path,
+    controller: Callable[[ego.Robot], None],
+    world: str = OPEN_WORLD,
+    address: str = "127.0.0.1:0",
+    secret: bytes | None = None,
+) -> Iterator[Served]:
+    """A robot stepping every 32 ms with ``controller(robot)`` before each step, until the
+    block ends; its dashboard at ``address``."""
+    path = tmp_path / "world.toml"
+    path.write_text(world)
+    robot = ego.Robot("sim", world=str(path), seed=1)
+    dashboard = RobotDashboard(address, secret, out=open(os.devnull, "w"))  # noqa: SIM115
+    dashboard.attach(robot)
+    stop = threading.Event()
+    failures: list[BaseException] = []
+
+    def loop() -> None:
+        try:
+            while not stop.is_set():
+                controller(robot)
+                if robot.step(32) == -1:
+                    return
+        except BaseException as exc:  # reported by the test
+            failures.append(exc)
+
+    thread = threading.Thread(target=loop, name="test-controller", daemon=True)
+    thread.start()
+    try:
+        assert dashboard.server is not None
+        yield Served(robot, dashboard.server.url, dashboard)
+    finally:
+        stop.set()
+        thread.join(10)
+        dashboard.close()
+        robot.close()
+        dashboard.out.close()
+    assert not failures, failures

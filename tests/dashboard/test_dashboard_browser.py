@@ -1,0 +1,161 @@
+"""The dashboard in a real headless Chromium, on the emulator: what the page shows follows
+the world, and what the page does reaches the robot (or, for a viewer, does not)."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+from dashboard_support import OPEN_WORLD, served_robot
+from helpers import wait_until
+
+import ego
+
+
+def _open(page: Any, url: str) -> None:
+    page.goto(url)
+    page.wait_for_function("document.getElementById('link-status').textContent === 'live'")
+    page.wait_for_function("document.getElementById('ray-0') !== null")
+
+
+def _take_control(page: Any) -> None:
+    page.click("#take")
+    page.wait_for_function("document.getElementById('role').textContent === 'in control'")
+
+
+def _ray(page: Any, index: int) -> float:
+    length = page.get_attribute(f"#ray-{index}", "data-length")
+    return float(length or 0)
+
+
+def test_the_ray_nearest_the_wall_grows_as_the_robot_drives_up_to_it(
+    tmp_path: Path, page: Any
+) -> None:
+    def approach(robot: ego.Robot) -> None:
+        if not robot.proximity.enabled:
+            robot.proximity.enable(32)
+        near = robot.proximity.has_values and max(robot.proximity.values[:1]) > 2000
+        robot.motors.set_speed(*((0, 0) if near else (400, 400)))
+
+    with served_robot(tmp_path, approach) as served:
+        _open(page, served.url)
+        page.wait_for_function("document.getElementById('ray-0').dataset.value !== ''")
+        front, back = [_ray(page, 0)], [_ray(page, 3)]
+        assert wait_until(lambda: served.world.speeds == (0, 0) and served.robot.steps > 10, 15)
+        time.sleep(0.3)  # the page's next samples
+        front.append(_ray(page, 0))
+        back.append(_ray(page, 3))
+        x_end = served.world.snapshot().x_m
+    assert x_end > 0.35  # it did drive up to the east wall (at 0.5 m)
+    assert front[-1] > front[0] + 20, front  # the front ray grew on the page
+    assert abs(back[-1] - back[0]) < 10, back  # the back one, facing nothing, did not
+
+
+def test_an_arrow_key_drives_the_robot_in_the_world(tmp_path: Path, page: Any) -> None:
+    def hold_still(robot: ego.Robot) -> None:
+        robot.motors.set_speed(0, 0)  # the controller itself never moves it
+
+    with served_robot(tmp_path, hold_still) as served:
+        _open(page, served.url)
+        _take_control(page)
+        start = served.world.snapshot().x_m
+        page.keyboard.down("ArrowUp")
+        moved = wait_until(lambda: served.world.snapshot().x_m > start + 0.03, 5)
+        page.keyboard.up("ArrowUp")
+        assert moved, served.world.snapshot()
+        # Released: the drive lapses and the controller's (0, 0) holds again.
+        assert wait_until(lambda: served.world.speeds == (0, 0), 2)
+
+
+def test_the_stop_button_stops_the_robot_whatever_the_controller_asks(
+    tmp_path: Path, page: Any
+) -> None:
+    def drive_on(robot: ego.Robot) -> None:
+        robot.motors.set_speed(500, 500)
+
+    with served_robot(tmp_path, drive_on) as served:
+        _open(page, served.url)
+        _take_control(page)
+        assert wait_until(lambda: served.world.speeds == (500, 500), 3)
+        page.click("#stop")
+        assert wait_until(lambda: served.world.speeds == (0, 0), 0.5)
+        x = served.world.snapshot().x_m
+        time.sleep(0.5)  # the controller keeps asking for 500: the stop holds
+        assert served.world.speeds == (0, 0)
+        assert abs(served.world.snapshot().x_m - x) < 0.002
+        page.click("#resume")
+        assert wait_until(lambda: served.world.speeds == (500, 500), 2)
+
+
+def test_a_viewer_without_control_cannot_drive_or_stop(
+    tmp_path: Path, page: Any, browser: Any
+) -> None:
+    speeds = [(0, 0)]
+
+    def obey(robot: ego.Robot) -> None:
+        robot.motors.set_speed(*speeds[0])
+
+    with served_robot(tmp_path, obey) as served:
+        _open(page, served.url)
+        _take_control(page)
+        other = browser.new_context().new_page()
+        try:
+            _open(other, served.url)
+            other.wait_for_function("document.getElementById('take').disabled === true")
+            assert other.is_disabled("#stop")
+            start = served.world.snapshot().x_m
+            other.keyboard.down("ArrowUp")
+            time.sleep(0.8)
+            other.keyboard.up("ArrowUp")
+            # Around the page's buttons: its own socket, straight to the server.
+            other.evaluate("send({type: 'drive', left: 800, right: 800})")
+            toast = "document.getElementById('toast').textContent"
+            other.wait_for_function(f"{toast}.includes('only views')")
+            other.evaluate("send({type: 'stop'})")
+            time.sleep(0.5)
+            assert abs(served.world.snapshot().x_m - start) < 0.001  # never moved
+            speeds[0] = (300, 300)  # the controller still drives: no stop was latched
+            assert wait_until(lambda: served.world.speeds == (300, 300), 2)
+        finally:
+            other.context.close()
+
+
+def test_the_camera_image_on_the_page_changes_as_the_robot_turns(
+    tmp_path: Path, page: Any
+) -> None:
+    def turn(robot: ego.Robot) -> None:
+        if not robot.camera.sampling_period:
+            robot.camera.enable(64)
+        robot.motors.set_speed(-300, 300)
+
+    world = OPEN_WORLD_WITH_BOXES
+    assert world != OPEN_WORLD
+    with served_robot(tmp_path, turn, world=world) as served:
+        _open(page, served.url)
+        page.wait_for_function("Number(document.getElementById('camera').dataset.frames || 0) > 2")
+        first = page.locator("#camera").screenshot()
+        size = page.evaluate("[document.getElementById('camera').naturalWidth, "
+                             "document.getElementById('camera').naturalHeight]")  # fmt: skip
+        time.sleep(1.0)
+        second = page.locator("#camera").screenshot()
+        camera = served.robot.camera
+        assert size == [camera.width, camera.height]
+    assert first != second
+
+
+#: Three coloured boxes around the robot: turning, the camera sees them pass.
+OPEN_WORLD_WITH_BOXES = """
+[robot]
+x_m = 0.0
+y_m = 0.0
+heading_deg = 0
+[[box]]
+x_m = 0.25
+y_m = 0.0
+rgb = [210, 30, 30]
+[[box]]
+x_m = 0.0
+y_m = 0.25
+rgb = [30, 160, 40]
+"""

@@ -1,0 +1,93 @@
+"""The commands that serve a dashboard: ego demo (on by default, its URL printed), ego run
+--dashboard, ego replay; each page is reached while the command runs."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import re
+import select
+import subprocess
+from pathlib import Path
+from typing import IO, Any
+
+import aiohttp
+from helpers import ego_command
+
+LOGGER = Path(__file__).parents[1] / "faces" / "controllers" / "sensor_logger.py"
+
+
+def _url_from(stream: IO[str], timeout_s: float = 20) -> str:
+    """The dashboard URL a command prints."""
+    seen = []
+    while select.select([stream], [], [], timeout_s)[0]:
+        line = stream.readline()
+        seen.append(line)
+        match = re.search(r"dashboard at (http://\S+)", line)
+        if match:
+            return match.group(1)
+        if not line:
+            break
+    raise AssertionError(f"no dashboard URL in {seen}")
+
+
+async def _visit(url: str) -> tuple[int, dict[str, Any], list[dict[str, Any]]]:
+    async with aiohttp.ClientSession() as session:
+        async with session.get(url) as page:
+            status = page.status
+        ws_url = url.split("?")[0].replace("http://", "ws://") + "ws"
+        async with session.ws_connect(ws_url) as ws:
+            hello = await ws.receive_json()
+            samples: list[dict[str, Any]] = []
+            while len(samples) < 3:
+                message = json.loads((await ws.receive()).data)
+                if message["type"] == "sample":
+                    samples.append(message)
+    return status, hello, samples
+
+
+def _visit_during(command: list[str], cwd: Path, stream: str) -> tuple[Any, str]:
+    proc = subprocess.Popen([*ego_command(), *command], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, cwd=cwd)  # fmt: skip
+    try:
+        url = _url_from(proc.stdout if stream == "stdout" else proc.stderr)  # type: ignore[arg-type]
+        seen = asyncio.run(asyncio.wait_for(_visit(url), 20))
+    finally:
+        out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 0, err
+    return seen, out
+
+
+def test_ego_demo_serves_its_dashboard_by_default_and_prints_the_url(tmp_path: Path) -> None:
+    (status, hello, samples), out = _visit_during(
+        ["demo", "--duration", "4", "--dashboard", "127.0.0.1:0"], tmp_path, "stdout"
+    )
+    assert status == 200
+    assert hello["mode"] == "live" and hello["world"] is not None
+    assert samples[-1]["proximity"] is not None
+    assert "summary:" in out
+
+
+def test_ego_run_dashboard_and_record_together(tmp_path: Path) -> None:
+    (status, hello, samples), _ = _visit_during(
+        ["run", "--port", "sim", "--duration", "3", "--dashboard", "127.0.0.1:0", "--record",
+         "run.mcap", str(LOGGER), "log.json"], tmp_path, "stderr",
+    )  # fmt: skip
+    assert status == 200 and hello["robot"]["port"] == "sim"
+    assert samples[-1]["encoders"] is not None
+    assert (tmp_path / "run.mcap").stat().st_size > 1000
+
+
+def test_ego_replay_plays_a_recording_into_the_dashboard(tmp_path: Path) -> None:
+    recorded = subprocess.run(
+        [*ego_command(), "run", "--port", "sim", "--duration", "1", "--record", "run.mcap",
+         str(LOGGER), "log.json"], capture_output=True, text=True, cwd=tmp_path, timeout=60,
+    )  # fmt: skip
+    assert recorded.returncode == 0, recorded.stderr
+    (status, hello, samples), _ = _visit_during(
+        ["replay", "run.mcap", "--duration", "4", "--dashboard", "127.0.0.1:0"], tmp_path,
+        "stderr",
+    )  # fmt: skip
+    assert status == 200 and hello["mode"] == "replay"
+    times = [s["t"] for s in samples]
+    assert times == sorted(times) and 0 < times[0] <= 1.1
