@@ -18,7 +18,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ego.camera.encode import encode_png
 from ego.errors import EgoError
 from ego.odometry import Odometry, Pose2D
 
@@ -138,6 +137,8 @@ def describe_world(robot: Robot, floor_cells: int = 160) -> dict[str, Any] | Non
     world = getattr(robot.emulator, "world", None)
     if world is None:
         return None
+    from ego.camera.encode import encode_png  # OpenCV: imported only for an emulated world
+
     arena = world.arena
     half_x = float(arena.half_size_m)
     half_y = float(getattr(arena, "half_y_m", None) or half_x)

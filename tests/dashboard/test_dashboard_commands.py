@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import asyncio
 import json
 import re
 import select
@@ -12,6 +11,7 @@ from pathlib import Path
 from typing import IO, Any
 
 import aiohttp
+from dashboard_support import run_async
 from helpers import ego_command
 
 LOGGER = Path(__file__).parents[1] / "faces" / "controllers" / "sensor_logger.py"
@@ -51,7 +51,7 @@ def _visit_during(command: list[str], cwd: Path, stream: str) -> tuple[Any, str]
                             stderr=subprocess.PIPE, text=True, cwd=cwd)  # fmt: skip
     try:
         url = _url_from(proc.stdout if stream == "stdout" else proc.stderr)  # type: ignore[arg-type]
-        seen = asyncio.run(asyncio.wait_for(_visit(url), 20))
+        seen = run_async(_visit(url))
     finally:
         out, err = proc.communicate(timeout=60)
     assert proc.returncode == 0, err

@@ -11,7 +11,7 @@ from typing import Any
 
 import aiohttp
 import pytest
-from dashboard_support import served_robot
+from dashboard_support import run_async, served_robot
 from helpers import wait_until
 
 import ego
@@ -29,7 +29,7 @@ def _ws_url(url: str, token: str | None = None) -> str:
 
 
 def _run(coroutine: Any) -> Any:
-    return asyncio.run(asyncio.wait_for(coroutine, 20))
+    return run_async(coroutine)
 
 
 def _idle(robot: ego.Robot) -> None:

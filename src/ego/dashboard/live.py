@@ -13,7 +13,6 @@ import logging
 import sys
 from typing import TYPE_CHECKING, Any, TextIO
 
-from ego.camera.encode import encode_jpeg
 from ego.dashboard.control import ControlDesk, KeySink, Reply
 from ego.dashboard.server import DashboardServer
 from ego.telemetry import Telemetry, describe_robot, describe_world
@@ -21,11 +20,10 @@ from ego.telemetry import Telemetry, describe_robot, describe_world
 if TYPE_CHECKING:
     from ego.robot import Robot
 
-__all__ = ["JPEG_QUALITY", "RobotDashboard", "RobotFeed", "parse_address"]
+__all__ = ["RobotDashboard", "RobotFeed", "parse_address"]
 
 log = logging.getLogger(__name__)
 
-JPEG_QUALITY = 80
 DEFAULT_PORT = 8765
 
 
@@ -87,7 +85,7 @@ class RobotFeed:
         fresh = camera is not None and camera.sampling_period and camera.frame_count != self._frames
         if camera is not None and fresh and server.wants_image():
             self._frames = camera.frame_count
-            server.publish_image(encode_jpeg(camera.image, JPEG_QUALITY))
+            server.publish_frame(camera.image.copy())
 
 
 class RobotDashboard:

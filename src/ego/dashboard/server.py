@@ -26,12 +26,13 @@ from aiohttp import WSMsgType, web
 from ego.dashboard.access import check_binding, dashboard_token, same_origin, token_matches
 from ego.dashboard.control import Reply
 
-__all__ = ["IMAGE_HZ", "SAMPLE_HZ", "DashboardServer", "Feed"]
+__all__ = ["IMAGE_HZ", "JPEG_QUALITY", "SAMPLE_HZ", "DashboardServer", "Feed"]
 
 log = logging.getLogger(__name__)
 
 SAMPLE_HZ = 25
 IMAGE_HZ = 10
+JPEG_QUALITY = 80
 _STATIC = ("index.html", "app.js", "style.css")
 _TYPES = {".html": "text/html", ".js": "text/javascript", ".css": "text/css"}
 
@@ -64,8 +65,9 @@ class DashboardServer:
         self._port = port
         self._clients: dict[int, web.WebSocketResponse] = {}
         self._ids = itertools.count(1)
-        self._sample: str | None = None
+        self._sample: dict[str, Any] | None = None
         self._image: bytes | None = None
+        self._frame: Any = None
         self._sent_sample = self._sent_image = 0.0
         self._loop: asyncio.AbstractEventLoop | None = None
         self._runner: web.AppRunner | None = None
@@ -165,7 +167,7 @@ class DashboardServer:
         if not self._clients or (not force and now - self._sent_sample < 1.0 / SAMPLE_HZ):
             return
         self._sent_sample = now
-        self._sample = json.dumps({"type": "sample", **sample})
+        self._sample = sample  # encoded on the server's thread, not the robot's
         self._poke()
 
     def wants_image(self) -> bool:
@@ -173,8 +175,15 @@ class DashboardServer:
         return bool(self._clients) and time.monotonic() - self._sent_image >= 1.0 / IMAGE_HZ
 
     def publish_image(self, jpeg: bytes) -> None:
+        """A camera frame already JPEG (a recording's)."""
         self._sent_image = time.monotonic()
         self._image = jpeg
+        self._poke()
+
+    def publish_frame(self, rgb: Any) -> None:
+        """A camera frame, RGB888 (the caller's copy): JPEG-encoded on the server's thread."""
+        self._sent_image = time.monotonic()
+        self._frame = rgb
         self._poke()
 
     def broadcast_state(self) -> None:
@@ -197,10 +206,16 @@ class DashboardServer:
             self._wake.clear()
             sample, self._sample = self._sample, None
             image, self._image = self._image, None
+            frame, self._frame = self._frame, None
+            text = json.dumps({"type": "sample", **sample}) if sample is not None else None
+            if frame is not None:
+                from ego.camera.encode import encode_jpeg  # loaded by the camera in use
+
+                image = encode_jpeg(frame, JPEG_QUALITY)
             for client, ws in list(self._clients.items()):
                 with contextlib.suppress(ConnectionError, RuntimeError):
-                    if sample is not None:
-                        await ws.send_str(sample)
+                    if text is not None:
+                        await ws.send_str(text)
                     if image is not None:
                         await ws.send_bytes(image)
                     await ws.send_json(self.feed.state(client))

@@ -25,6 +25,7 @@ from mcap.writer import Writer
 
 from ego import __version__
 from ego.camera.encode import encode_jpeg
+from ego.channel import TappedChannel
 from ego.errors import EgoError
 from ego.recording.schemas import CHANNELS, log_message, pose_message, schema_bytes, stamp
 from ego.telemetry import Telemetry, describe_robot, describe_world
@@ -168,8 +169,11 @@ class Recorder:
         if self._closed:
             return
         self._closed = True
-        if self._robot is not None:
-            self._robot.remove_step_hooks(self._step)
+        robot = self._robot
+        if robot is not None:
+            robot.remove_step_hooks(self._step)
+            if isinstance(robot.link, TappedChannel) and robot.link.tap == self._exchange:
+                robot.link = robot.link.inner  # the robot runs on without the tap
         self._queue.put(None)
         if self._writer is not None:
             self._writer.join(30)
