@@ -23,8 +23,19 @@ from ego.odometry import Odometry, Pose2D
 
 if TYPE_CHECKING:
     from ego.robot import Robot
+    from ego.serial.firmware import FirmwareInfo
+    from ego.serial.link import LinkStats
 
-__all__ = ["SENSOR_FAMILIES", "Telemetry", "describe_robot", "describe_world", "true_pose"]
+__all__ = [
+    "SENSOR_FAMILIES",
+    "Sampler",
+    "Telemetry",
+    "describe_firmware",
+    "describe_robot",
+    "describe_world",
+    "true_pose",
+    "world_pose",
+]
 
 #: The families a sample holds, by Robot attribute, in the order the dashboard lists them.
 SENSOR_FAMILIES = ("proximity", "light", "floor", "accelerometer", "encoders", "microphones")
@@ -49,57 +60,52 @@ def _accelerometer(robot: Robot) -> list[float] | None:
         return None
 
 
-def true_pose(robot: Robot) -> list[float] | None:
-    """The emulator's ground-truth pose [x m, y m, theta rad]; None on a real robot."""
-    world = getattr(robot.emulator, "world", None)
+def world_pose(world: Any) -> list[float] | None:
+    """An emulated world's ground-truth pose [x m, y m, theta rad]; None without one."""
     if world is None:
         return None
     pose = world.snapshot()
     return [round(pose.x_m, 5), round(pose.y_m, 5), round(pose.theta_rad, 5)]
 
 
-class Telemetry:
-    """Samples one robot step after step (call :meth:`sample` after each step)."""
+def true_pose(robot: Robot) -> list[float] | None:
+    """The emulator's ground-truth pose of ``robot``; None on a real robot."""
+    return world_pose(getattr(robot.emulator, "world", None))
 
-    def __init__(self, robot: Robot) -> None:
-        self.robot = robot
-        start = true_pose(robot)
+
+class Sampler:
+    """One step's readings as a sample (the keys above), with the odometry kept across
+    steps: from the encoders when they were read, else from the wheel speeds asked."""
+
+    def __init__(self, start: list[float] | None = None) -> None:
         self.odometry = Odometry(Pose2D(*start) if start is not None else None)
         self._last_wall = time.monotonic()
-        self._last_time_s = robot.time_s
 
-    def sample(self) -> dict[str, Any]:
-        """The robot's state after its last step, as JSON-ready values."""
-        robot = self.robot
+    def sample(
+        self, *, t_s: float, step: int, step_ms: float, overruns: int | None,
+        readings: dict[str, list[float] | None], speed: list[int], leds: list[int],
+        battery: int | None, truth: list[float] | None, stats: LinkStats,
+    ) -> dict[str, Any]:  # fmt: skip
         now = time.monotonic()
         wall_ms, self._last_wall = (now - self._last_wall) * 1000.0, now
-        step_ms = (robot.time_s - self._last_time_s) * 1000.0
-        self._last_time_s = robot.time_s
-        encoders = _values(robot.encoders)
-        speed = list(robot.motors.speed)
+        encoders = readings.get("encoders")
         if encoders is not None:
             pose = self.odometry.from_counts(int(encoders[0]), int(encoders[1]))
         else:
             pose = self.odometry.from_speeds(speed[0], speed[1], step_ms / 1000.0)
-        stats = robot.link.stats
         return {
-            "t": round(robot.time_s, 4),
-            "step": robot.steps,
+            "t": round(t_s, 4),
+            "step": step,
             "step_ms": round(step_ms, 3),
             "wall_ms": round(wall_ms, 3),
-            "overruns": robot.overruns,
-            "proximity": _values(robot.proximity),
-            "light": _values(robot.light),
-            "floor": _values(robot.floor),
-            "accelerometer": _accelerometer(robot),
-            "encoders": encoders,
-            "microphones": _values(robot.microphones),
+            "overruns": overruns,
+            **{family: readings.get(family) for family in SENSOR_FAMILIES},
             "speed": speed,
-            "leds": [int(v) for v in robot.leds.values],
-            "battery": _battery(robot),
+            "leds": leds,
+            "battery": battery,
             "odometry": [round(pose.x_m, 5), round(pose.y_m, 5), round(pose.theta_rad, 5)],
             "odometry_source": "encoders" if encoders is not None else "speeds",
-            "truth": true_pose(robot),
+            "truth": truth,
             "link": {
                 "batches": stats.batches,
                 "retries": stats.retries,
@@ -107,6 +113,46 @@ class Telemetry:
                 "restarts": stats.restarts,
             },
         }
+
+
+class Telemetry:
+    """Samples one robot step after step: :meth:`sample` after a step, or :meth:`track`
+    when no sample is wanted (the odometry still follows every step)."""
+
+    def __init__(self, robot: Robot) -> None:
+        self.robot = robot
+        self.sampler = Sampler(true_pose(robot))
+        self._last_time_s = robot.time_s
+
+    def track(self) -> None:
+        """Follow the step in the odometry only (cheap: no sample is made)."""
+        robot = self.robot
+        step_ms = (robot.time_s - self._last_time_s) * 1000.0
+        self._last_time_s = robot.time_s
+        encoders = robot.encoders
+        if encoders.has_values:
+            self.sampler.odometry.from_counts(*encoders.values)
+        else:
+            left, right = robot.motors.speed
+            self.sampler.odometry.from_speeds(left, right, step_ms / 1000.0)
+
+    def sample(self) -> dict[str, Any]:
+        """The robot's state after its last step, as JSON-ready values."""
+        robot = self.robot
+        step_ms = (robot.time_s - self._last_time_s) * 1000.0
+        self._last_time_s = robot.time_s
+        readings = {
+            family: _values(getattr(robot, family))
+            for family in SENSOR_FAMILIES
+            if family != "accelerometer"
+        }
+        readings["accelerometer"] = _accelerometer(robot)
+        return self.sampler.sample(
+            t_s=robot.time_s, step=robot.steps, step_ms=step_ms, overruns=robot.overruns,
+            readings=readings, speed=list(robot.motors.speed),
+            leds=[int(v) for v in robot.leds.values], battery=_battery(robot),
+            truth=true_pose(robot), stats=robot.link.stats,
+        )  # fmt: skip
 
 
 def _battery(robot: Robot) -> int | None:
@@ -118,23 +164,32 @@ def _battery(robot: Robot) -> int | None:
 
 def describe_robot(robot: Robot) -> dict[str, Any]:
     """What does not change during a run: the robot's port, firmware and devices."""
-    info = robot.link.info
+    return describe_firmware(
+        robot.link.info, robot.port, remote=robot.remote,
+        proximity_count=len(robot.proximity.member_names), led_count=len(robot.leds.values),
+        families=[f for f in SENSOR_FAMILIES if getattr(robot, f).member_names],
+    )  # fmt: skip
+
+
+def describe_firmware(
+    info: FirmwareInfo, port: str, *, remote: bool, proximity_count: int, led_count: int,
+    families: list[str],
+) -> dict[str, Any]:  # fmt: skip
     return {
-        "port": robot.port,
+        "port": port,
         "firmware": info.firmware.value,
         "version": info.version,
-        "profile": robot.link.profile.description,
-        "remote": robot.remote,
-        "proximity_count": len(robot.proximity.member_names),
-        "led_count": len(robot.leds.values),
-        "families": [f for f in SENSOR_FAMILIES if getattr(robot, f).member_names],
+        "profile": info.profile.description,
+        "remote": remote,
+        "proximity_count": proximity_count,
+        "led_count": led_count,
+        "families": families,
     }
 
 
-def describe_world(robot: Robot, floor_cells: int = 160) -> dict[str, Any] | None:
-    """The emulator's world for drawing, or None on a real robot: arena half extents,
-    boxes, lamp, and the floor as a grey image (``floor_cells`` across) of reflectance."""
-    world = getattr(robot.emulator, "world", None)
+def describe_world(world: Any, floor_cells: int = 160) -> dict[str, Any] | None:
+    """An emulated world for drawing (None: a real robot's, there is none): arena half
+    extents, boxes, lamp, and the floor as a grey image ``floor_cells`` across."""
     if world is None:
         return None
     from ego.camera.encode import encode_png  # OpenCV: imported only for an emulated world
@@ -165,5 +220,5 @@ def describe_world(robot: Robot, floor_cells: int = 160) -> dict[str, Any] | Non
         "boxes": boxes,
         "lamp": [float(lamp.x_m), float(lamp.y_m)],
         "floor_png": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
-        "start": true_pose(robot),
+        "start": world_pose(world),
     }

@@ -31,7 +31,9 @@ def _url_from(stream: IO[str], timeout_s: float = 20) -> str:
     raise AssertionError(f"no dashboard URL in {seen}")
 
 
-async def _visit(url: str) -> tuple[int, dict[str, Any], list[dict[str, Any]]]:
+async def _visit(url: str) -> tuple[int, dict[str, Any], list[dict[str, Any]], int]:
+    """The page's status, and over the socket: the hello, three samples, and how many
+    camera frames (JPEG) came meanwhile."""
     async with aiohttp.ClientSession() as session:
         async with session.get(url) as page:
             status = page.status
@@ -39,11 +41,16 @@ async def _visit(url: str) -> tuple[int, dict[str, Any], list[dict[str, Any]]]:
         async with session.ws_connect(ws_url) as ws:
             hello = await ws.receive_json()
             samples: list[dict[str, Any]] = []
+            frames = 0
             while len(samples) < 3:
-                message = json.loads((await ws.receive()).data)
+                received = await ws.receive()
+                if received.type == aiohttp.WSMsgType.BINARY:
+                    frames += received.data[:2] == b"\xff\xd8"  # a JPEG's start
+                    continue
+                message = json.loads(received.data)
                 if message["type"] == "sample":
                     samples.append(message)
-    return status, hello, samples
+    return status, hello, samples, frames
 
 
 def _visit_during(command: list[str], cwd: Path, stream: str) -> tuple[Any, str]:
@@ -59,17 +66,18 @@ def _visit_during(command: list[str], cwd: Path, stream: str) -> tuple[Any, str]
 
 
 def test_ego_demo_serves_its_dashboard_by_default_and_prints_the_url(tmp_path: Path) -> None:
-    (status, hello, samples), out = _visit_during(
+    (status, hello, samples, frames), out = _visit_during(
         ["demo", "--duration", "4", "--dashboard", "127.0.0.1:0"], tmp_path, "stdout"
     )
     assert status == 200
     assert hello["mode"] == "live" and hello["world"] is not None
-    assert samples[-1]["proximity"] is not None
+    assert samples[-1]["proximity"] is not None and samples[-1]["light"] is not None
+    assert frames >= 1  # the demo's controller samples its camera: the page shows it
     assert "summary:" in out
 
 
 def test_ego_run_dashboard_and_record_together(tmp_path: Path) -> None:
-    (status, hello, samples), _ = _visit_during(
+    (status, hello, samples, _), _ = _visit_during(
         ["run", "--port", "sim", "--duration", "3", "--dashboard", "127.0.0.1:0", "--record",
          "run.mcap", str(LOGGER), "log.json"], tmp_path, "stderr",
     )  # fmt: skip
@@ -84,7 +92,7 @@ def test_ego_replay_plays_a_recording_into_the_dashboard(tmp_path: Path) -> None
          str(LOGGER), "log.json"], capture_output=True, text=True, cwd=tmp_path, timeout=60,
     )  # fmt: skip
     assert recorded.returncode == 0, recorded.stderr
-    (status, hello, samples), _ = _visit_during(
+    (status, hello, samples, _), _ = _visit_during(
         ["replay", "run.mcap", "--duration", "4", "--dashboard", "127.0.0.1:0"], tmp_path,
         "stderr",
     )  # fmt: skip

@@ -87,8 +87,13 @@ class ControlDesk:
         self,
         key_sink: KeySink | None = None,
         clock: Callable[[], float] = time.monotonic,
+        *,
+        can_act: bool = True,
     ) -> None:
+        """``can_act`` False: the page may only stop and resume (``ego serve``'s: the
+        controller runs on a PC, and its robot's devices are its own)."""
         self.key_sink = key_sink
+        self.can_act = can_act
         self._clock = clock
         self._lock = threading.Lock()
         self.holder: object | None = None
@@ -135,6 +140,9 @@ class ControlDesk:
                 return _error(f"unknown command type {kind!r}")
             if client != self.holder:
                 return _error(f"{kind!r} refused: this page only views (take control first)")
+            if not self.can_act and kind in ("drive", "key", "led", "sensor"):
+                return _error(f"{kind!r} refused: the controller runs on the PC that drives "
+                              "ego serve; this page can stop and resume the robot")  # fmt: skip
             if kind == "release":
                 self.holder, self._drive = None, None
                 return Reply()

@@ -55,7 +55,7 @@ class RobotFeed:
         self.server: DashboardServer | None = None
         self._frames = -1
         self._hello = {"mode": "live", "robot": describe_robot(robot),
-                       "world": describe_world(robot)}  # fmt: skip
+                       "world": describe_world(getattr(robot.emulator, "world", None))}  # fmt: skip
 
     def hello(self) -> dict[str, Any]:
         return self._hello
@@ -73,17 +73,19 @@ class RobotFeed:
         self.robot.send_stop()
 
     def on_step(self, robot: Robot) -> None:
-        """After each step: sample it, and hand the newest sample and frame to the pages."""
-        sample = self.telemetry.sample()
-        if sample["step_ms"] > 0:
-            self.desk.period_ms = max(1, round(sample["step_ms"]))
+        """After each step: hand the newest sample and frame to the pages, when they would
+        be sent (25 and 10 a second at most); otherwise only follow the odometry."""
         server = self.server
-        if server is None:
-            return
-        server.publish(sample)
+        if server is None or not server.wants_sample():
+            self.telemetry.track()
+        else:
+            sample = self.telemetry.sample()
+            self.desk.period_ms = max(1, round(sample["step_ms"] or 64))
+            server.publish(sample)
         camera = robot.open_camera
-        fresh = camera is not None and camera.sampling_period and camera.frame_count != self._frames
-        if camera is not None and fresh and server.wants_image():
+        if server is None or camera is None or not camera.sampling_period:
+            return
+        if camera.frame_count != self._frames and server.wants_image():
             self._frames = camera.frame_count
             server.publish_frame(camera.image.copy())
 

@@ -160,6 +160,10 @@ class DashboardServer:
 
     # -- from the robot's thread -----------------------------------------------------------
 
+    def wants_sample(self) -> bool:
+        """Whether a sample now would be sent (so that it is only made then)."""
+        return bool(self._clients) and time.monotonic() - self._sent_sample >= 1.0 / SAMPLE_HZ
+
     def publish(self, sample: dict[str, Any], force: bool = False) -> None:
         """The newest sample; sent to the pages at most SAMPLE_HZ times a second (unless
         ``force``: a replay's seek must show where it landed)."""

@@ -18,7 +18,7 @@ import signal
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ego.backends import open_port
 from ego.channel import Channel
@@ -86,6 +86,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="stop the motors when the client is silent this long (default: %(default)s)",
     )
     parser.add_argument(
+        "--dashboard",
+        nargs="?",
+        const="127.0.0.1:8765",
+        default=None,
+        metavar="HOST:PORT",
+        help="serve a dashboard of the robot as the client drives it, with a stop button "
+        "(default address 127.0.0.1:8765; off loopback it needs --secret-file)",
+    )
+    parser.add_argument(
         "--camera",
         metavar="DEVICE",
         default=None,
@@ -101,6 +110,8 @@ class ServedRobot:
     channel: Channel
     camera: FrameSource | None = None
     closers: list[Callable[[], None]] = field(default_factory=list)
+    #: The emulated world behind a simulated robot (its ground truth), else None.
+    world: Any = None
 
     def close(self) -> None:
         for close in self.closers:
@@ -117,7 +128,8 @@ def open_robot(port: str | None, firmware: str = "auto", camera: str | None = No
     # V4L2 devices, and says so when given one).
     options = {"camera_device": camera} if camera not in (None, "none") else {}
     opened = open_port(resolved, firmware=Firmware.choose(firmware), **options)
-    robot = ServedRobot(opened.channel, closers=[opened.close])
+    world = getattr(opened.ground_truth, "world", None)
+    robot = ServedRobot(opened.channel, closers=[opened.close], world=world)
     device = camera or os.environ.get("EGO_CAMERA")
     # Serve the backend's camera: a simulated one always, a V4L2 device when named or
     # present (a robot without its camera board serves none rather than fail).
@@ -146,8 +158,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"ego serve: {exc}", file=sys.stderr)
         return 1
     try:
+        channel = _dashboard(args, robot, secret) if args.dashboard else robot.channel
         server = Server(
-            robot.channel,
+            channel,
             listen=listen,
             secret=secret,
             deadline_s=args.deadline_ms / 1000,
@@ -163,6 +176,22 @@ def run(args: argparse.Namespace) -> int:
     finally:
         robot.close()
     return 0
+
+
+def _dashboard(args: argparse.Namespace, robot: ServedRobot, secret: bytes | None) -> Channel:
+    """Start ``--dashboard`` on the served robot; the channel the server must use."""
+    from ego.dashboard.live import parse_address
+    from ego.dashboard.served import ServedFeed, WatchedChannel
+    from ego.dashboard.server import DashboardServer
+
+    watched = WatchedChannel(robot.channel, world=robot.world)
+    feed = ServedFeed(watched, str(args.port or "default port"))
+    host, port = parse_address(args.dashboard)
+    board = DashboardServer(feed, host, port, secret).start()
+    feed.server = board
+    robot.closers.insert(0, board.close)
+    print(f"ego serve: dashboard at {board.url}", file=sys.stderr, flush=True)
+    return watched
 
 
 async def _serve(server: Server) -> None:

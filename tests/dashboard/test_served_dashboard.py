@@ -1,0 +1,107 @@
+"""``ego serve --dashboard``: the page sees what the PC's controller reads and asks, and
+its stop holds the robot whatever the controller keeps sending."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import ExitStack
+from typing import Any
+
+import aiohttp
+import pytest
+from dashboard_support import run_async
+from fakes import FAST_LINK
+from helpers import wait_until
+
+import ego
+from ego.dashboard.served import ServedFeed, WatchedChannel
+from ego.dashboard.server import DashboardServer
+from ego.remote.server import Server, ServerThread
+from ego.serial.link import Link
+from ego.serial.transport import SerialTransport
+from firmware_sim import Emulator
+
+
+@pytest.fixture
+def served() -> Iterator[tuple[Emulator, DashboardServer, list[tuple[int, int]]]]:
+    """An emulator served over TCP with a dashboard, and a client robot driving it at the
+    speeds in the returned list's first item."""
+    with ExitStack() as stack:
+        emu = stack.enter_context(Emulator("webots", seed=1))
+        link = Link(SerialTransport(emu.path), settings=FAST_LINK)
+        stack.callback(link.close)
+        watched = WatchedChannel(link, world=emu.world)
+        feed = ServedFeed(watched, emu.path)
+        board = stack.enter_context(DashboardServer(feed, "127.0.0.1", 0))
+        feed.server = board
+        thread = stack.enter_context(ServerThread(Server(watched, listen=["tcp://127.0.0.1:0"])))
+        speeds = [(500, 500)]
+        stop = threading.Event()
+
+        def controller() -> None:
+            with ego.Robot(thread.url) as robot:
+                robot.proximity.enable(32)
+                while not stop.is_set() and robot.step(32) != -1:
+                    robot.motors.set_speed(*speeds[0])
+
+        client = threading.Thread(target=controller, daemon=True)
+        client.start()
+        stack.callback(client.join, 10)
+        stack.callback(stop.set)
+        assert wait_until(lambda: emu.world.speeds == (500, 500), 5)
+        yield emu, board, speeds
+
+
+async def _page(board: DashboardServer, script: list[dict[str, Any]]) -> dict[str, Any]:
+    """Open the page's socket, read the hello and a sample, send ``script``; what came."""
+    seen: dict[str, Any] = {"errors": []}
+    ws_url = board.url.replace("http://", "ws://") + "ws"
+    async with aiohttp.ClientSession() as session, session.ws_connect(ws_url) as ws:
+        seen["hello"] = await ws.receive_json()
+        while "sample" not in seen:
+            message = json.loads((await ws.receive()).data)
+            if message["type"] == "sample" and message["proximity"] is not None:
+                seen["sample"] = message
+        for command in script:
+            await ws.send_json(command)
+        end = time.monotonic() + 0.5
+        while time.monotonic() < end:
+            try:
+                received = await ws.receive(timeout=0.1)
+            except asyncio.TimeoutError:
+                continue
+            message = json.loads(received.data)
+            if message["type"] == "error":
+                seen["errors"].append(message["error"])
+    return seen
+
+
+def test_the_page_sees_what_the_pcs_controller_reads_and_asks(served: Any) -> None:
+    emu, board, _ = served
+    seen = run_async(_page(board, []))
+    assert seen["hello"]["mode"] == "served"
+    assert seen["hello"]["robot"]["proximity_count"] == 8
+    assert seen["hello"]["world"] is not None
+    sample = seen["sample"]
+    assert sample["speed"] == [500, 500] and len(sample["proximity"]) == 8
+    assert sample["truth"][0] == pytest.approx(emu.world.snapshot().x_m, abs=0.05)
+
+
+def test_its_stop_holds_the_robot_while_the_controller_keeps_driving(served: Any) -> None:
+    emu, board, speeds = served
+    seen = run_async(_page(board, [
+        {"type": "take"},
+        {"type": "drive", "left": 100, "right": 100},
+        {"type": "stop"},
+    ]))  # fmt: skip
+    assert any("controller runs on the PC" in e for e in seen["errors"])
+    assert wait_until(lambda: emu.world.speeds == (0, 0), 0.5)
+    time.sleep(0.4)  # the PC still sends 500 every step
+    assert emu.world.speeds == (0, 0)
+    run_async(_page(board, [{"type": "take"}, {"type": "resume"}]))
+    assert wait_until(lambda: emu.world.speeds == tuple(speeds[0]), 2)
+
