@@ -36,7 +36,6 @@ def main(argv: list[str]) -> int:
             browser = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
             page = browser.new_page(viewport={"width": 1280, "height": 900})
             page.goto(url)
-            page.check("#sensor-camera") if False else None
             time.sleep(12)  # a path on the map, and ten seconds of plot
             page.screenshot(path=str(out), full_page=True)
             browser.close()

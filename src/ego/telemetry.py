@@ -79,15 +79,13 @@ class Sampler:
 
     def __init__(self, start: list[float] | None = None) -> None:
         self.odometry = Odometry(Pose2D(*start) if start is not None else None)
-        self._last_wall = time.monotonic()
 
     def sample(
-        self, *, t_s: float, step: int, step_ms: float, overruns: int | None,
+        self, *, t_s: float, step: int, step_ms: float, wall_ms: float, overruns: int | None,
         readings: dict[str, list[float] | None], speed: list[int], leds: list[int],
         battery: int | None, truth: list[float] | None, stats: LinkStats,
+        camera: list[int] | None = None,
     ) -> dict[str, Any]:  # fmt: skip
-        now = time.monotonic()
-        wall_ms, self._last_wall = (now - self._last_wall) * 1000.0, now
         encoders = readings.get("encoders")
         if encoders is not None:
             pose = self.odometry.from_counts(int(encoders[0]), int(encoders[1]))
@@ -106,6 +104,7 @@ class Sampler:
             "odometry": [round(pose.x_m, 5), round(pose.y_m, 5), round(pose.theta_rad, 5)],
             "odometry_source": "encoders" if encoders is not None else "speeds",
             "truth": truth,
+            "camera": camera,
             "link": {
                 "batches": stats.batches,
                 "retries": stats.retries,
@@ -123,12 +122,19 @@ class Telemetry:
         self.robot = robot
         self.sampler = Sampler(true_pose(robot))
         self._last_time_s = robot.time_s
+        self._last_wall = time.monotonic()
+
+    def _step_times(self) -> tuple[float, float]:
+        """The last step's length in controller time and in wall time (ms)."""
+        now, t = time.monotonic(), self.robot.time_s
+        step_ms, wall_ms = (t - self._last_time_s) * 1000.0, (now - self._last_wall) * 1000.0
+        self._last_time_s, self._last_wall = t, now
+        return step_ms, wall_ms
 
     def track(self) -> None:
         """Follow the step in the odometry only (cheap: no sample is made)."""
         robot = self.robot
-        step_ms = (robot.time_s - self._last_time_s) * 1000.0
-        self._last_time_s = robot.time_s
+        step_ms, _ = self._step_times()
         encoders = robot.encoders
         if encoders.has_values:
             self.sampler.odometry.from_counts(*encoders.values)
@@ -139,16 +145,18 @@ class Telemetry:
     def sample(self) -> dict[str, Any]:
         """The robot's state after its last step, as JSON-ready values."""
         robot = self.robot
-        step_ms = (robot.time_s - self._last_time_s) * 1000.0
-        self._last_time_s = robot.time_s
+        step_ms, wall_ms = self._step_times()
         readings = {
             family: _values(getattr(robot, family))
             for family in SENSOR_FAMILIES
             if family != "accelerometer"
         }
         readings["accelerometer"] = _accelerometer(robot)
+        camera = robot.open_camera
+        size = [camera.width, camera.height] if camera and camera.sampling_period else None
         return self.sampler.sample(
-            t_s=robot.time_s, step=robot.steps, step_ms=step_ms, overruns=robot.overruns,
+            t_s=robot.time_s, step=robot.steps, step_ms=step_ms, wall_ms=wall_ms,
+            overruns=robot.overruns, camera=size,
             readings=readings, speed=list(robot.motors.speed),
             leds=[int(v) for v in robot.leds.values], battery=_battery(robot),
             truth=true_pose(robot), stats=robot.link.stats,

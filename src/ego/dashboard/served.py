@@ -133,7 +133,8 @@ class WatchedChannel:
         self._steps += 1
         if self.on_sample is not None:
             self.on_sample(self._sampler.sample(
-                t_s=now - self._started, step=self._steps, step_ms=step_ms, overruns=None,
+                t_s=now - self._started, step=self._steps, step_ms=step_ms, wall_ms=step_ms,
+                overruns=None,
                 readings=dict(self._readings), speed=list(self._speed), leds=list(self._leds),
                 battery=self._battery, truth=world_pose(self.world), stats=self.inner.stats,
             ))  # fmt: skip

@@ -283,7 +283,7 @@ function drawPanels(sample) {
   const hello = view.hello || { robot: {} };
   $("h-time").textContent = `${sample.t.toFixed(2)} s`;
   $("h-step").textContent = `${sample.wall_ms.toFixed(1)} ms (asked ${sample.step_ms.toFixed(0)})`;
-  $("h-overruns").textContent = sample.overruns;
+  $("h-overruns").textContent = sample.overruns === null ? "–" : sample.overruns;
   $("h-faults").textContent = `${sample.link.retries} / ${sample.link.resyncs}`;
   $("h-restarts").textContent = sample.link.restarts;
   $("h-battery").textContent = sample.battery === null ? "not served" : sample.battery;
@@ -292,7 +292,7 @@ function drawPanels(sample) {
   $("encoders").textContent = sample.encoders ? sample.encoders.join("  ") : "off";
   const mics = $("mics");
   const values = sample.microphones || [];
-  if (mics.children.length !== values.length) {
+  if (mics.querySelectorAll("div").length !== values.length || !mics.firstChild) {
     mics.replaceChildren(...values.map((_, i) => {
       const row = document.createElement("div");
       row.innerHTML = `<span>mic${i}</span><span class="bar"><i></i></span><span class="mono"></span>`;
@@ -306,9 +306,10 @@ function drawPanels(sample) {
     row.querySelector(".mono").textContent = v;
   });
   for (const input of document.querySelectorAll("#sensor-toggles input")) {
-    if (input.dataset.family === "camera" || document.activeElement === input) continue;
+    if (document.activeElement === input) continue;
     input.checked = sample[input.dataset.family] !== null && sample[input.dataset.family] !== undefined;
   }
+  if (!sample.camera) { $("camera").hidden = true; $("camera-off").hidden = false; }
   for (const input of document.querySelectorAll("#led-toggles input")) {
     if (document.activeElement !== input) input.checked = !!(sample.leds || [])[Number(input.dataset.index)];
   }
