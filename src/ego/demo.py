@@ -10,6 +10,7 @@ from importlib import resources
 from typing import TextIO
 
 from ego import runtime
+from ego.controller.devices import WEBOTS_CAMERA_SIZE
 from ego.observers import observe_run
 from ego.ports import default_baud
 from ego.robot import Robot
@@ -19,6 +20,8 @@ from ego.serial.protocol import Firmware
 __all__ = ["DemoReport", "run_demo"]
 
 _BARS = " ▁▂▃▄▅▆▇█"
+#: How often the demo's camera takes a frame for the dashboard (ms).
+CAMERA_PERIOD_MS = 64
 
 
 def _bar(value: int) -> str:
@@ -41,7 +44,11 @@ class DemoReport:
 class _Progress:
     """Prints the sensor ring and wheel speeds a few times a second."""
 
-    def __init__(self, out: TextIO, report: DemoReport, every_s: float = 0.25) -> None:
+    def __init__(
+        self, out: TextIO, report: DemoReport, every_s: float = 0.25,
+        camera_size: tuple[int, int] | None = None,
+    ) -> None:  # fmt: skip
+        self.camera_size = camera_size
         self.out = out
         self.report = report
         self.every_s = every_s
@@ -51,6 +58,9 @@ class _Progress:
     def attach(self, robot: Robot) -> None:
         self.report.robots.append(robot)
         robot.add_step_listener(self.on_step)
+        if self.camera_size is not None:  # for the dashboard: the emulator's camera
+            robot.camera.set_size(*self.camera_size)
+            robot.camera.enable(CAMERA_PERIOD_MS)
 
     def on_step(self, robot: Robot) -> None:
         if robot.time_s < self.next_s:
@@ -82,7 +92,8 @@ def run_demo(
     """Run the bundled obstacle-avoidance controller on the built-in emulator, with a
     live dashboard at ``dashboard`` (HOST:PORT) and a recording to ``record`` if asked."""
     report = DemoReport()
-    progress = _Progress(out, report)
+    # With a dashboard, the emulated camera is shown at Webots' e-puck size.
+    progress = _Progress(out, report, camera_size=WEBOTS_CAMERA_SIZE if dashboard else None)
     options = runtime.RunOptions(
         port="sim",
         firmware=firmware,

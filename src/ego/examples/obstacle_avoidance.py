@@ -1,8 +1,8 @@
 """Obstacle avoidance for the e-puck, written for Webots' Python API (runs unchanged under ego).
 
 A Braitenberg vehicle: each proximity sensor pushes the wheels away from what it sees,
-and the ring LED nearest an obstacle lights up. The robot's other sensors and its camera
-are sampled too, for whoever watches (ego demo's dashboard).
+and the ring LED nearest an obstacle lights up. The robot's other sensors are sampled
+too, for whoever watches (ego demo's dashboard).
 """
 
 from controller import Robot
@@ -30,7 +30,7 @@ sensors = [robot.getDevice(f"ps{i}") for i in range(8)]
 for sensor in sensors:
     sensor.enable(time_step)
 # Sample the rest of the robot too, more slowly, so that a dashboard (ego demo's) shows it.
-OTHERS = ["accelerometer", "left wheel sensor", "right wheel sensor", "camera"]
+OTHERS = ["accelerometer", "left wheel sensor", "right wheel sensor"]
 for name in OTHERS + [f"ls{i}" for i in range(8)]:
     robot.getDevice(name).enable(2 * time_step)
 leds = [robot.getDevice(f"led{i}") for i in range(8)]
