@@ -12,6 +12,8 @@ scheme        backend
 ``udp``       the same over UDP
 ``sim``       the dsPIC emulator, found through the ``ego.backends`` entry point that
               the ``firmware_sim`` package declares (ego itself never imports it)
+``zenoh``     a robot served as a Zenoh node (``zenoh://NAME``, ``ego serve --zenoh``):
+              :mod:`ego.zenoh_net.channel`
 ``replay``    a run recorded with ``ego run --record`` (``replay://run.mcap``), answering
               a controller as the robot did: :mod:`ego.recording.emulate`
 ============  ==========================================================================
@@ -168,7 +170,14 @@ _REGISTRY: dict[str, Callable[[], Backend]] = {
     "udp": RemoteBackend,
     "unix": RemoteBackend,
     "replay": lambda: _replay_backend(),
+    "zenoh": lambda: _zenoh_backend(),
 }
+
+
+def _zenoh_backend() -> Backend:
+    from ego.zenoh_net.channel import ZenohBackend  # zenoh is imported only for zenoh://
+
+    return ZenohBackend()
 
 
 def _replay_backend() -> Backend:

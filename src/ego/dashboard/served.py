@@ -55,6 +55,8 @@ class WatchedChannel:
         self._leds = [0] * 10
         self._battery: int | None = None
         self._steps = 0
+        #: The emulated world's true pose after the last batch (None on a real robot).
+        self.last_truth: list[float] | None = world_pose(world)
         self._started = time.monotonic()
         self._last = self._started
 
@@ -131,12 +133,13 @@ class WatchedChannel:
         now = time.monotonic()
         step_ms, self._last = (now - self._last) * 1000.0, now
         self._steps += 1
+        self.last_truth = world_pose(self.world)
         if self.on_sample is not None:
             self.on_sample(self._sampler.sample(
                 t_s=now - self._started, step=self._steps, step_ms=step_ms, wall_ms=step_ms,
                 overruns=None,
                 readings=dict(self._readings), speed=list(self._speed), leds=list(self._leds),
-                battery=self._battery, truth=world_pose(self.world), stats=self.inner.stats,
+                battery=self._battery, truth=self.last_truth, stats=self.inner.stats,
             ))  # fmt: skip
 
     def ascii_command(self, letter: str, lines: int = 1) -> list[str]:

@@ -16,6 +16,7 @@ import logging
 import os
 import signal
 import sys
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -86,6 +87,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="stop the motors when the client is silent this long (default: %(default)s)",
     )
     parser.add_argument(
+        "--zenoh",
+        action="store_true",
+        help="serve the robot as a Zenoh node instead of on --listen: ego/NAME/... "
+        "(docs/zenoh.md); controllers reach it as zenoh://NAME",
+    )
+    parser.add_argument("--name", default="epuck", help="the robot's Zenoh name (default epuck)")
+    parser.add_argument(
+        "--zenoh-listen",
+        action="append",
+        metavar="ENDPOINT",
+        help="Zenoh endpoint to listen on, repeatable (default tcp/127.0.0.1:7447); off "
+        "loopback a --zenoh-config with Zenoh's authentication is required",
+    )
+    parser.add_argument(
+        "--zenoh-connect", action="append", metavar="ENDPOINT",
+        help="Zenoh endpoint (a router, another peer) to connect to, repeatable",
+    )  # fmt: skip
+    parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration")
+    parser.add_argument(
         "--dashboard",
         nargs="?",
         const="127.0.0.1:8765",
@@ -146,6 +166,10 @@ def run(args: argparse.Namespace) -> int:
     if not logging.getLogger().handlers:
         logging.basicConfig(level=logging.INFO, format="%(asctime)s %(levelname)s %(message)s")
     listen = args.listen or [DEFAULT_LISTEN]
+    if args.zenoh and args.listen:
+        print("ego serve: serve over --zenoh or on --listen, not both: one controller holds "
+              "a robot", file=sys.stderr)  # fmt: skip
+        return 2
     try:
         secret = load_secret(args.secret_file) if args.secret_file else None
         check_listen(listen, secret)  # before the robot is touched
@@ -159,6 +183,8 @@ def run(args: argparse.Namespace) -> int:
         return 1
     try:
         channel = _dashboard(args, robot, secret) if args.dashboard else robot.channel
+        if args.zenoh:
+            return _serve_zenoh(args, robot, channel)
         server = Server(
             channel,
             listen=listen,
@@ -192,6 +218,39 @@ def _dashboard(args: argparse.Namespace, robot: ServedRobot, secret: bytes | Non
     robot.closers.insert(0, board.close)
     print(f"ego serve: dashboard at {board.url}", file=sys.stderr, flush=True)
     return watched
+
+
+def _serve_zenoh(args: argparse.Namespace, robot: ServedRobot, channel: Channel) -> int:
+    """Serve the robot as the Zenoh node ``--name`` until a signal ends it."""
+    from ego.zenoh_net.keys import check_name
+    from ego.zenoh_net.node import RobotNode
+    from ego.zenoh_net.sessions import DEFAULT_ENDPOINT, ZenohSettings, open_session
+
+    try:
+        check_name(args.name)
+        settings = ZenohSettings(args.zenoh_listen or [DEFAULT_ENDPOINT], args.zenoh_connect,
+                                 args.zenoh_config)  # fmt: skip
+        session: Any = open_session(settings)
+    except (ValueError, EgoError) as exc:
+        print(f"ego serve: {exc}", file=sys.stderr)
+        return 2
+    node = RobotNode(channel, session, args.name, deadline_s=args.deadline_ms / 1000,
+                     world=robot.world).start()  # fmt: skip
+    print(f"ego serve: {channel.name} ({channel.profile.firmware} firmware) as Zenoh node "
+          f"{args.name} on {', '.join(settings.listen)}", file=sys.stderr, flush=True)  # fmt: skip
+    stop = threading.Event()
+    previous = {}
+    for sig in (signal.SIGINT, *TERMINATING_SIGNALS):
+        with contextlib.suppress(ValueError, OSError):
+            previous[sig] = signal.signal(sig, lambda *_: stop.set())
+    try:
+        stop.wait()
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        node.close()
+        session.close()
+    return 0
 
 
 async def _serve(server: Server) -> None:
