@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import logging
 import secrets
+import threading
 import time
 from typing import TYPE_CHECKING
 
@@ -51,6 +52,8 @@ class ZenohChannel:
         self.id = f"{name}:{secrets.token_hex(8)}"
         self._stats = LinkStats()
         self._last_sent = 0.0
+        self._alive_until = 0.0
+        self._keeper: threading.Thread | None = None
         self._closed = False
         #: The emulated world's true pose the node sent with the last reply, if any.
         self.truth: list[float] | None = None
@@ -109,15 +112,33 @@ class ZenohChannel:
         return text.decode("ascii", "replace").splitlines()
 
     def waiting_until(self, deadline_s: float) -> None:
-        now = time.monotonic()
-        if not self._closed and now - self._last_sent >= KEEPALIVE_EVERY_S:
-            self.session.put(robot_key(self.robot, "keepalive"), b"", attachment=self.id.encode())
-            self._last_sent = now
+        """Keep the robot while its controller waits out a step, and no longer: a thread
+        puts a keepalive every 0.1 s until ``deadline_s``."""
+        self._alive_until = deadline_s
+        if self._keeper is None:
+            self._keeper = threading.Thread(target=self._keep, name="ego-zenoh-keepalive",
+                                            daemon=True)  # fmt: skip
+            self._keeper.start()
+
+    def _keep(self) -> None:
+        key, who = robot_key(self.robot, "keepalive"), self.id.encode()
+        while not self._closed:
+            now = time.monotonic()
+            if now < self._alive_until and now - self._last_sent >= KEEPALIVE_EVERY_S:
+                try:
+                    self.session.put(key, b"", attachment=who)
+                except Exception as exc:  # the session is closing
+                    log.debug("keepalive: %s", exc)
+                    return
+                self._last_sent = now
+            time.sleep(KEEPALIVE_EVERY_S / 4)
 
     def close(self) -> None:
         if self._closed:
             return
         self._closed = True
+        if self._keeper is not None:
+            self._keeper.join(1)
         try:
             self.session.put(robot_key(self.robot, "bye"), b"", attachment=self.id.encode())
         finally:

@@ -1,0 +1,182 @@
+"""A robot as a Zenoh node: a controller drives it through zenoh://, one controller holds
+it, the deadman stops it when its controller vanishes, and malformed or foreign messages
+are refused without harming it. All on loopback."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from helpers import ego_command, wait_until
+from zenoh_support import client_session, free_endpoint, served_node
+
+import ego
+from ego.errors import InsecureSecretError, RobotBusyError
+from ego.remote.connection import error_from_reply
+from ego.serial.protocol import Command, Request, encode_batch
+from ego.zenoh_net.keys import check_name
+from ego.zenoh_net.sessions import ZenohSettings, open_session
+
+
+def test_a_controller_drives_a_robot_served_as_a_zenoh_node() -> None:
+    with served_node("lab/e1") as served:
+        start = served.world.snapshot().x_m
+        with ego.Robot("zenoh://lab/e1", zenoh_connect=[served.endpoint]) as robot:
+            assert robot.link.info.firmware.value == "webots"
+            robot.proximity.enable(32)
+            robot.motors.set_speed(400, 400)
+            for _ in range(20):
+                assert robot.step(32) == 0
+            assert len(robot.proximity.values) == 8
+            assert served.world.speeds == (400, 400)
+        # Closing said bye: the node stopped the robot.
+        assert wait_until(lambda: served.world.speeds == (0, 0), 1.0)
+        assert served.world.snapshot().x_m > start + 0.02
+
+
+def test_the_node_publishes_every_steps_sensors_and_answers_info() -> None:
+    with served_node("e2") as served:
+        session = client_session(served.endpoint)
+        samples: list[dict[str, object]] = []
+        subscriber = session.declare_subscriber(
+            "ego/e2/sensors", lambda s: samples.append(json.loads(s.payload.to_bytes()))
+        )
+        try:
+            info = [json.loads(r.ok.payload.to_bytes()) for r in session.get("ego/e2/info")
+                    if r.ok is not None]  # fmt: skip
+            assert info and info[0]["name"] == "e2" and info[0]["emulated"] is True
+            with ego.Robot("zenoh://e2", zenoh_connect=[served.endpoint]) as robot:
+                robot.light.enable(32)
+                for _ in range(10):
+                    robot.step(32)
+            assert wait_until(lambda: len(samples) >= 10, 2)
+            assert samples[-1]["light"] is not None and samples[-1]["truth"] is not None
+        finally:
+            subscriber.undeclare()
+            session.close()
+
+
+def test_a_second_controller_is_refused_and_the_first_keeps_the_robot() -> None:
+    with served_node("e3") as served:
+        second = ego.Robot("zenoh://e3", zenoh_connect=[served.endpoint])  # opened first
+        try:
+            with ego.Robot("zenoh://e3", zenoh_connect=[served.endpoint]) as first:
+                first.motors.set_speed(300, 300)
+                first.step(32)
+                second.motors.set_speed(-800, -800)
+                with pytest.raises(RobotBusyError, match="driven by another controller"):
+                    second.step(32)
+                assert first.step(32) == 0
+                assert served.world.speeds == (300, 300)
+        finally:
+            second.close()
+        assert served.node.refused.get("busy", 0) >= 1
+
+
+def test_malformed_batches_are_refused_before_they_reach_the_robot() -> None:
+    with served_node("e4") as served:
+        session = client_session(served.endpoint)
+        good = encode_batch([Request(Command.SET_SPEED, (500, 500))], served.node.watched.profile)
+        cases = [
+            (good.tx, None, "controller's id"),
+            (b"\x01\x02\x03garbage", b"me", "not a batch"),
+            (b"", b"me", "a batch of 0 bytes"),
+            (b"\xbc" * 5000, b"me", "a batch of 5000 bytes"),
+            (good.tx, b"x" * 65, "controller's id"),
+        ]
+        try:
+            for payload, attachment, error in cases:
+                replies = list(session.get("ego/e4/exchange", payload=payload,
+                                           attachment=attachment, timeout=2))  # fmt: skip
+                assert len(replies) == 1 and replies[0].err is not None
+                message = str(error_from_reply(replies[0].err.payload.to_bytes(), "node"))
+                assert error in message, message
+            assert served.world.speeds == (0, 0)  # none of them moved the robot
+            assert served.node.lease.holder is None  # nor took it
+        finally:
+            session.close()
+
+
+def test_the_deadman_stops_a_robot_whose_controller_vanishes(tmp_path: Path) -> None:
+    controller = tmp_path / "vanish.py"
+    controller.write_text(
+        "import os, sys\n"
+        "import ego\n"
+        "robot = ego.Robot(sys.argv[1], zenoh_connect=[sys.argv[2]])\n"
+        "robot.motors.set_speed(600, 600)\n"
+        "for _ in range(5):\n"
+        "    robot.step(32)\n"
+        "print('driving', flush=True)\n"
+        "os._exit(0)  # gone without a word: no bye, no stop\n"
+    )
+    with served_node("e5", deadline_s=0.3) as served:
+        result = subprocess.run([sys.executable, str(controller), "zenoh://e5", served.endpoint],
+                                capture_output=True, text=True, timeout=30)  # fmt: skip
+        assert result.stdout.strip() == "driving", result.stderr
+        gone = time.monotonic()
+        assert served.world.speeds == (600, 600)  # the robot drives on ...
+        assert wait_until(lambda: served.world.speeds == (0, 0), 2.0)  # ... until the deadman
+        assert time.monotonic() - gone < 1.0
+        assert served.node.lease.holder is None
+
+
+def test_a_controller_that_steps_slowly_but_waits_keeps_its_robot() -> None:
+    """Waiting out long steps sends keepalives: the deadman is for controllers that stop."""
+    with served_node("e6", deadline_s=0.3) as served, ego.Robot(
+        "zenoh://e6", zenoh_connect=[served.endpoint]
+    ) as robot:
+        robot.motors.set_speed(200, 200)
+        for _ in range(3):
+            assert robot.step(600) == 0  # twice the deadline each
+        assert served.world.speeds == (200, 200)
+        assert served.node.stops == 0
+
+
+def test_zenoh_off_loopback_needs_zenohs_own_authentication() -> None:
+    with pytest.raises(InsecureSecretError, match=r"transport\.auth\.usrpwd"):
+        open_session(ZenohSettings(listen=["tcp/0.0.0.0:7447"], connect=[]))
+    with pytest.raises(InsecureSecretError, match="off loopback"):
+        open_session(ZenohSettings(listen=[free_endpoint()], connect=["tcp/192.0.2.1:7447"]))
+
+
+@pytest.mark.parametrize("name", ["", "a b", "ego/x", "x/*", "radio", "a//b", "é"])
+def test_bad_robot_names_are_refused(name: str) -> None:
+    with pytest.raises(ValueError, match="Zenoh robot name"):
+        check_name(name)
+
+
+def test_ego_serve_zenoh_and_ego_run_port_zenoh(tmp_path: Path) -> None:
+    endpoint = free_endpoint()
+    serve = subprocess.Popen(
+        [*ego_command(), "serve", "--port", "sim", "--zenoh", "--name", "desk",
+         "--zenoh-listen", endpoint], stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert serve.stderr is not None
+        assert "as Zenoh node desk" in serve.stderr.readline()
+        controller = tmp_path / "drive.py"
+        controller.write_text(
+            "from controller import Robot\n"
+            "robot = Robot()\n"
+            "sensor = robot.getDevice('ps0'); sensor.enable(32)\n"
+            "for _ in range(10):\n"
+            "    robot.step(32)\n"
+            "print('read', sensor.getValue() > 0)\n"
+        )
+        run = subprocess.run(
+            [*ego_command(), "run", "--port", "zenoh://desk", str(controller)],
+            capture_output=True, text=True, timeout=60, cwd=tmp_path,
+            env={**__import__("os").environ, "EGO_ZENOH_CONNECT": endpoint},
+        )  # fmt: skip
+        assert run.returncode == 0, run.stderr
+        assert run.stdout.strip() == "read True"
+    finally:
+        serve.terminate()
+        serve.wait(10)
+    assert serve.returncode == 0
+
+

@@ -1,0 +1,55 @@
+"""Robots served as Zenoh nodes on loopback, for the Zenoh tests."""
+
+from __future__ import annotations
+
+import socket
+from collections.abc import Iterator
+from contextlib import ExitStack, contextmanager
+from dataclasses import dataclass
+from typing import Any
+
+from fakes import FAST_LINK
+
+from ego.serial.link import Link
+from ego.serial.transport import SerialTransport
+from ego.zenoh_net.node import RobotNode
+from ego.zenoh_net.sessions import ZenohSettings, open_session
+from firmware_sim import Emulator
+
+
+def free_endpoint() -> str:
+    """A Zenoh TCP endpoint on a loopback port free right now."""
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return f"tcp/127.0.0.1:{probe.getsockname()[1]}"
+
+
+@dataclass
+class Node:
+    emulator: Emulator
+    node: RobotNode
+    endpoint: str
+
+    @property
+    def world(self) -> Any:
+        return self.emulator.world
+
+
+@contextmanager
+def served_node(name: str = "epuck", deadline_s: float = 0.5, **emulator: Any) -> Iterator[Node]:
+    """An emulated robot served as the Zenoh node ``name``, listening on its own endpoint."""
+    with ExitStack() as stack:
+        emu = stack.enter_context(Emulator("webots", seed=1, **emulator))
+        link = Link(SerialTransport(emu.path), settings=FAST_LINK)
+        stack.callback(link.close)
+        endpoint = free_endpoint()
+        session = open_session(ZenohSettings(listen=[endpoint], connect=[]))
+        stack.callback(session.close)
+        node = RobotNode(link, session, name, deadline_s=deadline_s, world=emu.world).start()
+        stack.callback(node.close)
+        yield Node(emu, node, endpoint)
+
+
+def client_session(endpoint: str) -> Any:
+    """A peer session that reaches ``endpoint`` (and listens on loopback only)."""
+    return open_session(ZenohSettings(listen=[free_endpoint()], connect=[endpoint]))
