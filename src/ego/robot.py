@@ -258,6 +258,10 @@ class Robot:
         wait (progress displays, loggers, the dashboard, a recorder)."""
         self._listeners.append(listener)
 
+    def add_closer(self, closer: Callable[[], None]) -> None:
+        """Call ``closer()`` when the robot closes, after its stop (a radio's session)."""
+        self._opened.closers.append(closer)
+
     def add_step_guard(self, guard: Callable[[Robot], None]) -> None:
         """Call ``guard(robot)`` before every step's batch, after the controller's own
         commands: what it sets wins (a dashboard's stop and drive override the controller)."""

@@ -14,7 +14,6 @@ from ego.controller.absent import (
     Compass,
     Connector,
     Display,
-    Emitter,
     Field,
     Gyro,
     InertialUnit,
@@ -23,7 +22,6 @@ from ego.controller.absent import (
     Pen,
     Radar,
     RangeFinder,
-    Receiver,
     Skin,
     Speaker,
     Supervisor,
@@ -41,6 +39,7 @@ from ego.controller.devices import (
     PositionSensor,
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
+from ego.controller.radio import Emitter, Receiver
 from ego.controller.robot import DifferentialWheels, Robot
 
 __all__ = [

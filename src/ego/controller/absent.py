@@ -28,7 +28,6 @@ __all__ = [
     "Compass",
     "Connector",
     "Display",
-    "Emitter",
     "Field",
     "Gyro",
     "InertialUnit",
@@ -37,7 +36,6 @@ __all__ = [
     "Pen",
     "Radar",
     "RangeFinder",
-    "Receiver",
     "Skin",
     "Speaker",
     "Supervisor",
@@ -123,12 +121,6 @@ class Display(Device):
     _node_type = "DISPLAY"
 
 
-class Emitter(Device):
-    """Webots' radio Emitter; the e-puck has none (its IR is the proximity sensors')."""
-
-    _node_type = "EMITTER"
-
-
 class GPS(_GroundTruth):
     """Webots' GPS; the e-puck has none: on the emulator only (``--port sim``), when
     the world file declares one, it reads the emulated world's ground truth."""
@@ -170,12 +162,6 @@ class RangeFinder(Device):
     """Webots' RangeFinder; the e-puck has none."""
 
     _node_type = "RANGE_FINDER"
-
-
-class Receiver(Device):
-    """Webots' radio Receiver; the e-puck has none."""
-
-    _node_type = "RECEIVER"
 
 
 class Skin(Device):

@@ -23,6 +23,7 @@ from ego.controller.devices import (
     whole_steps,
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
+from ego.controller.radio import RADIO_DEVICES, Emitter, Receiver, radio_available
 from ego.default_robot import current_context
 from ego.errors import EgoError, UnknownDeviceError, UnsupportedDeviceError
 from ego.robot import Robot as CoreRobot
@@ -109,6 +110,8 @@ class Robot:
         device = self._devices.get(name)
         if device is None:
             cls = view_class(name) if name in self._core.device_names else None
+            if name in RADIO_DEVICES and radio_available():
+                cls = Emitter if name == "emitter" else Receiver
             if cls is None and self._ground_truth(name):
                 from ego.controller.absent import ground_truth_class
 
@@ -194,7 +197,7 @@ class Robot:
         return self.getDevice(name)  # type: ignore[return-value]
 
     getGPS = getCompass = getGyro = getInertialUnit = getTouchSensor = _absent_getter
-    getEmitter = getReceiver = getSpeaker = getDisplay = getPen = getLidar = _absent_getter
+    getSpeaker = getDisplay = getPen = getLidar = _absent_getter
     getRangeFinder = getRadar = getConnector = getBrake = getAltimeter = _absent_getter
     getSkin = getVacuumGripper = _absent_getter
 

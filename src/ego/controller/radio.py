@@ -1,0 +1,211 @@
+"""Webots' ``Emitter`` and ``Receiver``, over Zenoh (ego.zenoh_net.radio).
+
+Webots' e-puck model carries a radio emitter and receiver (channel 1, unlimited range);
+the real e-puck has none, so ego gives its controllers one over the network: Zenoh, on
+``ego/radio/CHANNEL``. They exist (``getDevice("emitter")``) when eclipse-zenoh is
+installed (``pip install ego[zenoh]``) and ``EGO_RADIO`` is not ``none``; otherwise
+they are absent, with Webots' warning.
+
+The robot's radio uses its Zenoh session when the robot is a Zenoh node
+(``zenoh://NAME``), else a session of its own on ``EGO_ZENOH_CONNECT`` /
+``EGO_ZENOH_LISTEN`` (ego.zenoh_net.sessions). As in Webots, a packet sent during a step
+is received at the next one; the queue keeps every packet until ``nextPacket``.
+Signal strength and direction come from the emulated world's true poses (on the
+emulator, or a swarm), where the emitter's range is honoured too; on real robots they
+are NaN.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import os
+import weakref
+from collections import deque
+from typing import TYPE_CHECKING, Any
+
+from ego.controller.devices import Device
+from ego.devices.base import MAX_PERIOD_MS, check_int
+from ego.errors import DeviceError, OutOfRangeError
+
+if TYPE_CHECKING:
+    from ego.robot import Robot as CoreRobot
+    from ego.zenoh_net.radio import Packet, Radio
+
+__all__ = ["RADIO_DEVICES", "Emitter", "Receiver", "radio_available"]
+
+#: The names Webots' e-puck gives its radio devices.
+RADIO_DEVICES = ("emitter", "receiver")
+#: Webots' E-puck PROTO: emitter_channel and receiver_channel default to 1.
+DEFAULT_CHANNEL = 1
+_RADIOS: weakref.WeakKeyDictionary[CoreRobot, Radio] = weakref.WeakKeyDictionary()
+
+
+def radio_available() -> bool:
+    """Whether robots get a radio: eclipse-zenoh is installed and EGO_RADIO is not none."""
+    return os.environ.get("EGO_RADIO") != "none" and importlib.util.find_spec("zenoh") is not None
+
+
+def _radio(core: CoreRobot) -> Radio:
+    """The robot's one radio (made at first use, closed with the robot)."""
+    radio = _RADIOS.get(core)
+    if radio is None:
+        from ego.zenoh_net.radio import Radio
+        from ego.zenoh_net.sessions import ZenohSettings, open_session
+
+        session = getattr(core.link, "session", None)
+        name = getattr(core.link, "id", None) or f"{core.port}@{os.uname().nodename}:{os.getpid()}"
+        owns = session is None
+        if session is None:
+            session = open_session(ZenohSettings())
+        radio = Radio(session, str(name), lambda: _true_pose(core), owns_session=owns)
+        _RADIOS[core] = radio
+        core.add_closer(radio.close)
+    return radio
+
+
+def _true_pose(core: CoreRobot) -> list[float] | None:
+    ground = core.emulator
+    world = getattr(ground, "world", None)
+    if world is not None:
+        pose = world.snapshot()
+        return [pose.x_m, pose.y_m, pose.theta_rad]
+    read = getattr(ground, "pose", None)
+    return read() if callable(read) else None
+
+
+def _check_channel(channel: object) -> int:
+    if isinstance(channel, bool) or not isinstance(channel, int) or channel < -1:
+        raise OutOfRangeError(f"radio channel {channel!r} must be -1 (broadcast) or 0 and up")
+    return channel
+
+
+class Emitter(Device):
+    """Webots' radio Emitter: ``send(data)`` puts a packet on its channel."""
+
+    CHANNEL_BROADCAST = -1
+    _node_type = "EMITTER"
+
+    def __init__(
+        self, core: CoreRobot | str, name: str = "", *, strict: bool | None = None
+    ) -> None:
+        if isinstance(core, str):
+            return  # made by name (Device.__new__)
+        super().__init__(core, name, strict=strict)
+        self._channel = DEFAULT_CHANNEL
+        self._range = -1.0
+
+    def send(self, message: bytes | str | Any) -> int:
+        """Send ``message`` (bytes, or text as UTF-8); 1, as Webots answers when sent."""
+        if isinstance(message, str):
+            data = message.encode("utf-8")
+        elif isinstance(message, bytes | bytearray | memoryview):
+            data = bytes(message)
+        else:
+            raise DeviceError(f"Emitter.send takes bytes or a str, not {type(message).__name__}")
+        _radio(self._core).send(self._channel, data, self._range)
+        return 1
+
+    def getChannel(self) -> int:
+        return self._channel
+
+    def setChannel(self, channel: int) -> None:
+        self._channel = _check_channel(channel)
+
+    def getRange(self) -> float:
+        return self._range
+
+    def setRange(self, range: float) -> None:
+        value = float(range)
+        if not (value == -1 or value >= 0) or math.isnan(value):
+            raise OutOfRangeError(f"emitter range {range!r} must be -1 (no limit) or >= 0")
+        self._range = value
+
+    def getBufferSize(self) -> int:
+        return -1  # Webots' "unlimited"
+
+    channel = property(getChannel, setChannel)
+    range = property(getRange, setRange)
+    buffer_size = property(getBufferSize)
+
+
+class Receiver(Device):
+    """Webots' radio Receiver: a queue of packets, filled at each step while enabled."""
+
+    CHANNEL_BROADCAST = -1
+    _node_type = "RECEIVER"
+
+    def __init__(
+        self, core: CoreRobot | str, name: str = "", *, strict: bool | None = None
+    ) -> None:
+        if isinstance(core, str):
+            return  # made by name (Device.__new__)
+        super().__init__(core, name, strict=strict)
+        self._channel = DEFAULT_CHANNEL
+        self._period = 0
+        self._queue: deque[Packet] = deque()
+
+    def enable(self, samplingPeriod: int) -> None:
+        period = check_int("sampling period", samplingPeriod, 1, MAX_PERIOD_MS, " ms")
+        if not self._period:
+            _radio(self._core).listen(self._channel)
+            self._core.add_step_listener(self._step)
+        self._period = period
+
+    def disable(self) -> None:
+        if self._period:
+            _radio(self._core).stop_listening()
+            self._core.remove_step_hooks(self._step)
+        self._period = 0
+
+    def getSamplingPeriod(self) -> int:
+        return self._period
+
+    def _step(self, core: CoreRobot) -> None:
+        self._queue.extend(_radio(core).take())
+
+    def getQueueLength(self) -> int:
+        return len(self._queue)
+
+    def nextPacket(self) -> None:
+        """Drop the head packet (Webots: an error when the queue is empty)."""
+        if not self._queue:
+            raise DeviceError("Receiver.nextPacket: the queue is empty")
+        self._queue.popleft()
+
+    def _head(self) -> Packet:
+        if not self._queue:
+            raise DeviceError("the receiver's queue is empty: check getQueueLength() first")
+        return self._queue[0]
+
+    def getBytes(self) -> bytes:
+        return self._head().data
+
+    getData = getBytes
+
+    def getString(self) -> str:
+        return self._head().data.decode("utf-8")
+
+    def getDataSize(self) -> int:
+        return len(self._head().data)
+
+    def getSignalStrength(self) -> float:
+        """1 / distance² from the emitter (Webots'); NaN where the poses are unknown."""
+        return self._head().signal_strength
+
+    def getEmitterDirection(self) -> list[float]:
+        """The unit vector towards the emitter in this robot's frame; NaNs if unknown."""
+        return list(self._head().direction)
+
+    def getChannel(self) -> int:
+        return self._channel
+
+    def setChannel(self, channel: int) -> None:
+        self._channel = _check_channel(channel)
+        if self._period:
+            _radio(self._core).listen(self._channel)
+
+    channel = property(getChannel, setChannel)
+    queue_length = property(getQueueLength)
+    sampling_period = property(getSamplingPeriod)
+    data = property(getData)
