@@ -11,8 +11,9 @@ numbers, strings, ``TRUE``/``FALSE``, a node, or a ``[ ... ]`` list of either, w
 * boxes: ``WoodenBox`` (``translation``, ``rotation``, ``size``) and any ``Solid`` whose
   children hold a ``Shape`` with ``Box`` geometry (its ``size``, and its colour from the
   appearance's ``baseColor`` or ``diffuseColor``);
-* the first ``E-puck``: ``translation`` and ``rotation`` (the start pose), and the
-  ``camera_width``/``camera_height`` fields (the camera size a Webots controller gets);
+* each ``E-puck``: ``translation`` and ``rotation`` (the start poses: a swarm's robots
+  in order), and the first one's ``camera_width``/``camera_height`` fields (the camera
+  size a Webots controller gets);
 * a ``PointLight``'s ``location``: the lamp the light sensors see.
 
 Everything else (Viewpoint, backgrounds, other robots...) is skipped, each skipped node
@@ -217,6 +218,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     arena, floor = Arena(), None
     blocks: list[Block] = []
     start: Pose | None = None
+    starts: list[Pose] = []
     camera_size: tuple[int, int] | None = None
     lamp: Lamp | None = None
     skipped: dict[str, int] = {}
@@ -229,9 +231,11 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
                 blocks.append(_block(node, size, (150, 110, 60)))
             elif node.type == "Solid" and (shape := _box_shape(node)) is not None:
                 blocks.append(_block(node, *shape))
-            elif node.type == "E-puck" and start is None:
-                start = _pose(node)
-                camera_size = _camera_size(node)
+            elif node.type == "E-puck":
+                starts.append(_pose(node))
+                if start is None:
+                    start = starts[0]
+                    camera_size = _camera_size(node)
             elif node.type == "PointLight" and lamp is None:
                 x, y, z = node.numbers("location", 3, (0.0, 0.0, 0.0))
                 lamp = Lamp(x, y, max(z, 0.0))
@@ -250,6 +254,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
         start=start,
         floor=floor or Plain(),
         camera_size=camera_size,
+        starts=starts,
     )
     return WbtWorld(world, notes)
 

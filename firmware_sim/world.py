@@ -17,6 +17,7 @@ import math
 import threading
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -188,6 +189,7 @@ class World:
         floor: Floor | None = None,
         devices: frozenset[str] = frozenset(),
         camera_size: tuple[int, int] | None = None,
+        starts: list[Pose] | None = None,
     ) -> None:
         self.arena = arena or Arena()
         self.floor_pattern = floor or Marks()
@@ -195,6 +197,8 @@ class World:
         self.devices = frozenset(devices)
         #: The camera size the world file sets (Webots' camera_width/height), else None.
         self.camera_size = camera_size
+        #: The other robots sharing this world (a swarm: firmware_sim.crowd), else None.
+        self.crowd: Any = None
         self.blocks = _default_blocks() if blocks is None else list(blocks)
         self.lamp = lamp or Lamp()
         self.sound = sound or SoundSource()
@@ -202,6 +206,8 @@ class World:
         self._rng = np.random.default_rng(seed)
         self._lock = threading.RLock()
         self._start = start or Pose(0.0, 0.0, 0.0)
+        #: Every robot's start pose the world file gives (a swarm's), this one's first.
+        self.starts = list(starts) if starts else [self._start]
         self._body = _Body(self._start.x_m, self._start.y_m, self._start.theta_rad)
         self._t = time.monotonic()
         self.battery_raw = BATTERY_RAW
@@ -223,6 +229,11 @@ class World:
         with self._lock:
             self.advance()
             return Pose(self._body.x_m, self._body.y_m, self._body.theta_rad)
+
+    def start_at(self, pose: Pose) -> None:
+        """Make ``pose`` this robot's start (a swarm's robots each have theirs), and go there."""
+        self._start = pose
+        self.place(pose)
 
     def place(self, pose: Pose) -> None:
         with self._lock:
@@ -328,7 +339,21 @@ class World:
                 lx = cx + (lx - cx) / d * ROBOT_RADIUS_M
                 ly = cy + (ly - cy) / d * ROBOT_RADIUS_M
             x, y = blk.to_world(lx, ly)
+        for ox, oy in self._others():  # another e-puck: two discs that may not overlap
+            d = math.hypot(x - ox, y - oy)
+            if d < 2 * ROBOT_RADIUS_M:
+                away = (x - ox, y - oy) if d > 1e-9 else (1.0, 0.0)
+                scale = 2 * ROBOT_RADIUS_M / (d if d > 1e-9 else 1.0)
+                x, y = ox + away[0] * scale, oy + away[1] * scale
         return x, y
+
+    def _others(self) -> list[tuple[float, float]]:
+        """Where the other robots of this world's crowd are (none outside a swarm)."""
+        return self.crowd.others(self) if self.crowd is not None else []
+
+    def body_position(self) -> tuple[float, float]:
+        """Where this robot's body is, without advancing it (for the crowd's others)."""
+        return self._body.x_m, self._body.y_m
 
     # -- ground-truth devices (a world file may declare them; a real e-puck has none) --
 
@@ -363,6 +388,8 @@ class World:
             lx, ly = blk.to_local(b.x_m, b.y_m)
             bx, by = blk.half_extents
             gaps.append(math.hypot(max(abs(lx) - bx, 0.0), max(abs(ly) - by, 0.0)))
+        for ox, oy in self._others():
+            gaps.append(math.hypot(b.x_m - ox, b.y_m - oy) - ROBOT_RADIUS_M)
         return max(0.0, min(gaps) - ROBOT_RADIUS_M)
 
     def ray_distance(self, ox: float, oy: float, angle: float) -> float:
@@ -374,6 +401,10 @@ class World:
                 best = min(best, ((h if d > 0 else -h) - pos) / d)
         for blk in self.blocks:
             t = _ray_box(ox, oy, c, s, blk)
+            if t is not None:
+                best = min(best, t)
+        for px, py in self._others():
+            t = _ray_disc(ox, oy, c, s, px, py, ROBOT_RADIUS_M)
             if t is not None:
                 best = min(best, t)
         return max(best, 0.0)
@@ -553,3 +584,16 @@ def _ray_box(ox: float, oy: float, c: float, s: float, blk: Block) -> float | No
     if t1 < max(t0, 0.0):
         return None
     return max(t0, 0.0)
+
+
+def _ray_disc(
+    ox: float, oy: float, c: float, s: float, px: float, py: float, radius: float
+) -> float | None:
+    """Distance along the ray to a disc (another e-puck's body), or None if it misses."""
+    mx, my = ox - px, oy - py
+    b = mx * c + my * s
+    disc = b * b - (mx * mx + my * my - radius * radius)
+    if disc < 0:
+        return None
+    t = -b - math.sqrt(disc)
+    return t if t >= 0 else None

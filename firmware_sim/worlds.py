@@ -35,6 +35,11 @@ A world file describes what the emulated e-puck lives in::
 
     [robot] camera_width = 52, camera_height = 39  # the size Webots controllers get
 
+    [[robots]]                        # more robots of a swarm (ego swarm), after [robot]
+    x_m = 0.1
+    y_m = 0.0
+    heading_deg = 180
+
 Built in, by name: ``arena`` (the default), ``line-track``, ``maze``, ``light``. A file
 with a key it does not know, or a value of the wrong kind, is refused with ValueError
 naming the file and the key. A Webots world file (``.wbt``) is read too, for the part
@@ -111,7 +116,7 @@ def _webots_world(path: Path, seed: int | None) -> World:
 
 
 def _build(data: dict[str, Any], where: str, seed: int | None) -> World:
-    unknown = set(data) - {*_TABLES, "devices", "name"}
+    unknown = set(data) - {*_TABLES, "devices", "name", "robots"}
     if unknown:
         raise ValueError(f"{where}: unknown key {sorted(unknown)[0]!r}")
     tables = {
@@ -128,6 +133,18 @@ def _build(data: dict[str, Any], where: str, seed: int | None) -> World:
         math.radians(_number(robot, "heading_deg", where, 0.0, -360.0, 360.0)),
     )
     blocks = [_box(box, where) for box in boxes]
+    robots = data.get("robots", [])
+    if not isinstance(robots, list) or not all(isinstance(r, dict) for r in robots):
+        raise ValueError(f"{where}: [[robots]] must be an array of tables")
+    for extra in robots:
+        unknown_keys = set(extra) - {"x_m", "y_m", "heading_deg"}
+        if unknown_keys:
+            raise ValueError(f"{where}: unknown key {sorted(unknown_keys)[0]!r} in [[robots]]")
+    starts = [start] + [
+        Pose(_number(r, "x_m", where, 0.0, -5.0, 5.0), _number(r, "y_m", where, 0.0, -5.0, 5.0),
+             math.radians(_number(r, "heading_deg", where, 0.0, -360.0, 360.0)))
+        for r in robots
+    ]  # fmt: skip
     lamp = tables["lamp"]
     sound = tables["sound"]
     devices = data.get("devices", [])
@@ -152,6 +169,7 @@ def _build(data: dict[str, Any], where: str, seed: int | None) -> World:
         floor=_floor(tables["floor"], where),
         devices=frozenset(devices),
         camera_size=_camera_size(robot, where),
+        starts=starts,
     )
 
 

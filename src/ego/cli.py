@@ -77,6 +77,21 @@ def _cmd_replay(args: argparse.Namespace) -> int:
                 args.speed, args.duration)  # fmt: skip
 
 
+def _cmd_swarm(args: argparse.Namespace) -> int:
+    from ego.swarm import Swarm, robot_name
+
+    with Swarm(args.robots, args.world, args.firmware, args.seed, args.zenoh_endpoint) as swarm:
+        print(f"ego swarm: {args.robots} emulated e-pucks "
+              f"({', '.join(robot_name(i) for i in range(args.robots))}) in one world, "
+              f"Zenoh on {args.zenoh_endpoint}", file=sys.stderr, flush=True)  # fmt: skip
+        statuses = swarm.run_controllers(args.controllers, args.args, args.duration)
+    failed = [robot_name(i) for i, status in enumerate(statuses) if status != 0]
+    if failed:
+        print(f"ego swarm: the controllers of {', '.join(failed)} failed", file=sys.stderr)
+        return 1
+    return 0
+
+
 def _cmd_plot(args: argparse.Namespace) -> int:
     from ego.recording.plot import plot_recording
 
@@ -368,6 +383,24 @@ def build_parser() -> argparse.ArgumentParser:
     replay.add_argument("--duration", type=_positive, default=None,
                         help="stop serving after this many seconds (default: Ctrl-C)")  # fmt: skip
     replay.set_defaults(func=_cmd_replay)
+
+    swarm = sub.add_parser(
+        "swarm", help="N emulated e-pucks in one world, each controller in its own process "
+        "over Zenoh",
+    )  # fmt: skip
+    swarm.add_argument("--robots", type=int, default=4, help="how many (default 4)")
+    swarm.add_argument("--world", default=None, metavar="NAME|FILE",
+                       help="the shared world (a file may place robots: [[robots]])")  # fmt: skip
+    swarm.add_argument("--firmware", choices=("gctronic", "webots"), default="webots")
+    swarm.add_argument("--seed", type=int, default=1)
+    swarm.add_argument("--duration", type=_positive, default=None,
+                       help="each controller's duration, seconds of controller time")  # fmt: skip
+    swarm.add_argument("--zenoh-endpoint", default="tcp/127.0.0.1:7447", metavar="ENDPOINT",
+                       help="where the robots' Zenoh node listens (default loopback)")  # fmt: skip
+    swarm.add_argument("controllers", nargs="+", metavar="controller.py",
+                       help="one file for every robot, or one per robot in turn")  # fmt: skip
+    swarm.add_argument("--args", nargs="*", default=[], help="arguments for every controller")
+    swarm.set_defaults(func=_cmd_swarm)
 
     plot = sub.add_parser("plot", help="PNG plots of a recorded run (sensors, path, timing)")
     plot.add_argument("recording", help="the .mcap file ego run --record wrote")

@@ -209,7 +209,9 @@ class Robot:
         return self._core.time_s
 
     def getName(self) -> str:
-        return "e-puck"
+        """Webots' robot name: ``e-puck``, or a swarm robot's own (its Zenoh node's name,
+        as each robot of a Webots swarm has its own name field)."""
+        return str(getattr(self._core.link, "robot", None) or "e-puck")
 
     def getModel(self) -> str:
         """The model field of Webots' E-puck PROTO, which controllers branch on."""

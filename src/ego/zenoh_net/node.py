@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import logging
+import queue
 import threading
 import time
 from dataclasses import dataclass
@@ -108,22 +109,23 @@ class RobotNode:
     # -- life ----------------------------------------------------------------------------
 
     def start(self) -> RobotNode:
-        import zenoh
-
         key = lambda leaf: robot_key(self.name, leaf)  # noqa: E731
         session = self.session
         self._publisher = session.declare_publisher(key("sensors"))
-        exchanges = session.declare_queryable(key("exchange"), zenoh.handlers.FifoChannel(64))
+        # Zenoh's thread only queues a batch's query; a thread of ours runs it (the serial
+        # line takes milliseconds) and can be told to end: a Python thread left inside
+        # Zenoh at interpreter exit would abort the process.
+        self._queries: queue.Queue[Any] = queue.Queue(maxsize=64)
         self._entities += [
             self._publisher,
-            exchanges,
+            session.declare_queryable(key("exchange"), self._queue_query),
             session.declare_queryable(key("info"), self._info),
             session.declare_queryable(key("ascii"), self._ascii),
             session.declare_subscriber(key("keepalive"), self._keepalive),
             session.declare_subscriber(key("bye"), self._bye),
             session.liveliness().declare_token(key("alive")),
         ]
-        workers = ((lambda: self._serve(exchanges), "batches"), (self._watch, "deadman"))
+        workers = ((self._serve, "batches"), (self._watch, "deadman"))
         for target, label in workers:
             thread = threading.Thread(target=target, name=f"ego-zenoh-{label}", daemon=True)
             thread.start()
@@ -154,12 +156,18 @@ class RobotNode:
 
     # -- queries -------------------------------------------------------------------------
 
-    def _serve(self, queries: Any) -> None:
+    def _queue_query(self, query: Any) -> None:
+        try:
+            self._queries.put_nowait(query)
+        except queue.Full:  # a flood: refused rather than queued without end
+            self._refuse(query, "flood", RobotBusyError(f"robot {self.name} is overloaded"))
+
+    def _serve(self) -> None:
         while not self._closing.is_set():
             try:
-                query = queries.recv()
-            except Exception:  # the queryable was undeclared: the node is closing
-                return
+                query = self._queries.get(timeout=0.05)
+            except queue.Empty:
+                continue
             try:
                 self._exchange(query)
             finally:
