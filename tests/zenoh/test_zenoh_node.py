@@ -180,3 +180,24 @@ def test_ego_serve_zenoh_and_ego_run_port_zenoh(tmp_path: Path) -> None:
     assert serve.returncode == 0
 
 
+
+
+def test_a_group_named_by_a_key_expression_steps_its_robots_in_lockstep() -> None:
+    from ego.group import open_group
+
+    with served_node("lab/a") as a, served_node("lab/b") as b, served_node("other/c") as c:
+        # Three nodes on three sessions; the group's robots reach them through a and b.
+        robots, group = open_group("zenoh://lab/*", zenoh_connect=[a.endpoint, b.endpoint,
+                                                                   c.endpoint])  # fmt: skip
+        try:
+            assert sorted(r.port for r in robots) == ["zenoh://lab/a", "zenoh://lab/b"]
+            for robot in robots:
+                robot.motors.set_speed(300, 300)
+            for _ in range(5):
+                assert group.step(32) == 0
+            assert a.world.speeds == b.world.speeds == (300, 300)
+            assert c.world.speeds == (0, 0)  # not in the group
+        finally:
+            group.close()
+            for robot in robots:
+                robot.close()
