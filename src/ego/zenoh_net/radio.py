@@ -14,9 +14,11 @@ return what the receiver sees; :class:`Radio` only puts and subscribes.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -44,6 +46,8 @@ class Packet:
     channel: int
     signal_strength: float
     direction: tuple[float, float, float]
+    #: When it arrived (time.time()): what a latency measurement compares its send with.
+    arrived_s: float = 0.0
 
 
 def attachment(sender: str, emitter_range: float, pose: Pose | None) -> bytes:
@@ -120,6 +124,7 @@ class Radio:
         meta = sample.attachment.to_bytes() if sample.attachment is not None else None
         packet = received(sample.payload.to_bytes(), meta, channel, self.me, self.pose())
         if packet is not None:
+            packet = dataclasses.replace(packet, arrived_s=time.time())
             with self._lock:
                 self._incoming.append(packet)
 
