@@ -70,7 +70,7 @@ def _run(path: str, count: int, steps: int) -> dict[str, Any]:
         cpu0 = time.process_time()
         processes = [
             subprocess.Popen([sys.executable, "-m", "benchmarks._swarm_robot", port, str(steps)],
-                             stdout=subprocess.PIPE, text=True, env=env)  # fmt: skip
+                             stdout=subprocess.PIPE, text=True, env=env)
             for port in ports
         ]
         outputs = [p.communicate(timeout=120 + steps)[0] for p in processes]
@@ -111,6 +111,15 @@ def run(quick: bool = False) -> list[Table]:
                 m["controller_us"], m["host_us"],
                 ratio(cpu["zenoh"], cpu["udp"]) if path == "zenoh" else "-",
             ])  # fmt: skip
+    memory = json.loads(subprocess.run(
+        [sys.executable, "-m", "benchmarks._zenoh_memory"], capture_output=True, text=True,
+        timeout=120, check=True).stdout.strip().splitlines()[-1])  # fmt: skip
+    table.notes.append(
+        f"Memory a Zenoh peer adds to a controller (x86-64): "
+        f"{(memory['imported_kb'] - memory['before_kb']) / 1024:.1f} MB to import zenoh, "
+        f"{(memory['peer_kb'] - memory['before_kb']) / 1024:.1f} MB with a peer session "
+        f"and the radio listening ({memory['before_kb'] / 1024:.1f} MB before)."
+    )
     table.notes.append(
         "Latency: a radio packet from one robot's controller process to every other's, "
         "put before a step and timestamped on arrival (same clock). The UDP path carries "

@@ -22,6 +22,8 @@ SECTION_CLASS = {
     "Keyboard": "Keyboard",
     "Mouse and Joystick": "Mouse",
     "Supervisor": "Supervisor",
+    "Emitter (emitter)": "Emitter",
+    "Receiver (receiver)": "Receiver",
     "DifferentialWheels (Webots' old e-puck class)": "DifferentialWheels",
 }
 

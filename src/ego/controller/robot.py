@@ -198,6 +198,16 @@ class Robot:
 
     getGPS = getCompass = getGyro = getInertialUnit = getTouchSensor = _absent_getter
     getSpeaker = getDisplay = getPen = getLidar = _absent_getter
+
+    def getEmitter(self, name: str) -> Emitter | None:
+        """Webots' old typed getter: the radio emitter (see ego.controller.radio)."""
+        device = self.getDevice(name)
+        return device if isinstance(device, Emitter) or device is None else None
+
+    def getReceiver(self, name: str) -> Receiver | None:
+        """Webots' old typed getter: the radio receiver (see ego.controller.radio)."""
+        device = self.getDevice(name)
+        return device if isinstance(device, Receiver) or device is None else None
     getRangeFinder = getRadar = getConnector = getBrake = getAltimeter = _absent_getter
     getSkin = getVacuumGripper = _absent_getter
 
