@@ -9,10 +9,11 @@ import sys
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 from firmware_sim import World
 
-__all__ = ["assert_stopped", "ego_command", "is_stopped", "spawn", "wait_until"]
+__all__ = ["assert_stopped", "ego_command", "is_stopped", "run_async", "spawn", "wait_until"]
 
 
 @contextlib.contextmanager
@@ -70,3 +71,26 @@ def ego_command() -> list[str]:
     """The installed ``ego`` script beside this Python, else ``python -m ego.cli``."""
     script = Path(sys.executable).with_name("ego")
     return [str(script)] if script.is_file() else [sys.executable, "-m", "ego.cli"]
+
+
+def run_async(coroutine: Any, timeout_s: float = 20) -> Any:
+    """Run ``coroutine`` to its end on a fresh event loop in a thread of its own (the
+    browser tests' Playwright keeps a loop running on the main thread)."""
+    import asyncio
+    import threading
+
+    result: list[Any] = []
+    failure: list[BaseException] = []
+
+    def main() -> None:
+        try:
+            result.append(asyncio.run(asyncio.wait_for(coroutine, timeout_s)))
+        except BaseException as exc:
+            failure.append(exc)
+
+    thread = threading.Thread(target=main, name="test-page")
+    thread.start()
+    thread.join(timeout_s + 5)
+    if failure:
+        raise failure[0]
+    return result[0]

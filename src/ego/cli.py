@@ -81,6 +81,9 @@ def _cmd_swarm(args: argparse.Namespace) -> int:
     from ego.swarm import Swarm, robot_name
 
     with Swarm(args.robots, args.world, args.firmware, args.seed, args.zenoh_endpoint) as swarm:
+        if args.dashboard:
+            url = swarm.serve_dashboard(args.dashboard)
+            print(f"ego swarm: dashboard at {url}", file=sys.stderr, flush=True)
         print(f"ego swarm: {args.robots} emulated e-pucks "
               f"({', '.join(robot_name(i) for i in range(args.robots))}) in one world, "
               f"Zenoh on {args.zenoh_endpoint}", file=sys.stderr, flush=True)  # fmt: skip
@@ -397,6 +400,8 @@ def build_parser() -> argparse.ArgumentParser:
                        help="each controller's duration, seconds of controller time")  # fmt: skip
     swarm.add_argument("--zenoh-endpoint", default="tcp/127.0.0.1:7447", metavar="ENDPOINT",
                        help="where the robots' Zenoh node listens (default loopback)")  # fmt: skip
+    swarm.add_argument("--dashboard", nargs="?", const="127.0.0.1:8765", default=None,
+                       metavar="HOST:PORT", help="a dashboard of the whole swarm")  # fmt: skip
     swarm.add_argument("controllers", nargs="+", metavar="controller.py",
                        help="one file for every robot, or one per robot in turn")  # fmt: skip
     swarm.add_argument("--args", nargs="*", default=[], help="arguments for every controller")

@@ -47,6 +47,7 @@ class Swarm:
     opened: list[Opened] = field(default_factory=list)
     nodes: list[Any] = field(default_factory=list)
     session: Any = None
+    _closers: list[Any] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if not 1 <= self.count <= 64:
@@ -71,7 +72,25 @@ class Swarm:
             raise
         return self
 
+    def serve_dashboard(self, address: str | None, secret: bytes | None = None) -> str:
+        """A dashboard of the whole swarm (every robot on the map, one stop for all); its URL."""
+        from ego.dashboard.live import parse_address
+        from ego.dashboard.served import SwarmFeed
+        from ego.dashboard.server import DashboardServer
+
+        feed = SwarmFeed([robot_name(i) for i in range(self.count)],
+                         [node.watched for node in self.nodes])  # fmt: skip
+        host, port = parse_address(address)
+        server = DashboardServer(feed, host, port, secret).start()
+        feed.server = server
+        feed.start()
+        self._closers.append(server.close)
+        self._closers.append(feed.close)
+        return server.url
+
     def close(self) -> None:
+        while self._closers:
+            self._closers.pop()()
         for node in self.nodes:
             node.close()
         for opened in self.opened:

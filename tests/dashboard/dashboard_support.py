@@ -77,24 +77,3 @@ def served_robot(
         dashboard.out.close()
     assert not failures, failures
 
-
-def run_async(coroutine: Any, timeout_s: float = 20) -> Any:
-    """Run ``coroutine`` to its end on a fresh event loop in a thread of its own (the
-    browser tests' Playwright keeps a loop running on the main thread)."""
-    import asyncio
-
-    result: list[Any] = []
-    failure: list[BaseException] = []
-
-    def main() -> None:
-        try:
-            result.append(asyncio.run(asyncio.wait_for(coroutine, timeout_s)))
-        except BaseException as exc:
-            failure.append(exc)
-
-    thread = threading.Thread(target=main, name="test-page")
-    thread.start()
-    thread.join(timeout_s + 5)
-    if failure:
-        raise failure[0]
-    return result[0]

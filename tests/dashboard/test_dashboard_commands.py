@@ -11,8 +11,7 @@ from pathlib import Path
 from typing import IO, Any
 
 import aiohttp
-from dashboard_support import run_async
-from helpers import ego_command
+from helpers import ego_command, run_async
 
 LOGGER = Path(__file__).parents[1] / "faces" / "controllers" / "sensor_logger.py"
 

@@ -11,8 +11,8 @@ from typing import Any
 
 import aiohttp
 import pytest
-from dashboard_support import run_async, served_robot
-from helpers import wait_until
+from dashboard_support import served_robot
+from helpers import run_async, wait_until
 
 import ego
 from ego.dashboard.access import dashboard_token

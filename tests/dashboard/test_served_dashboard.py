@@ -13,9 +13,8 @@ from typing import Any
 
 import aiohttp
 import pytest
-from dashboard_support import run_async
 from fakes import FAST_LINK
-from helpers import wait_until
+from helpers import run_async, wait_until
 
 import ego
 from ego.dashboard.served import ServedFeed, WatchedChannel

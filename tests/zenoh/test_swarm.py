@@ -9,7 +9,7 @@ import math
 import subprocess
 from pathlib import Path
 
-from helpers import ego_command
+from helpers import ego_command, run_async
 from zenoh_support import free_endpoint
 
 TALK = Path(__file__).parent / "controllers" / "swarm_talk.py"
@@ -96,3 +96,49 @@ def test_three_robots_talk_through_emitter_and_receiver_with_their_distances(
             assert math.isclose(strength[other], 1 / distance**2, rel_tol=0.05), (name, other)
     # Nobody saw anybody on proximity: 40 cm and more apart.
     assert all(float(r["closest"]) < 200 for r in results.values())  # type: ignore[arg-type]
+
+
+def test_the_swarms_dashboard_shows_every_robot_and_stops_them_all(tmp_path: Path) -> None:
+    import threading
+
+    import aiohttp
+
+    from ego.swarm import Swarm
+
+    drive = tmp_path / "drive.py"
+    drive.write_text(
+        "from controller import Robot\n"
+        "robot = Robot()\n"
+        "left, right = robot.getDevice('left wheel motor'), robot.getDevice('right wheel motor')\n"
+        "for m in (left, right):\n"
+        "    m.setPosition(float('inf')); m.setVelocity(2.0)\n"
+        "while robot.step(32) != -1:\n"
+        "    pass\n"
+    )
+    with Swarm(3, endpoint=free_endpoint()) as swarm:
+        url = swarm.serve_dashboard("127.0.0.1:0")
+        runner = threading.Thread(
+            target=swarm.run_controllers, args=([str(drive)],), kwargs={"duration_s": 4.0}
+        )
+        runner.start()
+
+        async def look_then_stop() -> tuple[dict[str, object], dict[str, object]]:
+            ws_url = url.replace("http://", "ws://") + "ws"
+            async with aiohttp.ClientSession() as session, session.ws_connect(ws_url) as ws:
+                hello = await ws.receive_json()
+                sample: dict[str, object] = {}
+                while "swarm" not in sample:
+                    message = json.loads((await ws.receive()).data)
+                    sample = message if message["type"] == "sample" else sample
+                await ws.send_json({"type": "take"})
+                await ws.send_json({"type": "stop"})
+                await ws.receive()
+            return hello, sample
+
+        hello, sample = run_async(look_then_stop())
+        stopped = [w.speeds for w in swarm.worlds]
+        runner.join(30)
+    assert hello["mode"] == "swarm" and hello["robots"] == ["epuck0", "epuck1", "epuck2"]
+    swarm_poses = sample["swarm"]
+    assert isinstance(swarm_poses, list) and [p[0] for p in swarm_poses] == hello["robots"]
+    assert all(speeds == (0, 0) for speeds in stopped), stopped

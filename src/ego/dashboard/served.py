@@ -21,7 +21,7 @@ from ego.safety import send_stop
 from ego.serial.protocol import Batch, Command, Request, encode_batch
 from ego.telemetry import Sampler, describe_firmware, describe_world, world_pose
 
-__all__ = ["ServedFeed", "WatchedChannel"]
+__all__ = ["ServedFeed", "SwarmFeed", "WatchedChannel"]
 
 #: What a reply's values are, by command: the sample's key.
 _READINGS = {
@@ -55,6 +55,8 @@ class WatchedChannel:
         self._leds = [0] * 10
         self._battery: int | None = None
         self._steps = 0
+        #: The sample of the last batch (None before the first).
+        self.last_sample: dict[str, Any] | None = None
         #: The emulated world's true pose after the last batch (None on a real robot).
         self.last_truth: list[float] | None = world_pose(world)
         self._started = time.monotonic()
@@ -134,13 +136,14 @@ class WatchedChannel:
         step_ms, self._last = (now - self._last) * 1000.0, now
         self._steps += 1
         self.last_truth = world_pose(self.world)
+        self.last_sample = self._sampler.sample(
+            t_s=now - self._started, step=self._steps, step_ms=step_ms, wall_ms=step_ms,
+            overruns=None, readings=dict(self._readings), speed=list(self._speed),
+            leds=list(self._leds), battery=self._battery, truth=self.last_truth,
+            stats=self.inner.stats,
+        )  # fmt: skip
         if self.on_sample is not None:
-            self.on_sample(self._sampler.sample(
-                t_s=now - self._started, step=self._steps, step_ms=step_ms, wall_ms=step_ms,
-                overruns=None,
-                readings=dict(self._readings), speed=list(self._speed), leds=list(self._leds),
-                battery=self._battery, truth=self.last_truth, stats=self.inner.stats,
-            ))  # fmt: skip
+            self.on_sample(self.last_sample)
 
     def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
         with self.lock:
@@ -200,3 +203,66 @@ class ServedFeed:
 
     def stop_now(self) -> None:
         self.channel.stop()
+
+
+class SwarmFeed:
+    """``ego swarm --dashboard``: every robot of a swarm on the map (``swarm``: each one's
+    name and true pose), the first one's sensors in detail, and one stop for all."""
+
+    def __init__(self, names: list[str], channels: list[WatchedChannel]) -> None:
+        self.names = names
+        self.channels = channels
+        self.desk = ControlDesk(can_act=False)
+        self.server: DashboardServer | None = None
+        first = channels[0]
+        profile = first.info.profile
+        families = [family for command, family in _FAMILY_COMMANDS if profile.supports(command)]
+        self._hello = {
+            "mode": "swarm",
+            "robot": describe_firmware(first.info, names[0], remote=False,
+                                       proximity_count=profile.reply_values(Command.PROXIMITY),
+                                       led_count=len(profile.leds), families=families),
+            "world": describe_world(first.world),
+            "robots": names,
+        }  # fmt: skip
+        self._closing = threading.Event()
+        self._thread = threading.Thread(target=self._publish, name="ego-swarm-feed", daemon=True)
+
+    def start(self) -> SwarmFeed:
+        self._thread.start()
+        return self
+
+    def close(self) -> None:
+        self._closing.set()
+        self._thread.join(2)
+
+    def _publish(self) -> None:
+        while not self._closing.wait(0.04):
+            sample = self.channels[0].last_sample
+            if sample is None or self.server is None:
+                continue
+            swarm = [[name, *(world_pose(c.world) or [0.0, 0.0, 0.0])]
+                     for name, c in zip(self.names, self.channels, strict=True)]  # fmt: skip
+            self.server.publish({**sample, "swarm": swarm})
+
+    def hello(self) -> dict[str, Any]:
+        return self._hello
+
+    def state(self, client: object) -> dict[str, Any]:
+        return self.desk.state(client)
+
+    def handle(self, client: object, message: object) -> Reply:
+        reply = self.desk.handle(client, message)
+        for channel in self.channels:
+            if self.desk.halted:
+                channel.halted = True
+            elif channel.halted:
+                channel.resume()
+        return reply
+
+    def leave(self, client: object) -> None:
+        self.desk.leave(client)
+
+    def stop_now(self) -> None:
+        for channel in self.channels:
+            channel.stop()

@@ -68,7 +68,9 @@ function onHello(message) {
   view.hello = message;
   view.history = []; view.odometry = []; view.truth = [];
   const robot = message.robot || {};
-  $("robot-id").textContent = `${robot.port || ""} · ${robot.firmware || ""} firmware`;
+  $("robot-id").textContent = message.robots
+    ? `swarm of ${message.robots.length}: ${message.robots.join(", ")} · details of ${message.robots[0]}`
+    : `${robot.port || ""} · ${robot.firmware || ""} firmware`;
   $("h-firmware").textContent = robot.profile || robot.firmware || "–";
   $("replay-bar").hidden = message.mode !== "replay";
   $("map-legend").textContent = message.world ? "odometry (blue) · true pose (orange)" : "odometry from the encoders";
@@ -256,6 +258,18 @@ function drawMap() {
     }
     for (let g = -Math.ceil(hy * 10); g <= Math.ceil(hy * 10); g++) {
       const [, gy] = px(0, g / 10); ctx.beginPath(); ctx.moveTo(0, gy); ctx.lineTo(canvas.width, gy); ctx.stroke();
+    }
+  }
+  const swarm = view.sample && view.sample.swarm;
+  if (swarm) {  // every robot of a swarm, where it truly is
+    ctx.font = "11px system-ui";
+    for (const [name, x, y, theta] of swarm) {
+      const [rx, ry] = px(x, y);
+      ctx.fillStyle = "rgba(123,92,214,.35)"; ctx.strokeStyle = "#7b5cd6"; ctx.lineWidth = 1.5;
+      ctx.beginPath(); ctx.arc(rx, ry, Math.max(4, 0.037 * scale), 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+      ctx.beginPath(); ctx.moveTo(rx, ry);
+      ctx.lineTo(rx + Math.cos(theta) * 0.05 * scale, ry - Math.sin(theta) * 0.05 * scale); ctx.stroke();
+      ctx.fillStyle = "#1d2330"; ctx.fillText(name, rx + 8, ry - 8);
     }
   }
   drawTrace(ctx, view.truth, px, "#e8871e");
