@@ -68,5 +68,5 @@ def test_each_port_goes_to_the_backend_of_its_scheme(port: str, scheme: str) -> 
 def test_an_unknown_backend_says_what_is_missing() -> None:
     from ego.backends import find_backend
 
-    with pytest.raises(PortNotFoundError, match="no backend serves 'zenoh'"):
-        find_backend("zenoh")
+    with pytest.raises(PortNotFoundError, match="no backend serves 'carrier-pigeon'"):
+        find_backend("carrier-pigeon")
