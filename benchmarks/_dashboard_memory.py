@@ -8,13 +8,7 @@ import json
 import subprocess
 import sys
 
-
-def rss_kb() -> int:
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1])
-    raise RuntimeError("no VmRSS")
+from benchmarks.common import rss_kb
 
 
 def main(port: str) -> int:

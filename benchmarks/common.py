@@ -189,3 +189,12 @@ def print_and_save(tables: list[Table], quick: bool) -> Path:
         table.print()
         table.write_csv(folder)
     return folder
+
+
+def rss_kb() -> int:
+    """This process' resident memory now (VmRSS, kB)."""
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1])
+    raise RuntimeError("no VmRSS in /proc/self/status")

@@ -80,11 +80,10 @@ def _check_channel(channel: object) -> int:
     return channel
 
 
-class Emitter(Device):
-    """Webots' radio Emitter: ``send(data)`` puts a packet on its channel."""
+class _RadioDevice(Device):
+    """What the Emitter and the Receiver share: a channel, 1 by default."""
 
     CHANNEL_BROADCAST = -1
-    _node_type = "EMITTER"
 
     def __init__(
         self, core: CoreRobot | str, name: str = "", *, strict: bool | None = None
@@ -93,7 +92,16 @@ class Emitter(Device):
             return  # made by name (Device.__new__)
         super().__init__(core, name, strict=strict)
         self._channel = DEFAULT_CHANNEL
-        self._range = -1.0
+
+    def getChannel(self) -> int:
+        return self._channel
+
+
+class Emitter(_RadioDevice):
+    """Webots' radio Emitter: ``send(data)`` puts a packet on its channel."""
+
+    _node_type = "EMITTER"
+    _range = -1.0
 
     def send(self, message: bytes | str | Any) -> int:
         """Send ``message`` (bytes, or text as UTF-8); 1, as Webots answers when sent."""
@@ -105,9 +113,6 @@ class Emitter(Device):
             raise DeviceError(f"Emitter.send takes bytes or a str, not {type(message).__name__}")
         _radio(self._core).send(self._channel, data, self._range)
         return 1
-
-    def getChannel(self) -> int:
-        return self._channel
 
     def setChannel(self, channel: int) -> None:
         self._channel = _check_channel(channel)
@@ -124,24 +129,20 @@ class Emitter(Device):
     def getBufferSize(self) -> int:
         return -1  # Webots' "unlimited"
 
-    channel = property(getChannel, setChannel)
+    channel = property(_RadioDevice.getChannel, setChannel)
     range = property(getRange, setRange)
     buffer_size = property(getBufferSize)
 
 
-class Receiver(Device):
+class Receiver(_RadioDevice):
     """Webots' radio Receiver: a queue of packets, filled at each step while enabled."""
 
-    CHANNEL_BROADCAST = -1
     _node_type = "RECEIVER"
 
     def __init__(
         self, core: CoreRobot | str, name: str = "", *, strict: bool | None = None
     ) -> None:
-        if isinstance(core, str):
-            return  # made by name (Device.__new__)
         super().__init__(core, name, strict=strict)
-        self._channel = DEFAULT_CHANNEL
         self._period = 0
         self._queue: deque[Packet] = deque()
 
@@ -197,15 +198,12 @@ class Receiver(Device):
         """The unit vector towards the emitter in this robot's frame; NaNs if unknown."""
         return list(self._head().direction)
 
-    def getChannel(self) -> int:
-        return self._channel
-
     def setChannel(self, channel: int) -> None:
         self._channel = _check_channel(channel)
         if self._period:
             _radio(self._core).listen(self._channel)
 
-    channel = property(getChannel, setChannel)
+    channel = property(_RadioDevice.getChannel, setChannel)
     queue_length = property(getQueueLength)
     sampling_period = property(getSamplingPeriod)
     data = property(getData)

@@ -160,90 +160,28 @@ class WatchedChannel:
         self.inner.close()
 
 
-class ServedFeed:
-    """The dashboard's view of a served robot: samples from the client's batches, and a
-    stop that holds whatever the client sends."""
-
-    def __init__(self, channel: WatchedChannel, port: str) -> None:
-        self.channel = channel
-        self.desk = ControlDesk(can_act=False)
-        self.server: DashboardServer | None = None
-        info = channel.info
-        profile = info.profile
-        families = [family for command, family in _FAMILY_COMMANDS if profile.supports(command)]
-        proximity = profile.reply_values(Command.PROXIMITY) if "proximity" in families else 0
-        self._hello = {
-            "mode": "served",
-            "robot": describe_firmware(info, port, remote=False, proximity_count=proximity,
-                                       led_count=len(profile.leds), families=families),
-            "world": describe_world(channel.world),
-        }  # fmt: skip
-        channel.on_sample = self._on_sample
-
-    def _on_sample(self, sample: dict[str, Any]) -> None:
-        if self.server is not None:
-            self.server.publish(sample)
-
-    def hello(self) -> dict[str, Any]:
-        return self._hello
-
-    def state(self, client: object) -> dict[str, Any]:
-        return self.desk.state(client)
-
-    def handle(self, client: object, message: object) -> Reply:
-        reply = self.desk.handle(client, message)
-        if self.desk.halted:
-            self.channel.halted = True
-        elif self.channel.halted:
-            self.channel.resume()
-        return reply
-
-    def leave(self, client: object) -> None:
-        self.desk.leave(client)
-
-    def stop_now(self) -> None:
-        self.channel.stop()
+def _hello(mode: str, channel: WatchedChannel, name: str) -> dict[str, Any]:
+    """What a page is first told of a robot whose batches it reads."""
+    profile = channel.info.profile
+    families = [family for command, family in _FAMILY_COMMANDS if profile.supports(command)]
+    proximity = profile.reply_values(Command.PROXIMITY) if "proximity" in families else 0
+    return {
+        "mode": mode,
+        "robot": describe_firmware(channel.info, name, remote=False, proximity_count=proximity,
+                                   led_count=len(profile.leds), families=families),
+        "world": describe_world(channel.world),
+    }  # fmt: skip
 
 
-class SwarmFeed:
-    """``ego swarm --dashboard``: every robot of a swarm on the map (``swarm``: each one's
-    name and true pose), the first one's sensors in detail, and one stop for all."""
+class _StopFeed:
+    """A feed whose page may stop and resume the robots of ``channels``, and nothing more:
+    their controllers run elsewhere and own their devices."""
 
-    def __init__(self, names: list[str], channels: list[WatchedChannel]) -> None:
-        self.names = names
+    def __init__(self, channels: list[WatchedChannel], hello: dict[str, Any]) -> None:
         self.channels = channels
         self.desk = ControlDesk(can_act=False)
         self.server: DashboardServer | None = None
-        first = channels[0]
-        profile = first.info.profile
-        families = [family for command, family in _FAMILY_COMMANDS if profile.supports(command)]
-        self._hello = {
-            "mode": "swarm",
-            "robot": describe_firmware(first.info, names[0], remote=False,
-                                       proximity_count=profile.reply_values(Command.PROXIMITY),
-                                       led_count=len(profile.leds), families=families),
-            "world": describe_world(first.world),
-            "robots": names,
-        }  # fmt: skip
-        self._closing = threading.Event()
-        self._thread = threading.Thread(target=self._publish, name="ego-swarm-feed", daemon=True)
-
-    def start(self) -> SwarmFeed:
-        self._thread.start()
-        return self
-
-    def close(self) -> None:
-        self._closing.set()
-        self._thread.join(2)
-
-    def _publish(self) -> None:
-        while not self._closing.wait(0.04):
-            sample = self.channels[0].last_sample
-            if sample is None or self.server is None:
-                continue
-            swarm = [[name, *(world_pose(c.world) or [0.0, 0.0, 0.0])]
-                     for name, c in zip(self.names, self.channels, strict=True)]  # fmt: skip
-            self.server.publish({**sample, "swarm": swarm})
+        self._hello = hello
 
     def hello(self) -> dict[str, Any]:
         return self._hello
@@ -266,3 +204,45 @@ class SwarmFeed:
     def stop_now(self) -> None:
         for channel in self.channels:
             channel.stop()
+
+
+class ServedFeed(_StopFeed):
+    """The dashboard's view of a served robot: samples from the client's batches, and a
+    stop that holds whatever the client sends."""
+
+    def __init__(self, channel: WatchedChannel, port: str) -> None:
+        super().__init__([channel], _hello("served", channel, port))
+        self.channel = channel
+        channel.on_sample = self._on_sample
+
+    def _on_sample(self, sample: dict[str, Any]) -> None:
+        if self.server is not None:
+            self.server.publish(sample)
+
+
+class SwarmFeed(_StopFeed):
+    """``ego swarm --dashboard``: every robot of a swarm on the map (``swarm``: each one's
+    name and true pose), the first one's sensors in detail, and one stop for all."""
+
+    def __init__(self, names: list[str], channels: list[WatchedChannel]) -> None:
+        super().__init__(channels, {**_hello("swarm", channels[0], names[0]), "robots": names})
+        self.names = names
+        self._closing = threading.Event()
+        self._thread = threading.Thread(target=self._publish, name="ego-swarm-feed", daemon=True)
+
+    def start(self) -> SwarmFeed:
+        self._thread.start()
+        return self
+
+    def close(self) -> None:
+        self._closing.set()
+        self._thread.join(2)
+
+    def _publish(self) -> None:
+        while not self._closing.wait(0.04):
+            sample = self.channels[0].last_sample
+            if sample is None or self.server is None:
+                continue
+            swarm = [[name, *(world_pose(c.world) or [0.0, 0.0, 0.0])]
+                     for name, c in zip(self.names, self.channels, strict=True)]  # fmt: skip
+            self.server.publish({**sample, "swarm": swarm})
