@@ -49,6 +49,7 @@ def test_the_node_publishes_every_steps_sensors_and_answers_info() -> None:
             info = [json.loads(r.ok.payload.to_bytes()) for r in session.get("ego/e2/info")
                     if r.ok is not None]  # fmt: skip
             assert info and info[0]["name"] == "e2" and info[0]["emulated"] is True
+            assert "proximity" in info[0]["devices"] and info[0]["battery"] is None
             with ego.Robot("zenoh://e2", zenoh_connect=[served.endpoint]) as robot:
                 robot.light.enable(32)
                 for _ in range(10):

@@ -89,6 +89,16 @@ class WatchedChannel:
         self._take(batch, reply)
         return reply
 
+    @property
+    def battery(self) -> int | None:
+        """The battery's last reading in a batch (raw ADC count), None if never read."""
+        return self._battery
+
+    def device_families(self) -> list[str]:
+        """The sensor families this robot's firmware serves (ego.telemetry's names)."""
+        profile = self.inner.profile
+        return [family for command, family in _FAMILY_COMMANDS if profile.supports(command)]
+
     def resume(self) -> None:
         """End the stop: the wheels go back to what the client's controller last asked
         (its robot does not know it was stopped, so it would not ask again)."""
@@ -163,7 +173,7 @@ class WatchedChannel:
 def _hello(mode: str, channel: WatchedChannel, name: str) -> dict[str, Any]:
     """What a page is first told of a robot whose batches it reads."""
     profile = channel.info.profile
-    families = [family for command, family in _FAMILY_COMMANDS if profile.supports(command)]
+    families = channel.device_families()
     proximity = profile.reply_values(Command.PROXIMITY) if "proximity" in families else 0
     return {
         "mode": mode,

@@ -208,7 +208,8 @@ class RobotNode:
 
     def _info(self, query: Any) -> None:
         info = {**firmware_fields(self.watched.info), "name": self.name,
-                "emulated": self.world is not None}  # fmt: skip
+                "emulated": self.world is not None, "devices": self.watched.device_families(),
+                "battery": self.watched.battery}  # fmt: skip
         query.reply(query.key_expr, json.dumps(info).encode())
 
     def _ascii(self, query: Any) -> None:
