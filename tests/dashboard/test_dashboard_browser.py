@@ -159,3 +159,40 @@ x_m = 0.0
 y_m = 0.25
 rgb = [30, 160, 40]
 """
+
+
+def test_a_teleop_controller_runs_unchanged_from_the_browsers_keys(
+    tmp_path: Path, page: Any
+) -> None:
+    """The page's keys reach the controller's Webots Keyboard: arrows drive it, Q ends it."""
+    import re
+    import select
+    import subprocess
+
+    from helpers import ego_command
+
+    teleop = Path(__file__).parents[1] / "faces" / "controllers" / "keyboard_teleop.py"
+    proc = subprocess.Popen(
+        [*ego_command(), "run", "--port", "sim", "--dashboard", "127.0.0.1:0", str(teleop)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
+    )  # fmt: skip
+    try:
+        assert proc.stderr is not None
+        url = ""
+        while not url and select.select([proc.stderr], [], [], 20)[0]:
+            match = re.search(r"dashboard at (\S+)", proc.stderr.readline())
+            url = match.group(1) if match else ""
+        assert url, "no dashboard URL"
+        _open(page, url)
+        _take_control(page)
+        page.wait_for_function("!document.getElementById('keyboard-note').hidden")
+        page.keyboard.press("ArrowUp")
+        page.wait_for_function("Number(document.getElementById('speed-left').textContent) > 400")
+        page.keyboard.press("q")
+        out, err = proc.communicate(timeout=20)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 0, err
+    assert "key 315" in out.splitlines() and "key 81" in out.splitlines()
