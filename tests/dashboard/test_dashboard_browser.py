@@ -134,13 +134,15 @@ def test_the_camera_image_on_the_page_changes_as_the_robot_turns(
     with served_robot(tmp_path, turn, world=world) as served:
         _open(page, served.url)
         page.wait_for_function("Number(document.getElementById('camera').dataset.frames || 0) > 2")
+        camera = served.robot.camera
+        # The page shows the frames at the controller's size (once a frame has decoded).
+        page.wait_for_function(
+            f"document.getElementById('camera').naturalWidth === {camera.width} && "
+            f"document.getElementById('camera').naturalHeight === {camera.height}"
+        )
         first = page.locator("#camera").screenshot()
-        size = page.evaluate("[document.getElementById('camera').naturalWidth, "
-                             "document.getElementById('camera').naturalHeight]")  # fmt: skip
         time.sleep(1.0)
         second = page.locator("#camera").screenshot()
-        camera = served.robot.camera
-        assert size == [camera.width, camera.height]
     assert first != second
 
 

@@ -118,11 +118,13 @@ function showImage(blob) {
   const img = $("camera");
   if (view.imageUrl) URL.revokeObjectURL(view.imageUrl);
   view.imageUrl = URL.createObjectURL(blob);
-  img.onload = () => { $("camera-size").textContent = `${img.naturalWidth}×${img.naturalHeight}`; };
+  img.onload = () => {
+    $("camera-size").textContent = `${img.naturalWidth}×${img.naturalHeight}`;
+    img.dataset.frames = String(Number(img.dataset.frames || 0) + 1);  // frames shown
+  };
   img.src = view.imageUrl;
   img.hidden = false;
   $("camera-off").hidden = true;
-  img.dataset.frames = String(Number(img.dataset.frames || 0) + 1);
 }
 
 // -- the robot from above ---------------------------------------------------------------
