@@ -90,8 +90,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--rev13",
         action="store_true",
-        help="an e-puck revision 1.3: I2C accelerometer (a/A answer zeros in Overo mode), "
-        "battery ADC",
+        help="an e-puck revision 1.3: I2C accelerometer (a/A answer zeros in Overo mode, "
+        "where the Overo reads it over I2C), battery ADC",
     )
     parser.add_argument(
         "--selector",
@@ -106,7 +106,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--no-ground-module",
         dest="ground_module",
         action="store_false",
-        help="no floor-sensor board fitted: M reads 0xFFFF (Overo mode: M sends nothing anyway)",
+        help="no floor-sensor board fitted: M reads 0xFFFF (Overo mode: M sends nothing "
+        "anyway, and nothing answers at 0x60 on the Overo's I2C bus)",
     )
     parser.add_argument(
         "--latency-ms",

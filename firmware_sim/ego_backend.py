@@ -15,6 +15,7 @@ from typing import Any
 from ego.backends import Opened, open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
 from ego.errors import CameraCaptureError, CameraError
+from ego.i2c.bus import given_bus
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Firmware
 from ego.serial.transport import SerialTransport, check_baudrate
@@ -62,7 +63,8 @@ class SimBackend:
     Options: ``seed`` (the world's), ``world`` (a built-in world's name or a world file:
     firmware_sim.worlds), ``baudrate`` (default: the firmware's line rate),
     ``link_settings``, and any of the Emulator's own (``hardware_version``, ``rev13``,
-    ``selector``, ``ground_module``, ``latency_s``).
+    ``selector``, ``ground_module``, ``latency_s``). In Overo mode the emulator's model
+    of the robot's I2C bus goes in as the robot's own bus (``Opened.i2c``).
     """
 
     def open(
@@ -88,7 +90,8 @@ class SimBackend:
             raise
         world = emulator.world
         camera = lambda: SimulatedCamera(SimulatedSource(world))  # noqa: E731
-        return Opened(channel, camera, emulator, [emulator.stop])
+        i2c = None if emulator.i2c is None else given_bus(emulator.i2c)
+        return Opened(channel, camera, emulator, [emulator.stop], i2c=i2c)
 
     @staticmethod
     def swarm_worlds(spec: str | None, count: int, seed: int | None = None) -> list[Any]:

@@ -27,6 +27,7 @@ from types import TracebackType
 
 from firmware_sim.dspic import BANNER, BatchRecord, Dspic, Emission
 from firmware_sim.faults import FaultPlan, FaultSpec, FaultTimings
+from firmware_sim.i2c import OveroBus
 from firmware_sim.world import World
 
 __all__ = ["Emulator"]
@@ -42,7 +43,10 @@ class Emulator:
     """A dsPIC + world behind a pty; ``with Emulator() as emu: Robot(emu.path)``.
 
     Runs in a background thread (:meth:`start`) or in the calling thread
-    (:meth:`serve_forever`, for ``python -m firmware_sim``).
+    (:meth:`serve_forever`, for ``python -m firmware_sim``). In Overo mode (the stock
+    firmware in selector 10) :attr:`i2c` is the robot's I2C bus as the Overo sees it,
+    with the ground module and, on a rev 1.3, the LSM330; None in any other mode, where
+    the dsPIC is the bus's master.
     """
 
     def __init__(
@@ -73,6 +77,12 @@ class Emulator:
             rev13=rev13,
             selector=selector,
             ground_module=ground_module,
+        )
+        #: The I2C bus the firmware leaves to the Overo (firmware_sim.i2c), else None.
+        self.i2c = (
+            OveroBus(self.world, ground_module=ground_module, rev13=rev13)
+            if self.dspic.overo
+            else None
         )
         baud = self.dspic.line_baud if baud is None else baud
         if baud <= 0:

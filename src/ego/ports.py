@@ -11,7 +11,9 @@ __all__ = [
     "BLUETOOTH_PORT_PREFIX",
     "DEFAULT_CAMERA_DEVICE",
     "DEFAULT_PORT",
+    "ROBOT_UART_PREFIXES",
     "default_baud",
+    "is_robot_uart",
     "resolve_port",
 ]
 
@@ -53,3 +55,12 @@ def default_baud(port: str, firmware: Firmware | None) -> int:
     if port.startswith(BLUETOOTH_PORT_PREFIX):
         return PROFILES[Firmware.WEBOTS].line_baud
     return DEFAULT_BAUD
+
+
+#: The robot's own UARTs as the Overo names them: a port there means ego runs on the robot.
+ROBOT_UART_PREFIXES = ("/dev/ttyS", "/dev/ttyO")
+
+
+def is_robot_uart(port: str) -> bool:
+    """Whether ``port`` is the Overo's own UART to the dsPIC (/dev/ttyS*, /dev/ttyO*)."""
+    return port.startswith(ROBOT_UART_PREFIXES)

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 from ego.backends import Opened, open_port
 from ego.channel import Channel, TappedChannel
 from ego.devices.accelerometer import Accelerometer
-from ego.devices.base import MAX_PERIOD_MS, Device, check_int
+from ego.devices.base import MAX_PERIOD_MS, Device, Sensor, check_int
 from ego.devices.battery import Battery
 from ego.devices.encoders import Encoders
 from ego.devices.floor import FloorSensors
@@ -29,6 +29,8 @@ from ego.errors import (
     LinkLostError,
     UnknownDeviceError,
 )
+from ego.i2c.bus import I2CBus, given_bus
+from ego.i2c.side import OveroI2C, run_i2c_step
 from ego.ports import resolve_port
 from ego.safety import install_signal_handlers, register, send_stop
 from ego.scheduler import StepClock
@@ -64,7 +66,10 @@ class Robot:
     (:mod:`ego.backends`) takes the ``options`` it knows: ``firmware`` for all (None:
     detect it), ``baudrate``, ``link_settings`` and ``camera_device`` for a serial port,
     ``seed`` for the emulator, ``secret`` for the network. ``channel`` instead steps
-    through a :class:`~ego.channel.Channel` opened elsewhere.
+    through a :class:`~ego.channel.Channel` opened elsewhere. ``i2c`` is the robot's own
+    I2C bus, where the stock firmware in Overo mode leaves the ground sensors and a rev
+    1.3's accelerometer (:mod:`ego.i2c`); by default the backend's (the Overo's
+    ``/dev/i2c-3`` on its own UART, the emulator's for ``"sim"``).
 
     Leaving the ``with`` block, an exception, or dropping the Robot stops the motors and
     turns the LEDs off before the port closes. ``handle_signals`` also turns every
@@ -78,6 +83,7 @@ class Robot:
         *,
         channel: Channel | None = None,
         camera_source: FrameSource | None = None,
+        i2c: I2CBus | None = None,
         handle_signals: bool = False,
         **options: Any,
     ) -> None:
@@ -92,6 +98,8 @@ class Robot:
         else:
             self.port = channel.name
             self._opened = Opened(channel)
+        if i2c is not None:
+            self._opened.i2c = given_bus(i2c)
         #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.channel).
         self.link: Channel = self._opened.channel
         self._closed = False
@@ -100,7 +108,9 @@ class Robot:
         # Everything the stop and the close need, held apart from the Robot so that a
         # finalizer can stop the wheels when the Robot is dropped without close(), or
         # when the interpreter exits with it still open.
-        self._parts = _Parts(self.link, self.clock, self._opened)
+        #: The robot's own I2C bus, read beside the batch (ego.i2c): opened at first need.
+        self.i2c = OveroI2C(self._opened.i2c, self.port)
+        self._parts = _Parts(self.link, self.clock, self._opened, self.i2c)
         self._finalizer = weakref.finalize(self, self._parts.close)
         profile = self.link.profile
         self.motors = Motors(profile)
@@ -127,6 +137,9 @@ class Robot:
         )
         #: What each step's transaction runs over (ego.transaction).
         self._step_parts = tuple(part for family in self.families for part in family.parts)
+        for part in self._step_parts:
+            if isinstance(part, Sensor):
+                part.bind_i2c(self.i2c)
         #: Devices the step clock schedules on this side of the link (the camera, once
         #: opened): each is updated with the step's time.
         self._local_devices: list[Camera] = []
@@ -298,6 +311,8 @@ class Robot:
             log.log(logging.INFO if ended else logging.ERROR, "link lost for good: %s", exc)
             self._lost = self._parts.lost = True
             return -1
+        # Beside the batch: what the firmware leaves on the Overo's I2C bus (its own lock).
+        run_i2c_step(self._step_parts, self.i2c, now)
         for local in self._local_devices:  # captured here, not over the link: the camera
             local.update(now)
         self._time_ms += step_ms
@@ -374,6 +389,7 @@ class _Parts:
     link: Channel
     clock: StepClock
     opened: Opened
+    i2c: OveroI2C
     camera: Camera | None = None
     lost: bool = False
 
@@ -387,6 +403,7 @@ class _Parts:
         if self.camera is not None:
             self.camera.close()
         self.clock.close()
+        self.i2c.close()
         self.link.close()
         self.opened.close()
 

@@ -47,10 +47,9 @@ GRACE_S = 5.0
 def wants_supervision(port: str | None) -> bool:
     """Whether ``ego run`` supervises by default: on the robot's own UART (the Overo's
     /dev/ttyS*, /dev/ttyO*), where nothing else could stop a killed controller's robot."""
-    from ego.ports import resolve_port
+    from ego.ports import is_robot_uart, resolve_port
 
-    resolved = resolve_port(port)
-    return resolved.startswith(("/dev/ttyS", "/dev/ttyO"))
+    return is_robot_uart(resolve_port(port))
 
 
 def run_supervised(

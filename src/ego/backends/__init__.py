@@ -20,10 +20,13 @@ scheme        backend
 
 Each backend opens a :class:`~ego.channel.Channel` (the seam under ``Robot``) and takes
 the options it knows: a serial port its baud rate and link settings, the emulator its
-seed, the network its secret. A new backend (Bluetooth discovery, a distributed engine,
-another robot) is one module with a class that has :meth:`Backend.open`, registered under
-the ``ego.backends`` entry point group or with :func:`register`; nothing in ``Robot``
-changes.
+seed, the network its secret. Beside the channel it may hand in the robot's own I2C bus
+(:class:`~ego.i2c.bus.I2CAccess`, opened at first need), where the stock firmware leaves
+the ground module and a rev 1.3's accelerometer to the Overo: the Overo's
+``/dev/i2c-3`` on its own UART, the emulator's model of the bus for ``sim``. A new
+backend (Bluetooth discovery, a distributed engine, another robot) is one module with a
+class that has :meth:`Backend.open`, registered under the ``ego.backends`` entry point
+group or with :func:`register`; nothing in ``Robot`` changes.
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ from ego.serial.protocol import Firmware
 if TYPE_CHECKING:
     from ego.camera import FrameSource
     from ego.channel import Channel
+    from ego.i2c.bus import I2CAccess
     from ego.serial.link import Link, LinkSettings
     from ego.serial.transport import Transport
 
@@ -73,6 +77,8 @@ class Opened:
     closers: list[Callable[[], None]] = field(default_factory=list)
     #: Whether the robot is driven over a network (Webots' MODE_REMOTE_CONTROL).
     remote: bool = False
+    #: The robot's own I2C bus (the Overo's), opened at first need; None: out of reach.
+    i2c: I2CAccess | None = None
 
     def close(self) -> None:
         """Close the channel and everything beside it; idempotent."""
@@ -94,8 +100,25 @@ class Backend(Protocol):
         ...
 
 
+def robot_i2c(port: str, i2c_bus: int | str | None) -> I2CAccess | None:
+    """The I2C bus a robot on ``port`` reaches: ``i2c_bus`` if given ("none": none), else
+    the Overo's ``/dev/i2c-3`` when ``port`` is its own UART (ego runs on the robot)."""
+    from ego.i2c.bus import DEFAULT_I2C_BUS, local_bus
+    from ego.ports import is_robot_uart
+
+    if i2c_bus == "none":
+        return None
+    if i2c_bus is not None:
+        return local_bus(i2c_bus)
+    return local_bus(DEFAULT_I2C_BUS) if is_robot_uart(port) else None
+
+
 class SerialBackend:
-    """A serial port or pyserial URL at the firmware's line rate (docs/protocol.md, Line)."""
+    """A serial port or pyserial URL at the firmware's line rate (docs/protocol.md, Line).
+
+    ``i2c_bus`` (a number, a ``/dev/i2c-N`` path, or "none") is the robot's own I2C bus;
+    by default the Overo's ``/dev/i2c-3`` on its own UART (``/dev/ttyS*``), none elsewhere.
+    """
 
     def open(
         self,
@@ -105,22 +128,24 @@ class SerialBackend:
         baudrate: int | None = None,
         link_settings: LinkSettings | None = None,
         camera_device: str | None = None,
+        i2c_bus: int | str | None = None,
     ) -> Opened:
         from ego.ports import default_baud
         from ego.serial.transport import SerialTransport, check_baudrate
 
         baud = check_baudrate(baudrate) if baudrate is not None else default_baud(port, firmware)
+        i2c = robot_i2c(port, i2c_bus)  # checked before the port opens
         channel = open_link(SerialTransport(port, baud), firmware, link_settings)
         device = camera_device or os.environ.get("EGO_CAMERA") or DEFAULT_CAMERA_DEVICE
         if device == "none":
-            return Opened(channel)
+            return Opened(channel, i2c=i2c)
 
         def camera() -> FrameSource:
             from ego.camera import V4L2Source
 
             return V4L2Source(device)
 
-        return Opened(channel, camera)
+        return Opened(channel, camera, i2c=i2c)
 
 
 def open_link(
@@ -140,7 +165,10 @@ class RemoteBackend:
     """A robot served by ``ego serve`` (``tcp://HOST:PORT``, ``udp://HOST:PORT``).
 
     ``baudrate`` is accepted for controllers written for a serial line (E-GO's
-    ``overo_serial_init(230400, ...)``): the server owns that line and its rate.
+    ``overo_serial_init(230400, ...)``): the server owns that line and its rate. A
+    ``unix://`` server runs on this machine (``ego run``'s supervisor on the robot), so
+    the robot's own I2C bus is this machine's (``i2c_bus``, default ``/dev/i2c-3``); a
+    network port reaches none.
     """
 
     def open(
@@ -151,9 +179,15 @@ class RemoteBackend:
         secret: str | bytes | None = None,
         baudrate: int | None = None,
         link_settings: LinkSettings | None = None,
+        i2c_bus: int | str | None = None,
         **connection: Any,
     ) -> Opened:
+        from ego.i2c.bus import DEFAULT_I2C_BUS
         from ego.remote.client import RemoteChannel
+
+        if i2c_bus is None and port.startswith("unix://"):
+            i2c_bus = DEFAULT_I2C_BUS
+        i2c = robot_i2c(port, i2c_bus)
 
         channel = RemoteChannel.from_url(port, secret, settings=link_settings, **connection)
         if firmware is not None and channel.info.firmware is not firmware:
@@ -161,7 +195,7 @@ class RemoteBackend:
             raise PortNotFoundError(
                 f"{port} serves a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
-        return Opened(channel, channel.frame_source, remote=True)
+        return Opened(channel, channel.frame_source, remote=True, i2c=i2c)
 
 
 _REGISTRY: dict[str, Callable[[], Backend]] = {

@@ -6,7 +6,10 @@ gives three floats computed on the dsPIC from the counts less the offsets it mea
 start-up: the magnitude in counts, the orientation and the inclination in degrees, both
 converted with 180/3.1415, so they overshoot their ranges by up to 0.006 %. A stock
 firmware in Overo mode answers zeros on a rev 1.3 e-puck, whose accelerometer is on I2C:
-all zeros cannot be a reading of the analog accelerometer, so they are refused.
+all zeros cannot be a reading of the analog accelerometer, so they are refused. There,
+where the robot's I2C bus is reachable and its LSM330 answers, raw mode reads the chip
+over I2C instead (ego.i2c), in the firmware's own 12-bit scaling: 0 g at 2048, 768
+counts a g (docs/protocol.md, "The Overo's own I2C bus").
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ ANGLE_OVERSHOOT = 360 * (FIRMWARE_DEGREES_PER_RADIAN / (180 / math.pi) - 1) + 1e
 #: What says "this robot's firmware has no accelerometer data for us".
 NO_DATA_WHY = (
     "the accelerometer answered all zeros, which the stock firmware in Overo mode sends "
-    "for an e-puck rev 1.3 (its accelerometer is on I2C, which the Overo owns)"
+    "for an e-puck rev 1.3 (its accelerometer is an LSM330 on I2C, which the Overo owns)"
 )
 
 
@@ -122,7 +125,7 @@ class Accelerometer(Sensor):
 
     def take(self, values: Sequence[float]) -> None:
         if not any(values):
-            raise self.missing(NO_DATA_WHY)
+            raise self.missing(NO_DATA_WHY + self.i2c_hint())
         if self.mode is AccelerometerMode.RAW:
             x, y, z = (int(v) for v in values)
             self._raw = (x, y, z)
@@ -139,11 +142,17 @@ class Accelerometer(Sensor):
     def acceleration_mps2(self) -> tuple[float, float, float]:
         """x, y, z in m/s^2 with Webots' conversion (docs/protocol.md, "a"): x is negated.
 
-        0 g and the counts per g are the connected firmware's figures for this robot.
+        0 g and the counts per g are the connected firmware's figures for this robot, or
+        the LSM330's when it is read over I2C.
         """
         x, y, z = self.values
-        zero = self.profile.acc_zero_counts
-        k = GRAVITY_MPS2 / self.profile.acc_counts_per_g
+        chip = self._via  # the chip last read, even once disabled
+        zero, per_g = (
+            chip.acc_scale
+            if chip is not None and chip.acc_scale is not None
+            else (self.profile.acc_zero_counts, self.profile.acc_counts_per_g)
+        )
+        k = GRAVITY_MPS2 / per_g
         return (-k * (x - zero), k * (y - zero), k * (z - zero))
 
     @property

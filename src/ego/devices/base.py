@@ -27,11 +27,15 @@ import abc
 import enum
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import ClassVar, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
 from ego.errors import DeviceError, UnknownDeviceError, UnsupportedDeviceError
 from ego.serial.protocol import Command, Profile, Request
 from ego.validate import check_int  # re-exported: the families' integer check
+
+if TYPE_CHECKING:
+    from ego.i2c.chips import Chip
+    from ego.i2c.side import OveroI2C
 
 __all__ = [
     "FINE",
@@ -194,7 +198,9 @@ class Sensor(Device, abc.ABC):
     """A sensor family: members enabled with a sampling period, fetched when due.
 
     The family's command goes out when any enabled member's period has elapsed since
-    the last fetch; one fetch refreshes every member.
+    the last fetch; one fetch refreshes every member. Where the firmware leaves the
+    family's devices on the Overo's own I2C bus (``Profile.i2c``) and their chip answers
+    there, the family is read over that bus instead (ego.i2c), with the same values.
     """
 
     command: ClassVar[Command]
@@ -204,14 +210,50 @@ class Sensor(Device, abc.ABC):
         self._periods: dict[str, int] = {}
         self._last_fetch_ms: int | None = None
         self._sampled_ms: int | None = None
+        self._i2c: OveroI2C | None = None
+        self._via: Chip | None = None
+
+    def bind_i2c(self, side: OveroI2C) -> None:
+        """The robot's I2C bus, for the devices the firmware leaves on it."""
+        self._i2c = side
+
+    @property
+    def i2c_chip(self) -> Chip | None:
+        """The chip this family is read from over I2C; None: over the line."""
+        return self._via if self._periods else None
 
     def enable(self, period_ms: int, names: Iterable[str] | None = None) -> None:
         """Sample the named members (all by default) every ``period_ms`` milliseconds."""
         period = check_int("sampling period", period_ms, 1, MAX_PERIOD_MS, " ms")
         members = self.member_names if names is None else [self.check_name(n) for n in names]
-        self.require(self.command_for_enable())
+        self._route(self.command_for_enable())
         for name in members:
             self._periods[name] = period
+
+    def _route(self, command: Command) -> None:
+        """The way to the devices: the I2C chip the profile names if it answers, else the
+        line; UnsupportedDeviceError naming the way out when neither serves them."""
+        chip_name = self._profile.i2c.get(command)
+        self._via = None
+        if chip_name is not None:
+            side = self._side()
+            self._via = side.find(chip_name)
+            if self._via is None and not self._profile.supports(command):
+                raise UnsupportedDeviceError(side.absent(chip_name))
+        if self._via is None:
+            self.require(command)
+
+    def _side(self) -> OveroI2C:
+        if self._i2c is None:
+            from ego.i2c.side import NO_I2C
+
+            return NO_I2C
+        return self._i2c
+
+    def i2c_hint(self) -> str:
+        """Why the I2C bus did not serve this family, where the profile has it there."""
+        chip_name = self._profile.i2c.get(self.command_for_enable())
+        return "" if chip_name is None else f"; {self._side().absent(chip_name)}"
 
     def command_for_enable(self) -> Command:
         return self.command
@@ -241,6 +283,8 @@ class Sensor(Device, abc.ABC):
         return self._last_fetch_ms is None or now_ms - self._last_fetch_ms >= period
 
     def plan(self, now_ms: int) -> list[Request]:
+        if self.i2c_chip is not None:
+            return []  # read over I2C, beside the batch (ego.i2c.side.run_i2c_step)
         return [Request(self.current_command())] if self.is_due(now_ms) else []
 
     def current_command(self) -> Command:
@@ -267,7 +311,10 @@ class Sensor(Device, abc.ABC):
 
     def set_profile(self, profile: Profile) -> None:
         super().set_profile(profile)
-        if self._periods and not profile.supports(self.command_for_enable()):
+        command = self.command_for_enable()
+        if self._via is not None and profile.i2c.get(command) != self._via.name:
+            self._via = None
+        if self._periods and self._via is None and not profile.supports(command):
             self._periods.clear()
             raise UnsupportedDeviceError(
                 f"after a restart the firmware is {profile.firmware}, which cannot serve the "

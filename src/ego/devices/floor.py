@@ -14,11 +14,14 @@ __all__ = ["FloorSensors"]
 class FloorSensors(ArraySensor):
     """IR reflection of the floor, 0..4095: high on white, low on black.
 
-    The stock Overo firmware does not serve them (``M`` answers nothing; they sit on the
-    Overo's I2C bus at 0x60), so enabling them there raises UnsupportedDeviceError. Over
-    Bluetooth the stock firmware adds two cliff sensors to ``M``'s reply (ignored here).
-    Without the ground module fitted, the firmware's I2C reads go unacknowledged and every
-    byte reads 0xFF (docs/protocol.md, "M"): that raises UnsupportedDeviceError too.
+    The stock firmware in Overo mode does not serve them (``M`` answers nothing): it
+    leaves the I2C bus to the Overo, which reads the ground module at 0x60 itself
+    (ego.i2c; docs/protocol.md, "The Overo's own I2C bus"). Where that bus is out of
+    reach or the module does not answer on it, enabling them raises
+    UnsupportedDeviceError naming the way out. Over Bluetooth the stock firmware adds two
+    cliff sensors to ``M``'s reply (ignored here). Without the ground module fitted, the
+    firmware's I2C reads go unacknowledged and every byte reads 0xFF (docs/protocol.md,
+    "M"): that raises UnsupportedDeviceError too.
 
     >>> robot.floor.enable(32)                           # doctest: +SKIP
     >>> robot.step(32); on_line = robot.floor.value("gs1") < 500

@@ -218,6 +218,10 @@ class Profile:
     acc_counts_per_g: int = 800
     #: An e-puck revision 1.3 (I2C accelerometer, battery ADC); None when not asked.
     rev13: bool | None = field(default=None, compare=False)
+    #: The commands whose devices this firmware leaves on the Overo's own I2C bus, with the
+    #: chip that serves each there (ego.i2c.chips.CHIPS): the families read them over
+    #: i2c-dev where the line does not (docs/protocol.md, "The Overo's own I2C bus").
+    i2c: Mapping[Command, str] = field(default_factory=dict, repr=False)
 
     def supports(self, command: Command) -> bool:
         return command is Command.END or command in self.commands
@@ -264,6 +268,12 @@ _overo[Command.PROXIMITY] = _fmt(reply="10h")
 _overo[Command.LIGHT] = _fmt(reply="10h")
 # docs/protocol.md: M returns nothing; the I2C bus is left to the Overo.
 del _overo[Command.FLOOR]
+#: docs/protocol.md, "The Overo's own I2C bus": in selector 10 the firmware lets the Overo
+#: be the I2C master (main_c.c:115-119), so the Overo reads the ground module itself, and,
+#: on a rev 1.3, the LSM330 that answers `a` with zeros on the line.
+_OVERO_I2C = MappingProxyType(
+    {Command.FLOOR: "ground module", Command.ACCELEROMETER_RAW: "LSM330"}
+)
 
 _bluetooth = dict(_COMMON)
 # docs/protocol.md, quirk "M": the stock firmware is built with its cliff sensors, so
@@ -281,6 +291,7 @@ PROFILES: Mapping[Firmware, Profile] = MappingProxyType(
             work_s=MappingProxyType({Command.ACCELEROMETER_SPHERICAL: _A_WORK_S}),
             calibration_s=1.0,
             ascii_stop=AsciiStop(tuple(range(8)), clears_echo=False),
+            i2c=_OVERO_I2C,
         ),
         Firmware.WEBOTS: Profile(
             Firmware.WEBOTS,
@@ -304,6 +315,7 @@ GCTRONIC_BLUETOOTH = PROFILES[Firmware.GCTRONIC].but(
     description="stock GCtronic asercom over Bluetooth",
     line_baud=115200,
     work_s=MappingProxyType({Command.FLOOR: _M_WORK_S, Command.ACCELEROMETER_SPHERICAL: _A_WORK_S}),
+    i2c=MappingProxyType({}),  # the dsPIC is the I2C master: M and a read it
 )
 
 

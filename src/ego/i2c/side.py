@@ -1,0 +1,190 @@
+"""The Overo's I2C bus as a robot's families use it: each chip probed once, every
+transfer under one lock, and the step's reads beside the serial batch.
+
+A family the connected firmware leaves to the Overo's bus (``Profile.i2c``) asks
+:meth:`OveroI2C.find` for its chip when it is enabled: the bus is opened then, the chip
+probed (its identity register, or an acknowledged read of its data), and the answer kept.
+Where no chip answers, :meth:`OveroI2C.absent` says which board and firmware serve the
+devices instead. Each step, :func:`run_i2c_step` reads the chips of the families that are
+due and hands the values to them as the line's replies would be (validate, then apply).
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable, Sequence
+
+from ego.devices.base import Device, Sensor
+from ego.errors import DeviceError, UnsupportedDeviceError
+from ego.i2c.bus import I2CAccess, I2CBus
+from ego.i2c.chips import CHIPS, Chip
+from ego.serial.protocol import Request
+
+__all__ = ["MAX_I2C_ATTEMPTS", "NO_I2C", "OveroI2C", "run_i2c_step"]
+
+log = logging.getLogger(__name__)
+
+#: Reads of one chip in a step before a failure is final (a glitch on the bus is retried).
+MAX_I2C_ATTEMPTS = 3
+
+
+class OveroI2C:
+    """The Overo's I2C bus of one robot: opened at first need, closed with the robot.
+
+    ``access`` is None where the port does not reach the robot's bus (a network port, a
+    replay); ``where`` names the port for that message.
+    """
+
+    def __init__(self, access: I2CAccess | None, where: str = "this port") -> None:
+        self._access = access
+        self._where = where
+        self._bus: I2CBus | None = None
+        self._closed = False
+        #: Each probed chip: itself when it answered, else why not.
+        self._probed: dict[str, Chip | str] = {}
+        #: Held for every transfer: the probes and set-ups of enable() and the step's reads.
+        self.lock = threading.Lock()
+
+    @property
+    def name(self) -> str:
+        return self._access.name if self._access is not None else "no I2C bus"
+
+    def find(self, chip_name: str) -> Chip | None:
+        """The chip ``chip_name`` if it answers on this bus (probed once), else None."""
+        with self.lock:
+            if chip_name not in self._probed:
+                self._probed[chip_name] = self._probe(CHIPS[chip_name])
+            found = self._probed[chip_name]
+        return found if isinstance(found, Chip) else None
+
+    def absent(self, chip_name: str) -> str:
+        """Which way leads to the chip's devices, as :meth:`find` left it: one line."""
+        chip = CHIPS[chip_name]
+        if self._access is None:
+            return (
+                f"{chip.devices} on the Overo are read over its own I2C bus (the {chip.name}), "
+                f"which {self._where} does not reach: run the controller on the robot; "
+                f"{chip.elsewhere}"
+            )
+        why = self._probed.get(chip_name, "not probed")
+        return (
+            f"{chip.devices} on the Overo need the {chip.name} on {self.name} ({why}); "
+            f"{chip.elsewhere}"
+        )
+
+    def read(self, chip: Chip) -> tuple[int, ...]:
+        """One reading of ``chip``, decoded; OSError after MAX_I2C_ATTEMPTS failures."""
+        bus = self._bus
+        if bus is None or self._closed:
+            raise OSError(f"{self.name} is not open")
+        with self.lock:
+            for attempt in range(MAX_I2C_ATTEMPTS):
+                try:
+                    data = bus.read_block(chip.address, chip.data_register, chip.data_count)
+                    return chip.decode(data)
+                except OSError as exc:
+                    if attempt == MAX_I2C_ATTEMPTS - 1:
+                        raise
+                    log.warning("%s: reading the %s failed (%s); again", self.name, chip.name, exc)
+        raise AssertionError("unreachable")
+
+    def close(self) -> None:
+        """Release the bus; idempotent."""
+        self._closed = True
+        if self._bus is not None:
+            self._bus.close()
+            self._bus = None
+
+    # -- probing (under the lock) ----------------------------------------------------------
+
+    def _probe(self, chip: Chip) -> Chip | str:
+        try:
+            bus = self._open()
+        except OSError as exc:
+            return f"not found: {exc}"
+        at = f"0x{chip.address:02X}"
+        try:
+            if chip.identity is not None:
+                register, expected = chip.identity
+                (got,) = bus.read_block(chip.address, register, 1)
+                if got != expected:
+                    return (
+                        f"{at} answers 0x{got:02X} at register 0x{register:02X}, not the "
+                        f"{chip.name}'s 0x{expected:02X}"
+                    )
+            else:
+                bus.read_block(chip.address, chip.data_register, chip.data_count)
+            for register, value in chip.setup:
+                bus.write_byte_data(chip.address, register, value)
+        except OSError as exc:
+            return f"nothing answers at {at}: {exc}"
+        log.info("%s: the %s answers at %s", bus.name, chip.name, at)
+        return chip
+
+    def _open(self) -> I2CBus:
+        if self._closed:
+            raise OSError(f"{self.name} is closed")
+        if self._access is None:
+            raise OSError(f"{self._where} does not reach the robot's I2C bus")
+        if self._bus is None:
+            self._bus = self._access.open()
+        return self._bus
+
+
+#: The bus of a robot whose port reaches none (families made on their own).
+NO_I2C = OveroI2C(None)
+
+
+def run_i2c_step(
+    parts: Sequence[Device],
+    side: OveroI2C,
+    now_ms: int,
+    clock: Callable[[], float] = time.monotonic,
+) -> None:
+    """Read the chip of every part served over I2C that is due at ``now_ms``, and hand
+    each its values as a reply of its serial command (validate, then apply).
+
+    A chip that stops answering disables its family (UnsupportedDeviceError, raised once
+    every other part has its values); values that stay implausible over
+    MAX_I2C_ATTEMPTS reads raise DeviceError.
+    """
+    due = [
+        (part, chip)
+        for part in parts
+        if isinstance(part, Sensor) and (chip := part.i2c_chip) is not None and part.is_due(now_ms)
+    ]
+    absent: list[UnsupportedDeviceError] = []
+    for part, chip in due:
+        request = Request(part.current_command())
+        try:
+            values, now_s = _plausible(part, chip, side, request, clock)
+        except OSError as exc:
+            why = f"the {chip.name} at 0x{chip.address:02X} on {side.name} stopped answering"
+            absent.append(part.missing(f"{why}: {exc}"))
+            continue
+        try:
+            part.apply(request, values, now_ms, now_s)
+        except UnsupportedDeviceError as exc:
+            absent.append(exc)
+    if absent:
+        raise absent[0]
+
+
+def _plausible(
+    part: Sensor, chip: Chip, side: OveroI2C, request: Request, clock: Callable[[], float]
+) -> tuple[tuple[int, ...], float]:
+    problem = ""
+    for _ in range(MAX_I2C_ATTEMPTS):
+        values = side.read(chip)
+        now_s = clock()
+        verdict = part.validate(request, values, now_s)
+        if verdict.fine:
+            return values, now_s
+        problem = verdict.problem or ""
+        log.warning("%s: implausible %s reading (%s); again", side.name, chip.name, problem)
+    raise DeviceError(
+        f"no plausible reading of the {chip.name} on {side.name} after "
+        f"{MAX_I2C_ATTEMPTS} attempts ({problem})"
+    )
