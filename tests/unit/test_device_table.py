@@ -66,8 +66,9 @@ def firmware_emulator(request: pytest.FixtureRequest) -> Iterator[Emulator]:
 
 @pytest.fixture
 def robot(firmware_emulator: Emulator) -> Iterator[ego.Robot]:
-    """A core robot on each firmware, probed (so that the battery's revision is known)."""
-    with ego.Robot(firmware_emulator.path) as opened:
+    """A core robot on each firmware, probed (so that the battery's revision is known),
+    with the robot's own I2C bus where the firmware leaves devices on it (Overo mode)."""
+    with ego.Robot(firmware_emulator.path, i2c=firmware_emulator.i2c) as opened:
         yield opened
 
 
@@ -171,8 +172,8 @@ def test_a_rows_kind_is_webots_node_type_for_the_e_puck(row: table.DeviceSpec) -
 
 
 def test_served_by_takes_the_enum_or_its_name() -> None:
-    assert spec("gs0").served_by(Firmware.WEBOTS) and spec("gs0").served_by("webots")
-    assert not spec("gs0").served_by("gctronic")
+    assert spec("led8").served_by(Firmware.WEBOTS) and spec("led8").served_by("webots")
+    assert not spec("led8").served_by("gctronic")
     assert BATTERY.served_by("gctronic") and not BATTERY.served_by(Firmware.WEBOTS)
 
 

@@ -8,9 +8,12 @@ face reports it in, and the firmwares that serve it.
 
 ``firmwares`` holds the names of :class:`ego.serial.protocol.Firmware` whose profile (as
 ``PROFILES`` gives it, the stock firmware in Overo mode for ``gctronic``) serves the
-device: the families refuse it on the others (``UnsupportedDeviceError``), or, for ps8
-and ps9, do not have it. The stock firmware in another selector (over Bluetooth) also
-serves gs0..gs2 and led8, led9.
+device, over the line or, for what that firmware leaves on the Overo's own I2C bus
+(``Profile.i2c``: gs0..gs2, a rev 1.3's accelerometer), over that bus: the families
+refuse it on the others (``UnsupportedDeviceError``), or, for ps8 and ps9, do not have
+it. A device needs its hardware too: gs0..gs2 the ground module, read on the Overo only
+where its I2C bus is reachable (ego runs on the robot). The stock firmware in another
+selector (over Bluetooth) also serves led8, led9.
 
 The battery has a row but no tag: Webots reads it through the robot
 (``batterySensorGetValue``), not as a device.
@@ -82,8 +85,10 @@ _ROWS: tuple[_Row, ...] = (
         (f"ps{i}", "proximity", i, "DistanceSensor", _RAW, _BOTH if i < 8 else _GCTRONIC)
         for i in range(10)
     ),
-    # In Overo mode M answers nothing: the I2C bus is the Overo's (docs/protocol.md).
-    *((f"gs{i}", "floor", i, "DistanceSensor", _RAW, _WEBOTS) for i in range(3)),
+    # The ground module: Webots' firmware reads it with M; the stock firmware in Overo mode
+    # answers M with nothing and leaves it to the Overo, which reads it over its own I2C
+    # bus (/dev/i2c-3, ego.i2c; docs/protocol.md, "The Overo's own I2C bus").
+    *((f"gs{i}", "floor", i, "DistanceSensor", _RAW, _BOTH) for i in range(3)),
     *((f"ls{i}", "light", i, "LightSensor", _RAW, _BOTH) for i in range(8)),
     ("accelerometer", "accelerometer", 0, "Accelerometer", "m/s²", _BOTH),
     ("left wheel motor", "motors", 0, "Motor", "rad/s", _BOTH),

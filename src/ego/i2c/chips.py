@@ -115,7 +115,7 @@ class Chip:
 CHIPS: Mapping[str, Chip] = MappingProxyType(
     {
         "ground module": Chip(
-            "ground module", GROUND_ADDRESS, "gs0..gs2", None, (),
+            "ground module", GROUND_ADDRESS, "the floor sensors gs0..gs2", None, (),
             GROUND_FIRST_REGISTER, 6, decode_ground,
             "over Bluetooth (selector 3) the stock firmware serves them with M",
         ),

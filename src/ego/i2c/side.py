@@ -64,13 +64,13 @@ class OveroI2C:
         chip = CHIPS[chip_name]
         if self._access is None:
             return (
-                f"{chip.devices} on the Overo are read over its own I2C bus (the {chip.name}), "
-                f"which {self._where} does not reach: run the controller on the robot; "
-                f"{chip.elsewhere}"
+                f"the Overo reads {chip.devices} from the {chip.name} on its own I2C bus, "
+                f"which {self._where} does not reach: run the controller on the robot "
+                f"(ego run --port /dev/ttyS0); {chip.elsewhere}"
             )
         why = self._probed.get(chip_name, "not probed")
         return (
-            f"{chip.devices} on the Overo need the {chip.name} on {self.name} ({why}); "
+            f"the Overo reads {chip.devices} from the {chip.name} on {self.name} ({why}); "
             f"{chip.elsewhere}"
         )
 
