@@ -134,10 +134,9 @@ def test_a_rev_1_3_accelerometer_reads_gravity_over_i2c() -> None:
 
 
 def test_a_rev_1_3_told_by_its_battery_reply_reads_it_over_i2c_too() -> None:
-    with Emulator("gctronic", seed=1, rev13=True) as emu:
-        with ego.Robot(emu.path, i2c=emu.i2c) as robot:
-            assert robot.link.profile.rev13 is True  # a and A are off the line
-            _gravity_over_i2c(robot, emu)
+    with Emulator("gctronic", seed=1, rev13=True) as emu, ego.Robot(emu.path, i2c=emu.i2c) as robot:
+        assert robot.link.profile.rev13 is True  # a and A are off the line
+        _gravity_over_i2c(robot, emu)
 
 
 def test_an_older_robot_on_the_overo_keeps_its_analog_accelerometer_on_the_line() -> None:
@@ -154,7 +153,7 @@ def test_a_chip_that_stops_answering_disables_its_family() -> None:
         robot.floor.enable(STEP_MS)
         assert robot.step(STEP_MS) == 0
         del robot.emulator.i2c.chips[0x60]  # the module unplugged mid-run
-        with pytest.raises(UnsupportedDeviceError, match="ground module at 0x60 .* stopped"):
+        with pytest.raises(UnsupportedDeviceError, match=r"ground module at 0x60 .* stopped"):
             robot.step(STEP_MS)
         assert not robot.floor.enabled
 
@@ -163,9 +162,9 @@ def test_a_chip_that_stops_answering_disables_its_family() -> None:
 
 
 def test_no_ground_module_on_the_bus_names_the_way_out() -> None:
-    with ego.Robot("sim", firmware="gctronic", ground_module=False, seed=1) as robot:
-        with pytest.raises(UnsupportedDeviceError) as info:
-            robot.floor.enable(STEP_MS)
+    robot = ego.Robot("sim", firmware="gctronic", ground_module=False, seed=1)
+    with robot, pytest.raises(UnsupportedDeviceError) as info:
+        robot.floor.enable(STEP_MS)
     message = str(info.value)
     assert "floor sensors gs0..gs2" in message and "nothing answers at 0x60" in message
     assert "over Bluetooth (selector 3) the stock firmware serves them with M" in message
@@ -186,9 +185,9 @@ def test_a_missing_i2c_device_file_names_the_way_out(
 ) -> None:
     """The real bus class (smbus2) on a /dev/i2c-N that does not exist."""
     missing = tmp_path / "i2c-3"
-    with ego.Robot(overo_emulator.path, i2c_bus=str(missing)) as robot:
-        with pytest.raises(UnsupportedDeviceError) as info:
-            robot.floor.enable(STEP_MS)
+    robot = ego.Robot(overo_emulator.path, i2c_bus=str(missing))
+    with robot, pytest.raises(UnsupportedDeviceError) as info:
+        robot.floor.enable(STEP_MS)
     message = str(info.value)
     assert f"the ground module on {missing} (not found: " in message
     assert "No such file or directory" in message
@@ -206,11 +205,13 @@ def test_a_rev_1_3_accelerometer_out_of_reach_names_the_way_out() -> None:
 
 def test_zeros_on_the_line_name_the_bus_that_was_out_of_reach() -> None:
     """Firmware given, revision not asked: `a` goes out and its zeros are refused."""
-    with Emulator("gctronic", seed=1, rev13=True) as emu:
-        with ego.Robot(emu.path, firmware="gctronic") as robot:
-            robot.accelerometer.enable(STEP_MS)
-            with pytest.raises(UnsupportedDeviceError) as info:
-                robot.step(STEP_MS)
+    with (
+        Emulator("gctronic", seed=1, rev13=True) as emu,
+        ego.Robot(emu.path, firmware="gctronic") as robot,
+    ):
+        robot.accelerometer.enable(STEP_MS)
+        with pytest.raises(UnsupportedDeviceError) as info:
+            robot.step(STEP_MS)
     message = str(info.value)
     assert message.startswith("no accelerometer data on this robot")
     assert "does not reach" in message and "serves it with a" in message
