@@ -158,6 +158,53 @@ def test_a_chip_that_stops_answering_disables_its_family() -> None:
         assert not robot.floor.enabled
 
 
+class FlakyBus:
+    """The emulator's bus, failing its next ``failures`` transfers (a bus held for a moment
+    by a restarting dsPIC)."""
+
+    def __init__(self, inner: OveroBus, failures: int) -> None:
+        self.inner, self.failures, self.name = inner, failures, inner.name
+
+    def _glitch(self) -> None:
+        if self.failures > 0:
+            self.failures -= 1
+            raise OSError(errno.EAGAIN, "arbitration lost")
+
+    def read_block(self, address: int, register: int, count: int) -> bytes:
+        self._glitch()
+        return self.inner.read_block(address, register, count)
+
+    def write_byte_data(self, address: int, register: int, value: int) -> None:
+        self._glitch()
+        self.inner.write_byte_data(address, register, value)
+
+    def close(self) -> None:
+        self.inner.close()
+
+
+def test_a_glitch_in_a_step_is_read_again(overo_emulator: Emulator) -> None:
+    assert overo_emulator.i2c is not None
+    bus = FlakyBus(overo_emulator.i2c, 0)
+    with ego.Robot(overo_emulator.path, i2c=bus) as robot:
+        robot.floor.enable(STEP_MS)
+        bus.failures = 2  # fewer than the attempts a step makes
+        assert robot.step(STEP_MS) == 0
+        assert robot.floor.enabled and min(robot.floor.values) > 0
+
+
+def test_a_chip_that_missed_its_probe_is_probed_again_at_the_next_enable(
+    overo_emulator: Emulator,
+) -> None:
+    assert overo_emulator.i2c is not None
+    bus = FlakyBus(overo_emulator.i2c, 1)
+    with ego.Robot(overo_emulator.path, i2c=bus) as robot:
+        with pytest.raises(UnsupportedDeviceError, match="arbitration lost"):
+            robot.floor.enable(STEP_MS)
+        robot.floor.enable(STEP_MS)  # the bus is free again
+        assert robot.step(STEP_MS) == 0
+        assert robot.floor.has_values
+
+
 # -- no device there: the error names the way out ----------------------------------------------
 
 

@@ -28,6 +28,9 @@ log = logging.getLogger(__name__)
 
 #: Reads of one chip in a step before a failure is final (a glitch on the bus is retried).
 MAX_I2C_ATTEMPTS = 3
+#: The pause before reading again: a dsPIC restarting takes the bus for a moment to probe
+#: its LSM330 (e_init_port.c:39-51) before it lets the Overo have it again.
+RETRY_PAUSE_S = 0.002
 
 
 class OveroI2C:
@@ -42,8 +45,10 @@ class OveroI2C:
         self._where = where
         self._bus: I2CBus | None = None
         self._closed = False
-        #: Each probed chip: itself when it answered, else why not.
-        self._probed: dict[str, Chip | str] = {}
+        #: The chips that answered (kept), and why the others did not (probed again at
+        #: the next enable: a restarting dsPIC may have held the bus).
+        self._found: dict[str, Chip] = {}
+        self._why: dict[str, str] = {}
         #: Held for every transfer: the probes and set-ups of enable() and the step's reads.
         self.lock = threading.Lock()
 
@@ -54,10 +59,13 @@ class OveroI2C:
     def find(self, chip_name: str) -> Chip | None:
         """The chip ``chip_name`` if it answers on this bus (probed once), else None."""
         with self.lock:
-            if chip_name not in self._probed:
-                self._probed[chip_name] = self._probe(CHIPS[chip_name])
-            found = self._probed[chip_name]
-        return found if isinstance(found, Chip) else None
+            if chip_name not in self._found:
+                probed = self._probe(CHIPS[chip_name])
+                if isinstance(probed, str):
+                    self._why[chip_name] = probed
+                    return None
+                self._found[chip_name] = probed
+            return self._found[chip_name]
 
     def absent(self, chip_name: str) -> str:
         """Which way leads to the chip's devices, as :meth:`find` left it: one line."""
@@ -68,7 +76,7 @@ class OveroI2C:
                 f"which {self._where} does not reach: run the controller on the robot "
                 f"(ego run --port /dev/ttyS0); {chip.elsewhere}"
             )
-        why = self._probed.get(chip_name, "not probed")
+        why = self._why.get(chip_name, "not probed")
         return (
             f"the Overo reads {chip.devices} from the {chip.name} on {self.name} ({why}); "
             f"{chip.elsewhere}"
@@ -88,6 +96,7 @@ class OveroI2C:
                     if attempt == MAX_I2C_ATTEMPTS - 1:
                         raise
                     log.warning("%s: reading the %s failed (%s); again", self.name, chip.name, exc)
+                    time.sleep(RETRY_PAUSE_S)
         raise AssertionError("unreachable")
 
     def close(self) -> None:
