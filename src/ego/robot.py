@@ -64,7 +64,8 @@ class Robot:
     or ``tcp://host:port`` / ``udp://host:port`` for a robot served by ``ego serve``;
     without one, ``EGO_PORT``, else ``/dev/ttyS0``. The port's backend
     (:mod:`ego.backends`) takes the ``options`` it knows: ``firmware`` for all (None:
-    detect it), ``baudrate``, ``link_settings`` and ``camera_device`` for a serial port,
+    detect it), ``baudrate``, ``link_settings``, ``camera_device`` and ``i2c_bus`` (the
+    robot's own I2C bus: a number, a ``/dev/i2c-N`` path, or "none") for a serial port,
     ``seed`` for the emulator, ``secret`` for the network. ``channel`` instead steps
     through a :class:`~ego.channel.Channel` opened elsewhere. ``i2c`` is the robot's own
     I2C bus, where the stock firmware in Overo mode leaves the ground sensors and a rev

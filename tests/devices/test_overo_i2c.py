@@ -139,6 +139,16 @@ def test_a_rev_1_3_told_by_its_battery_reply_reads_it_over_i2c_too() -> None:
         _gravity_over_i2c(robot, emu)
 
 
+def test_a_refused_spherical_mode_leaves_the_accelerometer_on_i2c() -> None:
+    """Spherical values are the dsPIC's own (`A`), which a rev 1.3 in Overo mode lacks."""
+    with Emulator("gctronic", seed=1, rev13=True) as emu, ego.Robot(emu.path, i2c=emu.i2c) as robot:
+        robot.accelerometer.enable(STEP_MS)
+        with pytest.raises(UnsupportedDeviceError, match="'A'"):
+            robot.accelerometer.enable(STEP_MS, mode="spherical")
+        assert robot.step(STEP_MS) == 0  # still raw, still over I2C
+        assert robot.accelerometer.acceleration_mps2[2] == pytest.approx(9.81, abs=0.2)
+
+
 def test_an_older_robot_on_the_overo_keeps_its_analog_accelerometer_on_the_line() -> None:
     with ego.Robot("sim", firmware="gctronic", seed=1) as robot:  # no LSM330 answers
         robot.accelerometer.enable(STEP_MS)

@@ -234,14 +234,15 @@ class Sensor(Device, abc.ABC):
         """The way to the devices: the I2C chip the profile names if it answers, else the
         line; UnsupportedDeviceError naming the way out when neither serves them."""
         chip_name = self._profile.i2c.get(command)
-        self._via = None
+        via = None
         if chip_name is not None:
             side = self._side()
-            self._via = side.find(chip_name)
-            if self._via is None and not self._profile.supports(command):
+            via = side.find(chip_name)
+            if via is None and not self._profile.supports(command):
                 raise UnsupportedDeviceError(side.absent(chip_name))
-        if self._via is None:
+        if via is None:
             self.require(command)
+        self._via = via  # only once the way is sure: a refused enable changes nothing
 
     def _side(self) -> OveroI2C:
         if self._i2c is None:
