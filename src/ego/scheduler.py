@@ -22,6 +22,8 @@ import threading
 import time
 from collections.abc import Callable
 
+from ego.overrun_report import OverrunReport
+
 __all__ = ["StepClock", "tune_for_stepping"]
 
 log = logging.getLogger(__name__)
@@ -51,6 +53,7 @@ class StepClock:
         self._deadline: float | None = None
         self.overruns = 0
         self.worst_overrun_s = 0.0
+        self._report = OverrunReport()
         # Another Python thread (a camera capture, say) keeps the interpreter lock for up to
         # the switch interval, 5 ms by default, before a woken step may run: a 1 ms step
         # needs it much shorter. Only when asked; restored when the last such clock closes.
@@ -73,13 +76,9 @@ class StepClock:
             late = now - deadline
             self.overruns += 1
             self.worst_overrun_s = max(self.worst_overrun_s, late)
-            if self.overruns == 1 or self.overruns % 100 == 0:
-                log.warning(
-                    "step of %g ms overran by %.2f ms (%d overruns so far)",
-                    step_ms,
-                    late * 1e3,
-                    self.overruns,
-                )
+            line = self._report.note(now, step_ms, late)
+            if line is not None:
+                log.warning("%s", line)
             self._deadline = now
             return True
         remaining = deadline - now
@@ -91,6 +90,9 @@ class StepClock:
         return False
 
     def close(self) -> None:
+        line = self._report.flush(self._clock())
+        if line is not None:
+            log.warning("%s", line)
         if self._shortened:
             self._shortened = False
             _restore_switch_interval()

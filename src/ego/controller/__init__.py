@@ -18,9 +18,12 @@ from ego.controller.absent import (
     Gyro,
     InertialUnit,
     Lidar,
+    LidarPoint,
+    Motion,
     Node,
     Pen,
     Radar,
+    RadarTarget,
     RangeFinder,
     Skin,
     Speaker,
@@ -28,6 +31,7 @@ from ego.controller.absent import (
     TouchSensor,
     VacuumGripper,
 )
+from ego.controller.ansi_codes import AnsiCodes
 from ego.controller.devices import (
     LED,
     Accelerometer,
@@ -37,6 +41,7 @@ from ego.controller.devices import (
     LightSensor,
     Motor,
     PositionSensor,
+    Sensor,
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
 from ego.controller.radio import Emitter, Receiver
@@ -47,6 +52,7 @@ __all__ = [
     "LED",
     "Accelerometer",
     "Altimeter",
+    "AnsiCodes",
     "Brake",
     "Camera",
     "CameraRecognitionObject",
@@ -63,16 +69,20 @@ __all__ = [
     "Joystick",
     "Keyboard",
     "Lidar",
+    "LidarPoint",
     "LightSensor",
+    "Motion",
     "Motor",
     "Mouse",
     "Node",
     "Pen",
     "PositionSensor",
     "Radar",
+    "RadarTarget",
     "RangeFinder",
     "Receiver",
     "Robot",
+    "Sensor",
     "Skin",
     "Speaker",
     "Supervisor",

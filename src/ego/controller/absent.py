@@ -258,3 +258,26 @@ class Supervisor(Robot):
 
     def worldReload(self) -> None:
         _no_simulation("Supervisor.worldReload")
+
+
+class LidarPoint:
+    """A point of Webots' Lidar cloud; the e-puck has no lidar, so none is ever made."""
+
+    def __init__(self) -> None:
+        self.x = self.y = self.z = 0.0
+        self.layer_id = 0
+        self.time = 0.0
+
+
+class RadarTarget:
+    """A target of Webots' Radar; the e-puck has no radar, so none is ever made."""
+
+    def __init__(self) -> None:
+        self.distance = self.received_power = self.speed = self.azimuth = 0.0
+
+
+class Motion:
+    """Webots' humanoid motion files (``.motion``): the e-puck has no joints to play them."""
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        raise UnsupportedDeviceError("Motion plays joint motions, and the e-puck has no joints")

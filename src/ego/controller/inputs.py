@@ -73,6 +73,10 @@ class Keyboard:
         self._saved: list[Any] | None = None
         self._stop = threading.Event()
         self._reader: threading.Thread | None = None
+        if sampling_period is None:  # Webots' Keyboard(): on at the basic time step
+            from ego.default_robot import current_context
+
+            sampling_period = int(current_context().options.basic_time_step_ms)
         if sampling_period:
             self.enable(sampling_period)
 
@@ -113,7 +117,10 @@ class Keyboard:
         """A key from another source than the terminal (a dashboard)."""
         self._keys.put(int(key))
 
-    sampling_period = property(getSamplingPeriod)
+    #: Webots' property: setting enables (0, None: off).
+    sampling_period = property(
+        getSamplingPeriod, lambda self, p: self.enable(p) if p else self.disable()
+    )
 
     # -- the terminal ------------------------------------------------------------------------
 
@@ -272,7 +279,7 @@ class FaceKeys:
 
     def _keyboard(self) -> Keyboard | None:
         robot = getattr(self._context, "webots_robot", None)
-        keyboard = getattr(robot, "_keyboard", None)
+        keyboard = getattr(robot, "keyboard", None)  # the controller may have replaced it
         return keyboard if isinstance(keyboard, Keyboard) else None
 
     def listening(self) -> bool:
