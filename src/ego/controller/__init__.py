@@ -31,7 +31,6 @@ from ego.controller.absent import (
     TouchSensor,
     VacuumGripper,
 )
-from ego.controller.ansi_codes import AnsiCodes
 from ego.controller.devices import (
     LED,
     Accelerometer,
@@ -46,6 +45,7 @@ from ego.controller.devices import (
 from ego.controller.inputs import Joystick, Keyboard, Mouse
 from ego.controller.radio import Emitter, Receiver
 from ego.controller.robot import DifferentialWheels, Robot
+from ego.controller.terminal_colours import AnsiCodes
 
 __all__ = [
     "GPS",

@@ -78,7 +78,7 @@ def _by_name(cls: type[Device], name: str) -> Device:
     from ego.default_robot import current_context
 
     robot = current_context().webots_robot
-    if robot is None or robot.core.closed:  # type: ignore[attr-defined]
+    if robot is None or robot._core.closed:  # type: ignore[attr-defined]
         raise EgoError(f"{cls.__name__}({name!r}): create the Robot() first, as Webots requires")
     device = robot.getDevice(name)  # type: ignore[attr-defined]
     if isinstance(device, cls):
@@ -117,7 +117,7 @@ def _sibling(device: Device, name: str) -> Device | None:
     from ego.default_robot import current_context
 
     robot = current_context().webots_robot
-    if robot is not None and robot.core is device._core:  # type: ignore[attr-defined]
+    if robot is not None and robot._core is device._core:  # type: ignore[attr-defined]
         found = robot.getDevice(name)  # type: ignore[attr-defined]
         return found if isinstance(found, Device) else None
     view = view_class(name)

@@ -48,6 +48,12 @@ class Robot:
     ...     print(ps0.getValue())
     """
 
+    _core: CoreRobot
+    #: Plain attributes, as in Webots' Robot (a controller may replace them).
+    keyboard: Keyboard
+    mouse: Mouse
+    joystick: Joystick
+    core: CoreRobot
     MODE_SIMULATION: ClassVar[int] = 0
     MODE_CROSS_COMPILATION: ClassVar[int] = 1
     MODE_REMOTE_CONTROL: ClassVar[int] = 2
@@ -56,7 +62,7 @@ class Robot:
         """``options`` None: the current face context's (what ``ego run`` was given)."""
         context = current_context()
         first = context.webots_robot
-        if isinstance(first, Robot) and not first.core.closed:
+        if isinstance(first, Robot) and not first._core.closed:
             # Webots allows one Robot a process and says so; the second one here is the
             # same robot under another name (in Webots it would be unusable).
             if (options or context.options).strict:
@@ -75,16 +81,14 @@ class Robot:
         self._core = CoreRobot(
             options.port, firmware=options.firmware, seed=options.seed, world=options.world
         )
+        #: The ego Robot underneath, for what Webots' API does not cover (a plain
+        #: attribute: ego reads its own ``_core``, so a subclass may reuse the name).
+        self.core = self._core
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
         context.webots_robot = self
         for callback in options.on_robot:
             callback(self._core)
-
-    @property
-    def core(self) -> CoreRobot:
-        """The ego Robot underneath, for what Webots' API does not cover."""
-        return self._core
 
     def step(self, duration: int | None = None) -> int:
         """One time step of ``duration`` ms (the basic time step if None); -1 when the run
