@@ -21,12 +21,29 @@ import sys
 import threading
 import time
 from collections.abc import Callable
+from typing import Protocol
 
 from ego.overrun_report import OverrunReport
 
-__all__ = ["StepClock", "tune_for_stepping"]
+__all__ = ["Pacer", "StepClock", "tune_for_stepping"]
 
 log = logging.getLogger(__name__)
+
+
+class Pacer(Protocol):
+    """What paces a robot's steps: the wall clock (:class:`StepClock`), or an emulator's
+    virtual time, which a step moves on at once (``ego run --port sim --fast``)."""
+
+    overruns: int
+    worst_overrun_s: float
+
+    def begin(self) -> None: ...
+
+    def wait(self, step_ms: float) -> bool:
+        """Let the step's time pass; True if it had already overrun."""
+        ...
+
+    def close(self) -> None: ...
 
 
 class StepClock:

@@ -177,3 +177,107 @@ def test_the_overrun_report_says_the_first_then_one_line_a_period() -> None:
     final = report.flush(25.0)
     assert final is not None and final.startswith("4999 more overruns")
     assert report.flush(25.0) is None
+
+
+SUPERVISED_WORLD = """
+[arena]
+size_m = 1.0
+
+[robot]
+x_m = -0.2
+y_m = 0.0
+heading_deg = 0
+
+[[box]]
+x_m = 0.3
+y_m = 0.3
+size_m = 0.08
+rgb = [200, 30, 30]
+name = "TARGET"
+"""
+
+
+def test_a_supervisor_resets_reads_and_moves_solids_of_the_emulated_world(
+    tmp_path: Path,
+) -> None:
+    world = tmp_path / "episodes.toml"
+    world.write_text(SUPERVISED_WORLD)
+    result = subprocess.run(
+        [*ego_command(), "run", "--port", "sim", "--world", str(world), "--seed", "4",
+         str(CONTROLLERS / "supervisor_episodes.py")],
+        capture_output=True, text=True, cwd=tmp_path, timeout=60,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    said = {" ".join(line.split()[:2]) if line.startswith("episode") else line.split()[0]:
+            line.split()[1:] for line in result.stdout.splitlines()}  # fmt: skip
+    start = [float(v) for v in said["start"]]
+    assert start == pytest.approx([-0.2, 0.0, 0.0, 0.0], abs=1e-9)
+    assert [float(v) for v in said["target"]] == pytest.approx([0.3, 0.3, 0.025])  # 5 cm high
+    assert said["missing"] == ["None"]
+    for episode in ("episode 0", "episode 1"):
+        _, x, y, vy = (float(v) for v in said[episode])
+        # Put at (0.1, -0.2) facing +y, then 20 steps at 4 rad/s: about 5 cm up +y.
+        assert x == pytest.approx(0.1, abs=0.005)
+        assert 0.03 < y + 0.2 < 0.08 and vy > 0.05
+    first, second = ([float(v) for v in said[e][1:3]] for e in ("episode 0", "episode 1"))
+    assert first == pytest.approx(second, abs=0.01)  # the same start, the same episode
+    assert float(said["front"][0]) > 500  # the box it moved is right in front of ps0
+    reset = [float(v) for v in said["reset"]]
+    assert reset[:2] == pytest.approx([-0.2, 0.0], abs=1e-6)  # the robot back at its start
+    assert reset[3:5] == pytest.approx([0.3, 0.3])  # and the box at its
+    assert said["supervisor"] == ["True", "1"]
+
+
+def test_on_a_real_robot_the_supervisor_says_there_is_no_simulation(tmp_path: Path) -> None:
+    controller = tmp_path / "supervised.py"
+    controller.write_text(
+        "from controller import Supervisor\nrobot = Supervisor()\n"
+        "print(robot.getSupervisor())\nrobot.getSelf()\n"
+    )
+    with Emulator("webots", seed=3) as emu:  # a pty: to ego, a real serial robot
+        result = subprocess.run(
+            [*ego_command(), "run", "--port", emu.path, str(controller)],
+            capture_output=True, text=True, cwd=tmp_path, timeout=60,
+        )  # fmt: skip
+    assert result.returncode != 0 and result.stdout.split() == ["False"]
+    assert "a real e-puck has none to supervise" in result.stderr
+
+
+def test_virtual_time_moves_the_world_by_the_steps_not_the_wall_clock(tmp_path: Path) -> None:
+    # Each step's work (50 ms) outlasts the step (32 ms): in real time the world would move
+    # on by the wall clock; in virtual time exactly by the steps the controller took.
+    controller = tmp_path / "slow_steps.py"
+    controller.write_text(
+        "import time\nfrom controller import Robot\nrobot = Robot()\n"
+        "left, right = robot.getDevice('left wheel motor'), robot.getDevice('right wheel motor')\n"
+        "sensor = robot.getDevice('left wheel sensor')\nsensor.enable(32)\n"
+        "for m in (left, right):\n    m.setPosition(float('inf'))\n    m.setVelocity(3.0)\n"
+        "for _ in range(25):\n    robot.step(32)\n    time.sleep(0.05)\n"
+        "print(robot.getTime(), sensor.getValue())\n"
+    )
+    runs = {}
+    for mode in ("--fast", "--no-supervised"):
+        result = subprocess.run(
+            [*ego_command(), "run", "--port", "sim", mode, str(controller)],
+            capture_output=True, text=True, cwd=tmp_path, timeout=60,
+        )  # fmt: skip
+        assert result.returncode == 0, result.stderr
+        runs[mode] = [float(v) for v in result.stdout.split()]
+    # 24 steps of 32 ms had passed at the last read: 0.768 s in virtual time, at 3 rad/s
+    # as the firmware runs it (478 steps/s, a whole number of 0.1 ms ticks a step: 500).
+    # In real time the wall clock's 24 x 50 ms or more had passed.
+    rate_rad_s = 10_000 / (10_000 // round(3.0 / 0.00628)) * 0.00628
+    assert runs["--fast"][0] == pytest.approx(0.8)
+    assert runs["--fast"][1] == pytest.approx(rate_rad_s * 0.768, rel=0.01)
+    assert runs["--no-supervised"][1] > rate_rad_s * 1.2
+
+
+def test_fast_is_refused_off_the_emulator(tmp_path: Path) -> None:
+    controller = tmp_path / "c.py"
+    controller.write_text("print('ran')\n")
+    result = subprocess.run(
+        [*ego_command(), "run", "--port", "/dev/ttyS0", "--fast", str(controller)],
+        capture_output=True, text=True, cwd=tmp_path, timeout=60,
+    )  # fmt: skip
+    assert result.returncode != 0 and "ran" not in result.stdout
+    assert "--fast runs the emulator in virtual time: it needs --port sim" in result.stderr

@@ -40,6 +40,8 @@ from ego.serial.protocol import Firmware
 if TYPE_CHECKING:
     from ego.camera import FrameSource
     from ego.channel import Channel
+    from ego.scene import Scene
+    from ego.scheduler import Pacer
     from ego.serial.link import Link, LinkSettings
     from ego.serial.transport import Transport
 
@@ -73,6 +75,10 @@ class Opened:
     closers: list[Callable[[], None]] = field(default_factory=list)
     #: Whether the robot is driven over a network (Webots' MODE_REMOTE_CONTROL).
     remote: bool = False
+    #: The simulated world's solids, for a Webots Supervisor (None: a real robot).
+    scene: Scene | None = None
+    #: What paces the steps instead of the wall clock (an emulator's virtual time).
+    pacer: Pacer | None = None
 
     def close(self) -> None:
         """Close the channel and everything beside it; idempotent."""

@@ -27,7 +27,6 @@ from ego.controller.absent import (
     RangeFinder,
     Skin,
     Speaker,
-    Supervisor,
     TouchSensor,
     VacuumGripper,
 )
@@ -45,6 +44,7 @@ from ego.controller.devices import (
 from ego.controller.inputs import Joystick, Keyboard, Mouse
 from ego.controller.radio import Emitter, Receiver
 from ego.controller.robot import DifferentialWheels, Robot
+from ego.controller.supervision import Supervisor
 from ego.controller.terminal_colours import AnsiCodes
 
 __all__ = [

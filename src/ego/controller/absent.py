@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 from ego.controller.devices import Device
 from ego.controller.node_types import NODE_TYPES
-from ego.controller.robot import Robot
 from ego.errors import UnsupportedDeviceError
 
 if TYPE_CHECKING:
@@ -38,7 +37,6 @@ __all__ = [
     "RangeFinder",
     "Skin",
     "Speaker",
-    "Supervisor",
     "TouchSensor",
     "VacuumGripper",
 ]
@@ -227,37 +225,6 @@ class Field:
 
     def __init__(self, *args: object, **kwargs: object) -> None:
         _no_simulation("Field")
-
-
-class Supervisor(Robot):
-    """Webots' Supervisor: the robot's API works; the simulation's says there is none."""
-
-    def getSupervisor(self) -> bool:
-        return False
-
-    def getRoot(self) -> Node:
-        _no_simulation("Supervisor.getRoot")
-
-    def getSelf(self) -> Node:
-        _no_simulation("Supervisor.getSelf")
-
-    def getFromDef(self, name: str) -> Node:
-        _no_simulation("Supervisor.getFromDef")
-
-    def getFromId(self, id: int) -> Node:
-        _no_simulation("Supervisor.getFromId")
-
-    def simulationQuit(self, status: int) -> None:
-        _no_simulation("Supervisor.simulationQuit")
-
-    def simulationReset(self) -> None:
-        _no_simulation("Supervisor.simulationReset")
-
-    def simulationSetMode(self, mode: int) -> None:
-        _no_simulation("Supervisor.simulationSetMode")
-
-    def worldReload(self) -> None:
-        _no_simulation("Supervisor.worldReload")
 
 
 class LidarPoint:
