@@ -23,6 +23,7 @@ SECTIONS = {
     "webots_camera": "The Webots face's camera calls at 52x39, 160x120 and 640x480",
     "dashboard": "Watching a run: the dashboard's and the recorder's cost per step",
     "swarm": "Swarms: 2 to 16 robots over Zenoh and over UDP, side by side",
+    "virtual_time": "Virtual time: the avoidance controller in real time and with --fast",
 }
 
 

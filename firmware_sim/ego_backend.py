@@ -21,7 +21,9 @@ from ego.serial.protocol import Firmware
 from ego.serial.transport import SerialTransport, check_baudrate
 from firmware_sim.camera import SimulatedSource
 from firmware_sim.cli import main as cli_main
+from firmware_sim.scene import Scene
 from firmware_sim.server import Emulator
+from firmware_sim.virtual_time import VirtualClock
 
 __all__ = ["SimBackend", "SimulatedCamera"]
 
@@ -57,14 +59,36 @@ class SimulatedCamera:
         return repr(self.source)
 
 
+class VirtualPacer:
+    """Steps in the emulator's virtual time: each step moves the world on by its length at
+    once, so the controller runs as fast as the CPU and the link allow."""
+
+    def __init__(self, clock: VirtualClock) -> None:
+        self._clock = clock
+        self.overruns = 0
+        self.worst_overrun_s = 0.0
+
+    def begin(self) -> None:
+        """Nothing to anchor: virtual time starts where the world is."""
+
+    def wait(self, step_ms: float) -> bool:
+        self._clock.advance(step_ms / 1000.0)
+        return False
+
+    def close(self) -> None:
+        """Nothing to release."""
+
+
 class SimBackend:
     """``Robot("sim", seed=..., firmware=...)``: a fresh emulator for this robot.
 
     Options: ``seed`` (the world's), ``world`` (a built-in world's name or a world file:
     firmware_sim.worlds), ``baudrate`` (default: the firmware's line rate),
-    ``link_settings``, and any of the Emulator's own (``hardware_version``, ``rev13``,
-    ``selector``, ``ground_module``, ``latency_s``). In Overo mode the emulator's model
-    of the robot's I2C bus goes in as the robot's own bus (``Opened.i2c``).
+    ``link_settings``, ``virtual_time`` (the world moves only as the controller steps,
+    as fast as it can: ``ego run --fast``), and any of the Emulator's own
+    (``hardware_version``, ``rev13``, ``selector``, ``ground_module``, ``latency_s``). In
+    Overo mode the emulator's model of the robot's I2C bus goes in as the robot's own bus
+    (``Opened.i2c``).
     """
 
     def open(
@@ -75,6 +99,7 @@ class SimBackend:
         baudrate: int | None = None,
         seed: int | None = None,
         link_settings: LinkSettings | None = None,
+        virtual_time: bool = False,
         **emulator_options: Any,
     ) -> Opened:
         name = (firmware or Firmware.WEBOTS).value
@@ -89,9 +114,16 @@ class SimBackend:
             emulator.stop()
             raise
         world = emulator.world
+        pacer = None
+        if virtual_time:
+            clock = VirtualClock()
+            world.use_clock(clock)
+            pacer = VirtualPacer(clock)
         camera = lambda: SimulatedCamera(SimulatedSource(world))  # noqa: E731
         i2c = None if emulator.i2c is None else given_bus(emulator.i2c)
-        return Opened(channel, camera, emulator, [emulator.stop], i2c=i2c)
+        return Opened(
+            channel, camera, emulator, [emulator.stop], i2c=i2c, scene=Scene(world), pacer=pacer
+        )
 
     @staticmethod
     def swarm_worlds(spec: str | None, count: int, seed: int | None = None) -> list[Any]:

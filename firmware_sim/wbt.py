@@ -221,6 +221,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     starts: list[Pose] = []
     camera_size: tuple[int, int] | None = None
     lamp: Lamp | None = None
+    robot_name: str | None = None
     skipped: dict[str, int] = {}
     try:
         for node in nodes:
@@ -234,7 +235,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
             elif node.type == "E-puck":
                 starts.append(_pose(node))
                 if start is None:
-                    start = starts[0]
+                    start, robot_name = starts[0], node.name
                     camera_size = _camera_size(node)
             elif node.type == "PointLight" and lamp is None:
                 x, y, z = node.numbers("location", 3, (0.0, 0.0, 0.0))
@@ -256,6 +257,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
         camera_size=camera_size,
         starts=starts,
     )
+    world.robot_name = robot_name
     return WbtWorld(world, notes)
 
 
@@ -322,7 +324,7 @@ def _block(node: Node, size: tuple[float, ...], rgb: tuple[int, int, int]) -> Bl
     if min(sx, sy, sz) <= 0:
         raise ValueError(f"{node.type} size must be positive, not {size}")
     yaw = _yaw(node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0)), node.type)
-    return Block(x, y, sx / 2, rgb, half_y_m=sy / 2, yaw_rad=yaw, height_m=sz)
+    return Block(x, y, sx / 2, rgb, half_y_m=sy / 2, yaw_rad=yaw, height_m=sz, name=node.name)
 
 
 def _pose(node: Node) -> Pose:

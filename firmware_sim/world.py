@@ -16,7 +16,8 @@ from __future__ import annotations
 import math
 import threading
 import time
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -103,6 +104,8 @@ class Block:
     half_y_m: float | None = None
     yaw_rad: float = 0.0
     height_m: float = 0.05
+    #: Its DEF name in a world file, if it has one (a Supervisor finds it by it).
+    name: str | None = None
 
     @property
     def half_extents(self) -> tuple[float, float]:
@@ -209,7 +212,12 @@ class World:
         #: Every robot's start pose the world file gives (a swarm's), this one's first.
         self.starts = list(starts) if starts else [self._start]
         self._body = _Body(self._start.x_m, self._start.y_m, self._start.theta_rad)
-        self._t = time.monotonic()
+        #: The world's time (s): the host's monotonic clock, or a virtual one
+        #: (firmware_sim.virtual_time) that only the controller's steps advance.
+        self.clock: Callable[[], float] = time.monotonic
+        self._t = self.clock()
+        #: The robot's DEF name in a world file, if it has one.
+        self.robot_name: str | None = None
         self.battery_raw = BATTERY_RAW
         #: Closest distance (m) between the body and any wall or block so far.
         self.closest_approach_m = math.inf
@@ -240,6 +248,26 @@ class World:
             self.advance()
             self._body.theta_rad = pose.theta_rad
             self._body.x_m, self._body.y_m = self._resolve_collisions(pose.x_m, pose.y_m)
+
+    def use_clock(self, clock: Callable[[], float]) -> None:
+        """Keep the world's time with ``clock`` from now on (a virtual one, say)."""
+        with self._lock:
+            self.advance()
+            self.clock = clock
+            self._t = clock()
+
+    def velocity(self) -> tuple[float, float, float]:
+        """The body's velocity now: vx, vy (m/s, world frame) and its turn rate (rad/s)."""
+        with self._lock:
+            b = self._body
+            left, right = (stepping_rate(v) * METRES_PER_STEP for v in b.speed_steps)
+            v = (left + right) / 2
+            return v * math.cos(b.theta_rad), v * math.sin(b.theta_rad), (right - left) / AXLE_M
+
+    def move_block(self, index: int, x_m: float, y_m: float, yaw_rad: float) -> None:
+        """Put block ``index`` at (x, y), turned ``yaw_rad`` about the vertical."""
+        with self._lock:
+            self.blocks[index] = replace(self.blocks[index], x_m=x_m, y_m=y_m, yaw_rad=yaw_rad)
 
     @property
     def speeds(self) -> tuple[int, int]:
@@ -290,7 +318,7 @@ class World:
     def advance(self, now: float | None = None) -> None:
         """Integrate the wheels up to ``now`` (exact arcs for constant wheel speeds)."""
         with self._lock:
-            now = time.monotonic() if now is None else now
+            now = self.clock() if now is None else now
             dt = now - self._t
             if dt <= 0:
                 return

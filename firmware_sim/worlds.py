@@ -20,6 +20,7 @@ A world file describes what the emulated e-puck lives in::
     y_m = 0.1
     size_m = 0.08
     rgb = [200, 30, 30]
+    name = "TARGET"                   # optional: a Supervisor's getFromDef("TARGET")
 
     [lamp]                            # the light the light sensors see
     x_m = 0.3
@@ -76,7 +77,7 @@ _TABLES = {
     "arena": {"size_m"},
     "robot": {"x_m", "y_m", "heading_deg", "camera_width", "camera_height"},
     "floor": {"kind", "width_m", "points", "closed"},
-    "box": {"x_m", "y_m", "size_m", "rgb"},
+    "box": {"x_m", "y_m", "size_m", "rgb", "name"},
     "lamp": {"x_m", "y_m", "height_m"},
     "sound": {"x_m", "y_m", "frequency_hz", "amplitude"},
 }
@@ -218,7 +219,16 @@ def _box(box: Any, where: str) -> Block:
         _number(box, "y_m", where, 0.0, -5, 5),
         _number(box, "size_m", where, 0.08, 0.01, 2.0) / 2,
         (rgb[0], rgb[1], rgb[2]),
+        name=_name(box, where),
     )
+
+
+def _name(box: dict[str, Any], where: str) -> str | None:
+    """A box's ``name``: a Supervisor's ``getFromDef`` finds it by it, as a DEF name."""
+    name = box.get("name")
+    if name is not None and not (isinstance(name, str) and name.isidentifier()):
+        raise ValueError(f"{where}: a box's name must be an identifier, not {name!r}")
+    return name
 
 
 def _floor(table: dict[str, Any], where: str) -> Marks | LineTrack:

@@ -109,6 +109,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from ego.scheduler import tune_for_stepping
     from ego.supervisor import run_supervised, wants_supervision
 
+    if args.fast and args.port != "sim":
+        raise EgoError(f"--fast runs the emulator in virtual time: it needs --port sim, "
+                       f"not {args.port or 'a real robot'}")  # fmt: skip
     if args.supervised is None:
         args.supervised = wants_supervision(args.port)
     if args.supervised:
@@ -144,6 +147,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         strict=args.strict,
         camera_size=args.camera,
         world=args.world,
+        fast=args.fast,
     )
     with observe_run(options, dashboard=args.dashboard, secret_file=args.secret_file,
                      record=args.record):  # fmt: skip
@@ -296,6 +300,13 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="where Webots warns and carries on (a device the e-puck has not), raise ego's "
         "error instead",
+    )
+    run.add_argument(
+        "--fast",
+        action="store_true",
+        help="port sim: run in virtual time, as fast as the CPU allows (Webots' fast mode); "
+        "the same world, sensors and serial batches, but the world moves only as the "
+        "controller steps",
     )
     run.add_argument(
         "--supervised",

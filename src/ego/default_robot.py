@@ -52,11 +52,7 @@ class FaceContext:
         self.close()
         options = self.options
         robot = Robot(
-            port or options.port,
-            firmware=options.firmware,
-            seed=options.seed,
-            world=options.world,
-            baudrate=baudrate or DEFAULT_BAUD,
+            port or options.port, baudrate=baudrate or DEFAULT_BAUD, **options.robot_options()
         )
         self._robot = robot
         for callback in options.on_robot:

@@ -33,12 +33,13 @@ from ego.i2c.bus import I2CBus, given_bus
 from ego.i2c.side import OveroI2C, run_i2c_step
 from ego.ports import resolve_port
 from ego.safety import install_signal_handlers, register, send_stop
-from ego.scheduler import StepClock
+from ego.scheduler import Pacer, StepClock
 from ego.serial.protocol import Firmware
 from ego.transaction import run_step
 
 if TYPE_CHECKING:
     from ego.camera import Camera, FrameSource
+    from ego.scene import Scene
     from ego.serial.protocol import Batch
 
 __all__ = ["SIM_PORT", "Robot", "close_all_robots"]
@@ -105,7 +106,8 @@ class Robot:
         self.link: Channel = self._opened.channel
         self._closed = False
         self._lost = False
-        self.clock = StepClock()
+        #: Paces the steps: the wall clock, or an emulator's virtual time (``--fast``).
+        self.clock: Pacer = self._opened.pacer or StepClock()
         # Everything the stop and the close need, held apart from the Robot so that a
         # finalizer can stop the wheels when the Robot is dropped without close(), or
         # when the interpreter exits with it still open.
@@ -175,6 +177,11 @@ class Robot:
     def emulator(self) -> Any:
         """The emulator behind a simulated robot (its world is the ground truth), else None."""
         return self._opened.ground_truth
+
+    @property
+    def scene(self) -> Scene | None:
+        """The simulated world's solids for a Webots Supervisor; None on a real robot."""
+        return self._opened.scene
 
     @property
     def camera(self) -> Camera:
@@ -388,7 +395,7 @@ class _Parts:
     """What a robot must stop and release, without a reference back to the Robot."""
 
     link: Channel
-    clock: StepClock
+    clock: Pacer
     opened: Opened
     i2c: OveroI2C
     camera: Camera | None = None

@@ -33,7 +33,7 @@ def run_controller(path: str | Path, options: RunOptions, argv: Sequence[str] = 
         raise FileNotFoundError(f"controller file {str(script)!r} does not exist")
     saved_module = sys.modules.get("controller")
     saved_argv, saved_path = sys.argv[:], sys.path[:]
-    sys.modules["controller"] = ego.controller
+    aliases = _alias_controller_package()
     sys.argv = [str(script), *argv]
     sys.path.insert(0, str(script.resolve().parent))
     install_signal_handlers()
@@ -52,10 +52,28 @@ def run_controller(path: str | Path, options: RunOptions, argv: Sequence[str] = 
                 context.close()
     finally:
         sys.argv, sys.path[:] = saved_argv, saved_path
-        if saved_module is None:
-            sys.modules.pop("controller", None)
-        else:
+        for alias in aliases:
+            sys.modules.pop(alias, None)
+        if saved_module is not None:
             sys.modules["controller"] = saved_module
+
+
+def _alias_controller_package() -> list[str]:
+    """Make ``controller`` and its submodules name ego.controller's, as Webots ships them.
+
+    ``controller.robot`` must be ``ego.controller.robot`` itself: loaded a second time
+    under another name, it would make a second ``Robot`` class. The submodules that only
+    re-export (``controller.distance_sensor``) may load under either name.
+    """
+    aliases = ["controller"]
+    sys.modules["controller"] = ego.controller
+    prefix = "ego.controller."
+    for name, module in list(sys.modules.items()):
+        if name.startswith(prefix):
+            alias = "controller." + name[len(prefix) :]
+            sys.modules[alias] = module
+            aliases.append(alias)
+    return aliases
 
 
 #: ego's own sources: their frames are left out of a controller's traceback.

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from ego.robot import Robot
@@ -36,8 +36,19 @@ class RunOptions:
     strict: bool = False
     #: ``ego run --camera WxH``: the Webots face's camera size (None: Webots' e-puck 52x39).
     camera_size: tuple[int, int] | None = None
+    #: ``ego run --fast``: the emulator in virtual time, as fast as it can (port sim).
+    fast: bool = False
     #: Called with each core Robot a face creates (progress displays subscribe here).
     on_robot: list[Callable[[Robot], None]] = field(default_factory=list)
+
+    def robot_options(self) -> dict[str, Any]:
+        """The options the faces open their robot with (None: the backend's default)."""
+        return {
+            "firmware": self.firmware,
+            "seed": self.seed,
+            "world": self.world,
+            "virtual_time": True if self.fast else None,
+        }
 
     def time_is_up(self, time_s: float) -> bool:
         """Whether a controller at ``time_s`` of controller time has used up ``duration_s``.

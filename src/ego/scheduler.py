@@ -21,10 +21,29 @@ import sys
 import threading
 import time
 from collections.abc import Callable
+from typing import Protocol
 
-__all__ = ["StepClock", "tune_for_stepping"]
+from ego.overrun_report import OverrunReport
+
+__all__ = ["Pacer", "StepClock", "tune_for_stepping"]
 
 log = logging.getLogger(__name__)
+
+
+class Pacer(Protocol):
+    """What paces a robot's steps: the wall clock (:class:`StepClock`), or an emulator's
+    virtual time, which a step moves on at once (``ego run --port sim --fast``)."""
+
+    overruns: int
+    worst_overrun_s: float
+
+    def begin(self) -> None: ...
+
+    def wait(self, step_ms: float) -> bool:
+        """Let the step's time pass; True if it had already overrun."""
+        ...
+
+    def close(self) -> None: ...
 
 
 class StepClock:
@@ -51,6 +70,7 @@ class StepClock:
         self._deadline: float | None = None
         self.overruns = 0
         self.worst_overrun_s = 0.0
+        self._report = OverrunReport()
         # Another Python thread (a camera capture, say) keeps the interpreter lock for up to
         # the switch interval, 5 ms by default, before a woken step may run: a 1 ms step
         # needs it much shorter. Only when asked; restored when the last such clock closes.
@@ -73,13 +93,9 @@ class StepClock:
             late = now - deadline
             self.overruns += 1
             self.worst_overrun_s = max(self.worst_overrun_s, late)
-            if self.overruns == 1 or self.overruns % 100 == 0:
-                log.warning(
-                    "step of %g ms overran by %.2f ms (%d overruns so far)",
-                    step_ms,
-                    late * 1e3,
-                    self.overruns,
-                )
+            line = self._report.note(now, step_ms, late)
+            if line is not None:
+                log.warning("%s", line)
             self._deadline = now
             return True
         remaining = deadline - now
@@ -91,6 +107,9 @@ class StepClock:
         return False
 
     def close(self) -> None:
+        line = self._report.flush(self._clock())
+        if line is not None:
+            log.warning("%s", line)
         if self._shortened:
             self._shortened = False
             _restore_switch_interval()

@@ -46,14 +46,27 @@ def test_strict_get_device_of_an_unknown_name_lists_the_valid_names(
     assert "mic0" not in message  # Webots' e-puck has no microphone device
 
 
-def test_a_deprecated_getter_of_the_wrong_kind_lists_the_right_names(
+def test_a_deprecated_getter_of_the_wrong_kind_gives_the_device_as_webots_does(
+    webots_robot: WebotsRobot, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # Webots' typed getters only call getDevice: no check of the class.
+    assert type(webots_robot.getMotor("ps0")).__name__ == "DistanceSensor"
+    assert webots_robot.getLED("no such led") is None
+    err = capsys.readouterr().err
+    assert "DEPRECATION: Robot.getMotor is deprecated" in err
+    assert 'Device "no such led" was not found on robot "e-puck"' in err
+
+
+def test_a_device_class_made_by_a_name_of_another_kind_lists_the_right_names(
     webots_robot: WebotsRobot,
 ) -> None:
+    from ego.controller import LED, Motor
+
     with pytest.raises(UnknownDeviceError, match="'ps0' is a DistanceSensor, not a Motor") as info:
-        webots_robot.getMotor("ps0")
-    assert str(info.value).endswith("valid names: left wheel motor, right wheel motor")
-    with pytest.raises(UnknownDeviceError, match="valid names: led0, led1"):
-        webots_robot.getLED("left wheel motor")
+        Motor("ps0")
+    assert str(info.value).endswith("valid names for a Motor: left wheel motor, right wheel motor")
+    with pytest.raises(UnknownDeviceError, match="valid names for a LED: led0, led1"):
+        LED("left wheel motor")
 
 
 def test_the_long_range_sensors_exist_only_on_the_overo_firmware() -> None:

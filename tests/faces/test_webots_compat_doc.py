@@ -7,6 +7,7 @@ import re
 from pathlib import Path
 
 import ego.controller as controller
+from ego.controller import supervision
 
 DOC = Path(__file__).parents[2] / "docs" / "webots-compat.md"
 #: The sections whose rows name methods of one class (what they are checked against).
@@ -22,6 +23,7 @@ SECTION_CLASS = {
     "Keyboard": "Keyboard",
     "Mouse and Joystick": "Mouse",
     "Supervisor": "Supervisor",
+    "Supervisor's nodes and fields (emulator only)": "SceneNode",
     "Emitter (emitter)": "Emitter",
     "Receiver (receiver)": "Receiver",
     "DifferentialWheels (Webots' old e-puck class)": "DifferentialWheels",
@@ -48,12 +50,18 @@ def test_every_name_marked_same_or_differs_exists() -> None:
     for section, names, status in _rows():
         if status not in ("same", "differs"):
             continue
-        cls = getattr(controller, SECTION_CLASS[section])
-        others = (controller.Mouse, controller.Joystick) if section == "Mouse and Joystick" else ()
+        cls = getattr(controller, SECTION_CLASS[section], None) or getattr(
+            supervision, SECTION_CLASS[section]
+        )
+        others = {
+            "Mouse and Joystick": (controller.Mouse, controller.Joystick),
+            "Supervisor's nodes and fields (emulator only)": (supervision.SceneField,),
+        }.get(section, ())
         for name in names:
             if name.endswith("*") or (name[0].isupper() and hasattr(controller, name)):
                 continue
-            if not hasattr(cls, name) and not any(hasattr(o, name) for o in others):
+            declared = name in getattr(cls, "__annotations__", {})  # a plain attribute
+            if not (hasattr(cls, name) or declared) and not any(hasattr(o, name) for o in others):
                 missing.append(f"{cls.__name__}.{name}")
     assert missing == []
 

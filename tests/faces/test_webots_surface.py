@@ -212,7 +212,7 @@ def test_device_calls_of_webots_with_the_epuck_protos_values(
         ps0.enable(32)
         robot.step(32)
         assert ps0.value == ps0.getValue() and ps0.sampling_period == 32
-        motor.velocity = 1.0
+        motor.target_velocity = 1.0
         assert motor.getVelocity() == 1.0 and motor.name == "left wheel motor"
     finally:
         robot.cleanup()

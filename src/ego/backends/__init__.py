@@ -44,6 +44,8 @@ if TYPE_CHECKING:
     from ego.camera import FrameSource
     from ego.channel import Channel
     from ego.i2c.bus import I2CAccess
+    from ego.scene import Scene
+    from ego.scheduler import Pacer
     from ego.serial.link import Link, LinkSettings
     from ego.serial.transport import Transport
 
@@ -79,6 +81,10 @@ class Opened:
     remote: bool = False
     #: The robot's own I2C bus (the Overo's), opened at first need; None: out of reach.
     i2c: I2CAccess | None = None
+    #: The simulated world's solids, for a Webots Supervisor (None: a real robot).
+    scene: Scene | None = None
+    #: What paces the steps instead of the wall clock (an emulator's virtual time).
+    pacer: Pacer | None = None
 
     def close(self) -> None:
         """Close the channel and everything beside it; idempotent."""

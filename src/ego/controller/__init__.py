@@ -18,13 +18,15 @@ from ego.controller.absent import (
     Gyro,
     InertialUnit,
     Lidar,
+    LidarPoint,
+    Motion,
     Node,
     Pen,
     Radar,
+    RadarTarget,
     RangeFinder,
     Skin,
     Speaker,
-    Supervisor,
     TouchSensor,
     VacuumGripper,
 )
@@ -37,16 +39,20 @@ from ego.controller.devices import (
     LightSensor,
     Motor,
     PositionSensor,
+    Sensor,
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
 from ego.controller.radio import Emitter, Receiver
 from ego.controller.robot import DifferentialWheels, Robot
+from ego.controller.supervision import Supervisor
+from ego.controller.terminal_colours import AnsiCodes
 
 __all__ = [
     "GPS",
     "LED",
     "Accelerometer",
     "Altimeter",
+    "AnsiCodes",
     "Brake",
     "Camera",
     "CameraRecognitionObject",
@@ -63,16 +69,20 @@ __all__ = [
     "Joystick",
     "Keyboard",
     "Lidar",
+    "LidarPoint",
     "LightSensor",
+    "Motion",
     "Motor",
     "Mouse",
     "Node",
     "Pen",
     "PositionSensor",
     "Radar",
+    "RadarTarget",
     "RangeFinder",
     "Receiver",
     "Robot",
+    "Sensor",
     "Skin",
     "Speaker",
     "Supervisor",

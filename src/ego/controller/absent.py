@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 from ego.controller.devices import Device
 from ego.controller.node_types import NODE_TYPES
-from ego.controller.robot import Robot
 from ego.errors import UnsupportedDeviceError
 
 if TYPE_CHECKING:
@@ -38,7 +37,6 @@ __all__ = [
     "RangeFinder",
     "Skin",
     "Speaker",
-    "Supervisor",
     "TouchSensor",
     "VacuumGripper",
 ]
@@ -229,32 +227,24 @@ class Field:
         _no_simulation("Field")
 
 
-class Supervisor(Robot):
-    """Webots' Supervisor: the robot's API works; the simulation's says there is none."""
+class LidarPoint:
+    """A point of Webots' Lidar cloud; the e-puck has no lidar, so none is ever made."""
 
-    def getSupervisor(self) -> bool:
-        return False
+    def __init__(self) -> None:
+        self.x = self.y = self.z = 0.0
+        self.layer_id = 0
+        self.time = 0.0
 
-    def getRoot(self) -> Node:
-        _no_simulation("Supervisor.getRoot")
 
-    def getSelf(self) -> Node:
-        _no_simulation("Supervisor.getSelf")
+class RadarTarget:
+    """A target of Webots' Radar; the e-puck has no radar, so none is ever made."""
 
-    def getFromDef(self, name: str) -> Node:
-        _no_simulation("Supervisor.getFromDef")
+    def __init__(self) -> None:
+        self.distance = self.received_power = self.speed = self.azimuth = 0.0
 
-    def getFromId(self, id: int) -> Node:
-        _no_simulation("Supervisor.getFromId")
 
-    def simulationQuit(self, status: int) -> None:
-        _no_simulation("Supervisor.simulationQuit")
+class Motion:
+    """Webots' humanoid motion files (``.motion``): the e-puck has no joints to play them."""
 
-    def simulationReset(self) -> None:
-        _no_simulation("Supervisor.simulationReset")
-
-    def simulationSetMode(self, mode: int) -> None:
-        _no_simulation("Supervisor.simulationSetMode")
-
-    def worldReload(self) -> None:
-        _no_simulation("Supervisor.worldReload")
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        raise UnsupportedDeviceError("Motion plays joint motions, and the e-puck has no joints")

@@ -58,21 +58,42 @@ WEBOTS_CAMERA_SIZE = (52, 39)
 _NAN = float("nan")
 
 
+def _view_base(cls: type[Device]) -> type[Device]:
+    """The class of ego's own that ``cls`` is or derives from (a user's ``WheelMotor``
+    subclass of ``Motor`` gives ``Motor``)."""
+    for klass in cls.__mro__:
+        if klass.__module__.startswith("ego.controller") and issubclass(klass, Device):
+            return klass
+    return Device
+
+
 def _by_name(cls: type[Device], name: str) -> Device:
-    """The device ``name`` of the run's Robot, if it is a ``cls`` (Webots' R2023b style)."""
+    """The device ``name`` of the run's Robot as a ``cls`` (Webots' R2023b constructors).
+
+    ``cls`` may be ego's class of the device, one of its bases (``Device("ps0")``), or a
+    subclass a controller wrote (``class WheelMotor(Motor)``), as Webots' ``Device(name)``
+    accepts any: a subclass gets an object of its own that shares the device's state,
+    as two Webots objects share one device tag.
+    """
     from ego.default_robot import current_context
 
     robot = current_context().webots_robot
-    if robot is None or robot.core.closed:  # type: ignore[attr-defined]
+    if robot is None or robot._core.closed:  # type: ignore[attr-defined]
         raise EgoError(f"{cls.__name__}({name!r}): create the Robot() first, as Webots requires")
     device = robot.getDevice(name)  # type: ignore[attr-defined]
-    if not isinstance(device, cls):
-        valid = robot._device_names(cls)  # type: ignore[attr-defined]
-        what = "no device" if device is None else f"a {type(device).__name__}"
-        raise UnknownDeviceError(
-            f"{name!r} is {what}, not a {cls.__name__}; valid names: {', '.join(valid) or 'none'}"
-        )
-    return device
+    if isinstance(device, cls):
+        return device
+    if device is not None and issubclass(cls, type(device)):
+        view = object.__new__(cls)
+        view.__dict__ = device.__dict__  # one device, two names for it
+        return view
+    base = _view_base(cls)
+    valid = robot._device_names(base)  # type: ignore[attr-defined]
+    what = "no device" if device is None else f"a {type(device).__name__}"
+    raise UnknownDeviceError(
+        f"{name!r} is {what}, not a {base.__name__}; valid names for a "
+        f"{base.__name__}: {', '.join(valid) or 'none on this robot'}"
+    )
 
 
 def webots_camera_size(core: CoreRobot) -> None:
@@ -96,7 +117,7 @@ def _sibling(device: Device, name: str) -> Device | None:
     from ego.default_robot import current_context
 
     robot = current_context().webots_robot
-    if robot is not None and robot.core is device._core:  # type: ignore[attr-defined]
+    if robot is not None and robot._core is device._core:  # type: ignore[attr-defined]
         found = robot.getDevice(name)  # type: ignore[attr-defined]
         return found if isinstance(found, Device) else None
     view = view_class(name)
@@ -120,7 +141,8 @@ class Device:
     """
 
     def __new__(cls, *args: object, **kwargs: object) -> Device:
-        if len(args) == 1 and isinstance(args[0], str) and not kwargs:
+        # By name (a str first, as Webots' Device(name)); ego's faces pass the core Robot.
+        if args and isinstance(args[0], str):
             return _by_name(cls, args[0])
         return super().__new__(cls)
 
@@ -162,8 +184,34 @@ class Device:
         return f"<{type(self).__name__} {self._name!r}>"
 
 
-class _SampledDevice(Device):
-    """``enable(ms)``, ``disable()``, ``getSamplingPeriod()`` of one member of a family."""
+def _basic_time_step_ms() -> int:
+    from ego.default_robot import current_context
+
+    return int(current_context().options.basic_time_step_ms)
+
+
+class Sensor(Device):
+    """``enable(ms)``, ``disable()``, ``getSamplingPeriod()`` of one member of a family
+    (Webots' ``Sensor``, the base of every sensor class).
+
+    Made by name, as ``DistanceSensor("ps0")`` or a subclass of it, a sensor is enabled
+    at once, at ``sampling_period`` or else the basic time step (0 leaves it off), as
+    Webots' ``Sensor.__init__`` does.
+    """
+
+    def __init__(
+        self,
+        core: CoreRobot | str,
+        name: str | int | None = "",
+        sampling_period: int | None = None,
+        *,
+        strict: bool | None = None,
+    ) -> None:
+        if isinstance(core, str):  # by name: (name, sampling_period=None), as Webots'
+            period = name if isinstance(name, int) else sampling_period
+            self.sampling_period = _basic_time_step_ms() if period is None else period
+            return
+        super().__init__(core, str(name), strict=strict)
 
     def _family(self) -> Sampled:
         family = self._core.device(self._name)
@@ -180,15 +228,22 @@ class _SampledDevice(Device):
         """The period in ms, 0 when disabled (Webots' convention)."""
         return self._family().sampling_period(self._name) or 0
 
-    sampling_period = property(lambda self: self.getSamplingPeriod())
+    #: Webots' property: reading gives the period (0: off); setting enables (0, None: off).
+    sampling_period = property(
+        lambda self: self.getSamplingPeriod(),
+        lambda self, period: self.enable(period) if period else self.disable(),
+    )
 
     def _readable(self) -> bool:
         family = self._family()
         return family.sampling_period(self._name) is not None and family.has_values
 
 
-class DistanceSensor(_SampledDevice):
-    """ps0..ps9 proximity and gs0..gs2 floor sensors: raw values, as Webots' e-puck gives."""
+class _ValueSensor(Sensor):
+    """A sensor giving one raw value a step through its lookup table (``value``)."""
+
+    #: Webots' lookupTable of this kind of sensor in the E-puck PROTO.
+    _table: tuple[float, ...] = ()
 
     def getValue(self) -> float:
         if not self._readable():
@@ -196,21 +251,29 @@ class DistanceSensor(_SampledDevice):
         family = self._family()
         return float(family.value(self._name))  # type: ignore[attr-defined]
 
+    def getLookupTable(self) -> list[float]:
+        """Webots' e-puck table (distance m, value, noise per row), flattened."""
+        return list(self._table)
+
+    value = property(lambda self: self.getValue())
+    lookup_table = property(lambda self: self.getLookupTable())
+
+
+class DistanceSensor(_ValueSensor):
+    """ps0..ps9 proximity and gs0..gs2 floor sensors: raw values, as Webots' e-puck gives."""
+
+    _table = PROXIMITY_TABLE
     GENERIC = 0
     INFRA_RED = 1
     SONAR = 2
     LASER = 3
 
-    def getLookupTable(self) -> list[float]:
-        """Webots' e-puck table (distance m, value, noise per row), flattened."""
-        return list(PROXIMITY_TABLE)
-
     def getMinValue(self) -> float:
         """The table's smallest value, as Webots gives it."""
-        return min(PROXIMITY_TABLE[1::3])
+        return min(self._table[1::3])
 
     def getMaxValue(self) -> float:
-        return max(PROXIMITY_TABLE[1::3])
+        return max(self._table[1::3])
 
     def getAperture(self) -> float:
         return PROXIMITY_APERTURE_RAD
@@ -218,30 +281,30 @@ class DistanceSensor(_SampledDevice):
     def getType(self) -> int:
         return self.INFRA_RED
 
-    value = property(lambda self: self.getValue())
-    lookup_table = property(lambda self: self.getLookupTable())
     min_value = property(lambda self: self.getMinValue())
     max_value = property(lambda self: self.getMaxValue())
+    aperture = property(lambda self: self.getAperture())
+    type = property(lambda self: self.getType())
 
 
-class LightSensor(DistanceSensor):
+class LightSensor(_ValueSensor):
     """ls0..ls7: 0..4095, lower is brighter (the e-puck's own convention)."""
 
-    def getLookupTable(self) -> list[float]:
-        return list(LIGHT_TABLE)
+    _table = LIGHT_TABLE
 
 
-class Accelerometer(_SampledDevice):
+class Accelerometer(Sensor):
     def getLookupTable(self) -> list[float]:
         return list(ACCELEROMETER_TABLE)
-
-    value = property(lambda self: self.getValues())
 
     def getValues(self) -> list[float]:
         """x, y, z in m/s^2 (NaN while not enabled)."""
         if not self._readable():
             return [_NAN, _NAN, _NAN]
         return list(self._core.accelerometer.acceleration_mps2)
+
+    value = property(lambda self: self.getValues())
+    lookup_table = property(lambda self: self.getLookupTable())
 
 
 def whole_steps(value: float) -> int:
@@ -258,7 +321,7 @@ def encoder_steps(core: CoreRobot, side: int) -> float:
     return float(encoders.values[side]) if encoders.enabled and encoders.has_values else _NAN
 
 
-class PositionSensor(_SampledDevice):
+class PositionSensor(Sensor):
     """A wheel's step counter as an angle in radians."""
 
     ROTATIONAL = 0
@@ -275,12 +338,15 @@ class PositionSensor(_SampledDevice):
         """None: the e-puck's wheels have no brake device."""
         return None
 
-    value = property(lambda self: self.getValue())
-
     def getValue(self) -> float:
         if not self._readable():
             return _NAN
         return self._core.encoders.radians[spec(self._name).index]
+
+    value = property(lambda self: self.getValue())
+    type = property(lambda self: self.getType())
+    motor = property(lambda self: self.getMotor())
+    brake = property(lambda self: self.getBrake())
 
 
 class Motor(Device):
@@ -345,11 +411,22 @@ class Motor(Device):
     def getAcceleration(self) -> float:
         return self._acceleration
 
-    velocity = property(lambda self: self.getVelocity(), lambda self, v: self.setVelocity(v))
+    # Webots' properties, and only those: a controller may set any other attribute.
+    target_velocity = property(
+        lambda self: self.getVelocity(), lambda self, v: self.setVelocity(v)
+    )
     target_position = property(
         lambda self: self.getTargetPosition(), lambda self, p: self.setPosition(p)
     )
+    target_acceleration = property(
+        lambda self: self.getAcceleration(), lambda self, a: self.setAcceleration(a)
+    )
     max_velocity = property(lambda self: self.getMaxVelocity())
+    max_position = property(lambda self: self.getMaxPosition())
+    min_position = property(lambda self: self.getMinPosition())
+    type = property(lambda self: self.getType())
+    brake = property(lambda self: self.getBrake())
+    position_sensor = property(lambda self: self.getPositionSensor())
 
     def getVelocity(self) -> float:
         return self._velocity
@@ -456,7 +533,7 @@ class LED(Device):
     value = property(lambda self: self.get(), lambda self, v: self.set(v))
 
 
-class Camera(_SampledDevice):
+class Camera(Sensor):
     """The camera, BGRA images as Webots gives them. The Webots faces give it Webots'
     e-puck size (52x39) unless ``ego run --camera WxH`` asks another
     (:func:`webots_camera_size`); the E-GO face keeps 640x480."""
@@ -527,10 +604,29 @@ class Camera(_SampledDevice):
             file=sys.stderr,
         )
 
+    def getMinFocalDistance(self) -> float:
+        return 0.0
+
+    def getMaxFocalDistance(self) -> float:
+        return 0.0
+
+    def setFocalDistance(self, focal_distance: float) -> None:
+        """The e-puck's camera has no Focus node: nothing to set, as Webots ignores it."""
+
     width = property(lambda self: self.getWidth())
     height = property(lambda self: self.getHeight())
     fov = property(lambda self: self.getFov(), lambda self, f: self.setFov(f))
+    min_fov = property(lambda self: self.getMinFov())
+    max_fov = property(lambda self: self.getMaxFov())
+    near = property(lambda self: self.getNear())
     image = property(lambda self: self.getImage())
+    exposure = property(lambda self: self.getExposure(), lambda self, e: self.setExposure(e))
+    focal_length = property(lambda self: self.getFocalLength())
+    focal_distance = property(
+        lambda self: self.getFocalDistance(), lambda self, d: self.setFocalDistance(d)
+    )
+    min_focal_distance = property(lambda self: self.getMinFocalDistance())
+    max_focal_distance = property(lambda self: self.getMaxFocalDistance())
 
     def getImage(self) -> bytes:
         """BGRA bytes, row by row, as Webots' ``getImage``."""

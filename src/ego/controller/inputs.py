@@ -69,20 +69,31 @@ class Keyboard:
     def __init__(self, sampling_period: int | None = None, *, fd: int | None = None) -> None:
         self._keys: queue.SimpleQueue[int] = queue.SimpleQueue()
         self._period = 0
-        self._fd = sys.stdin.fileno() if fd is None else fd
+        self._fd = fd  # the terminal's, found when first enabled (stdin may have none)
         self._saved: list[Any] | None = None
         self._stop = threading.Event()
         self._reader: threading.Thread | None = None
+        if sampling_period is None:  # Webots' Keyboard(): on at the basic time step
+            from ego.default_robot import current_context
+
+            sampling_period = int(current_context().options.basic_time_step_ms)
         if sampling_period:
             self.enable(sampling_period)
 
     def enable(self, samplingPeriod: int) -> None:
         """Read keys from the terminal (if ``ego run`` has one) until disabled."""
         self._period = int(samplingPeriod)
+        if self._fd is None:
+            try:
+                self._fd = sys.stdin.fileno()
+            except (OSError, ValueError):  # no terminal (a test's stdin): keys come by press()
+                return
         if self._reader is None and os.isatty(self._fd):
-            self._raw()
+            self._raw(self._fd)
             self._stop.clear()
-            self._reader = threading.Thread(target=self._read, name="ego-keyboard", daemon=True)
+            self._reader = threading.Thread(
+                target=self._read, args=(self._fd,), name="ego-keyboard", daemon=True
+            )
             self._reader.start()
 
     def disable(self) -> None:
@@ -113,31 +124,34 @@ class Keyboard:
         """A key from another source than the terminal (a dashboard)."""
         self._keys.put(int(key))
 
-    sampling_period = property(getSamplingPeriod)
+    #: Webots' property: setting enables (0, None: off).
+    sampling_period = property(
+        getSamplingPeriod, lambda self, p: self.enable(p) if p else self.disable()
+    )
 
     # -- the terminal ------------------------------------------------------------------------
 
-    def _raw(self) -> None:
+    def _raw(self, fd: int) -> None:
         import termios
         import tty
 
         with contextlib.suppress(termios.error):
-            self._saved = termios.tcgetattr(self._fd)
-            tty.setcbreak(self._fd)
+            self._saved = termios.tcgetattr(fd)
+            tty.setcbreak(fd)
             atexit.register(self._restore)
 
     def _restore(self) -> None:
         saved, self._saved = self._saved, None
-        if saved is not None:
+        if saved is not None and self._fd is not None:
             import termios
 
             with contextlib.suppress(termios.error, OSError):
                 termios.tcsetattr(self._fd, termios.TCSADRAIN, saved)
 
-    def _read(self) -> None:
+    def _read(self, fd: int) -> None:
         pending = b""
         while not self._stop.is_set():
-            ready, _, _ = select.select([self._fd], [], [], 0.05)
+            ready, _, _ = select.select([fd], [], [], 0.05)
             if not ready:
                 if pending:  # a lone ESC, no sequence behind it
                     for key in decode_keys(pending):
@@ -145,7 +159,7 @@ class Keyboard:
                     pending = b""
                 continue
             try:
-                data = os.read(self._fd, 64)
+                data = os.read(fd, 64)
             except OSError:
                 return
             if not data:
@@ -272,7 +286,7 @@ class FaceKeys:
 
     def _keyboard(self) -> Keyboard | None:
         robot = getattr(self._context, "webots_robot", None)
-        keyboard = getattr(robot, "_keyboard", None)
+        keyboard = getattr(robot, "keyboard", None)  # the controller may have replaced it
         return keyboard if isinstance(keyboard, Keyboard) else None
 
     def listening(self) -> bool:

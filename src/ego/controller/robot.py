@@ -6,7 +6,7 @@ import logging
 import math
 import sys
 import time
-from typing import ClassVar, TypeVar
+from typing import ClassVar
 
 from ego.controller.devices import (
     LED,
@@ -38,9 +38,6 @@ EPUCK_MODEL = "GCtronic e-puck"
 #: What Webots prints for a second ``Robot()`` in one controller process.
 ONE_ROBOT_ONLY = "Error: only one Robot instance can be created per controller process."
 
-_D = TypeVar("_D", bound=Device)
-
-
 class Robot:
     """The e-puck as a Webots controller sees it.
 
@@ -51,6 +48,12 @@ class Robot:
     ...     print(ps0.getValue())
     """
 
+    _core: CoreRobot
+    #: Plain attributes, as in Webots' Robot (a controller may replace them).
+    keyboard: Keyboard
+    mouse: Mouse
+    joystick: Joystick
+    core: CoreRobot
     MODE_SIMULATION: ClassVar[int] = 0
     MODE_CROSS_COMPILATION: ClassVar[int] = 1
     MODE_REMOTE_CONTROL: ClassVar[int] = 2
@@ -59,7 +62,7 @@ class Robot:
         """``options`` None: the current face context's (what ``ego run`` was given)."""
         context = current_context()
         first = context.webots_robot
-        if isinstance(first, Robot) and not first.core.closed:
+        if isinstance(first, Robot) and not first._core.closed:
             # Webots allows one Robot a process and says so; the second one here is the
             # same robot under another name (in Webots it would be unusable).
             if (options or context.options).strict:
@@ -71,22 +74,19 @@ class Robot:
             options = context.options
         self._options = options
         self._custom_data = ""
-        self._keyboard: Keyboard | None = None
-        self._mouse: Mouse | None = None
-        self._joystick: Joystick | None = None
-        self._core = CoreRobot(
-            options.port, firmware=options.firmware, seed=options.seed, world=options.world
-        )
+        # Plain attributes, as Webots' Robot has them: a controller may replace them.
+        self.keyboard = Keyboard(0)
+        self.mouse = Mouse(0)
+        self.joystick = Joystick(0)
+        self._core = CoreRobot(options.port, **options.robot_options())
+        #: The ego Robot underneath, for what Webots' API does not cover (a plain
+        #: attribute: ego reads its own ``_core``, so a subclass may reuse the name).
+        self.core = self._core
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
         context.webots_robot = self
         for callback in options.on_robot:
             callback(self._core)
-
-    @property
-    def core(self) -> CoreRobot:
-        """The ego Robot underneath, for what Webots' API does not cover."""
-        return self._core
 
     def step(self, duration: int | None = None) -> int:
         """One time step of ``duration`` ms (the basic time step if None); -1 when the run
@@ -157,57 +157,50 @@ class Robot:
             if (found := view_class(name)) is not None and issubclass(found, cls)
         ]
 
-    def _typed(self, name: str, cls: type[_D]) -> _D:
-        device = self.getDevice(name)
-        if device is None:
-            raise UnknownDeviceError(
-                f"no device named {name!r}; valid names: {', '.join(self._device_names(cls))}"
-            )
-        if not isinstance(device, cls):
-            raise UnknownDeviceError(
-                f"{name!r} is a {type(device).__name__}, not a {cls.__name__}; valid names: "
-                f"{', '.join(self._device_names(cls))}"
-            )
-        return device
+    def _deprecated(self, getter: str, name: str) -> Device | None:
+        """Webots' deprecated typed getters: its notice, then ``getDevice`` (Webots' warning
+        and None for a name the e-puck has not; no check of the device's class)."""
+        print(
+            f"DEPRECATION: Robot.{getter} is deprecated, please use Robot.getDevice instead.",
+            file=sys.stderr,
+        )
+        return self.getDevice(name)
 
-    # Deprecated getters of older Webots versions, still found in e-puck controllers.
-    def getDistanceSensor(self, name: str) -> DistanceSensor:
-        return self._typed(name, DistanceSensor)
+    def getDistanceSensor(self, name: str) -> DistanceSensor | None:
+        return self._deprecated("getDistanceSensor", name)  # type: ignore[return-value]
 
-    def getLightSensor(self, name: str) -> LightSensor:
-        return self._typed(name, LightSensor)
+    def getLightSensor(self, name: str) -> LightSensor | None:
+        return self._deprecated("getLightSensor", name)  # type: ignore[return-value]
 
-    def getMotor(self, name: str) -> Motor:
-        return self._typed(name, Motor)
+    def getMotor(self, name: str) -> Motor | None:
+        return self._deprecated("getMotor", name)  # type: ignore[return-value]
 
-    def getLED(self, name: str) -> LED:
-        return self._typed(name, LED)
+    def getLED(self, name: str) -> LED | None:
+        return self._deprecated("getLed", name)  # type: ignore[return-value]
 
-    def getCamera(self, name: str) -> Camera:
-        return self._typed(name, Camera)
+    def getCamera(self, name: str) -> Camera | None:
+        return self._deprecated("getCamera", name)  # type: ignore[return-value]
 
-    def getAccelerometer(self, name: str) -> Accelerometer:
-        return self._typed(name, Accelerometer)
+    def getAccelerometer(self, name: str) -> Accelerometer | None:
+        return self._deprecated("getAccelerometer", name)  # type: ignore[return-value]
 
-    def getPositionSensor(self, name: str) -> PositionSensor:
-        return self._typed(name, PositionSensor)
+    def getPositionSensor(self, name: str) -> PositionSensor | None:
+        return self._deprecated("getPositionSensor", name)  # type: ignore[return-value]
 
-    # Deprecated getters of devices the e-puck has not: Webots' warning and None.
+    def getEmitter(self, name: str) -> Emitter | None:
+        """The radio emitter (see ego.controller.radio), deprecated as in Webots."""
+        return self._deprecated("getEmitter", name)  # type: ignore[return-value]
+
+    def getReceiver(self, name: str) -> Receiver | None:
+        """The radio receiver (see ego.controller.radio), deprecated as in Webots."""
+        return self._deprecated("getReceiver", name)  # type: ignore[return-value]
+
+    # Deprecated getters of devices the e-puck has not: the same notice, then None.
     def _absent_getter(self, name: str) -> None:
         return self.getDevice(name)  # type: ignore[return-value]
 
     getGPS = getCompass = getGyro = getInertialUnit = getTouchSensor = _absent_getter
     getSpeaker = getDisplay = getPen = getLidar = _absent_getter
-
-    def getEmitter(self, name: str) -> Emitter | None:
-        """Webots' old typed getter: the radio emitter (see ego.controller.radio)."""
-        device = self.getDevice(name)
-        return device if isinstance(device, Emitter) or device is None else None
-
-    def getReceiver(self, name: str) -> Receiver | None:
-        """Webots' old typed getter: the radio receiver (see ego.controller.radio)."""
-        device = self.getDevice(name)
-        return device if isinstance(device, Receiver) or device is None else None
     getRangeFinder = getRadar = getConnector = getBrake = getAltimeter = _absent_getter
     getSkin = getVacuumGripper = _absent_getter
 
@@ -244,23 +237,13 @@ class Robot:
 
     def getKeyboard(self) -> Keyboard:
         """The terminal's keyboard (see ego.controller.inputs)."""
-        if self._keyboard is None:
-            self._keyboard = Keyboard()
-        return self._keyboard
+        return self.keyboard
 
     def getMouse(self) -> Mouse:
-        if self._mouse is None:
-            self._mouse = Mouse()
-        return self._mouse
+        return self.mouse
 
     def getJoystick(self) -> Joystick:
-        if self._joystick is None:
-            self._joystick = Joystick()
-        return self._joystick
-
-    keyboard = property(getKeyboard)
-    mouse = property(getMouse)
-    joystick = property(getJoystick)
+        return self.joystick
 
     EVENT_QUIT = -1
     EVENT_NO_EVENT = 0
@@ -280,10 +263,10 @@ class Robot:
 
     def waitForUserInputEvent(self, event_type: int, timeout: int) -> int:
         """Wait up to ``timeout`` ms for a key (the only input a robot has); the event."""
-        if event_type & self.EVENT_KEYBOARD and self._keyboard is not None:
+        if event_type & self.EVENT_KEYBOARD and self.keyboard.getSamplingPeriod() > 0:
             end = time.monotonic() + timeout / 1000.0
             while time.monotonic() < end:
-                if not self._keyboard.empty():
+                if not self.keyboard.empty():
                     return self.EVENT_KEYBOARD
                 time.sleep(0.005)
         else:
@@ -333,6 +316,14 @@ class Robot:
     synchronization = property(lambda self: self.getSynchronization())
     supervisor = property(lambda self: self.getSupervisor())
     mode = property(lambda self: self.getMode())
+    project_path = property(lambda self: self.getProjectPath())
+    world_path = property(lambda self: self.getWorldPath())
+    battery_sensor_sampling_period = property(
+        lambda self: self.batterySensorGetSamplingPeriod(),
+        lambda self, period: self.batterySensorEnable(
+            int(self.getBasicTimeStep()) if period is None else period
+        ),
+    )
 
     def getMode(self) -> int:
         """Cross-compilation on the robot; remote control over tcp:// or udp://."""
@@ -363,8 +354,7 @@ class Robot:
 
     def cleanup(self) -> None:
         """Stop the robot and close the link (also done at exit); the terminal back."""
-        if self._keyboard is not None:
-            self._keyboard.disable()
+        self.keyboard.disable()
         self._core.close()
 
 

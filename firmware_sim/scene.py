@@ -1,0 +1,82 @@
+"""The scene a Supervisor sees in the emulated world: the robot and the named boxes, their
+poses and velocities, moved by hand and put back as the world began (Webots'
+``simulationReset``). Written from Webots' Supervisor API, apart from ego."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from firmware_sim.world import Pose, World
+
+__all__ = ["ROBOT", "Scene"]
+
+#: The name that stands for the robot itself (``getSelf``), whatever its DEF name.
+ROBOT = ""
+
+
+@dataclass(frozen=True)
+class _Start:
+    robot: Pose
+    blocks: tuple[tuple[float, float, float], ...]
+
+
+class Scene:
+    """The world's solids by name: ``ROBOT`` for the robot, a box's DEF name for a box."""
+
+    def __init__(self, world: World) -> None:
+        self.world = world
+        self._start = _Start(
+            world.snapshot(), tuple((b.x_m, b.y_m, b.yaw_rad) for b in world.blocks)
+        )
+
+    @property
+    def robot_name(self) -> str | None:
+        """The robot's DEF name in the world file, if it has one."""
+        return self.world.robot_name
+
+    def names(self) -> tuple[str, ...]:
+        """Every DEF name the scene answers to (the robot's first, if it has one)."""
+        robot = (self.world.robot_name,) if self.world.robot_name else ()
+        return (*robot, *(b.name for b in self.world.blocks if b.name))
+
+    def kind(self, name: str) -> str:
+        """The Webots node type behind ``name``: ``E-puck`` or ``Solid``."""
+        return "E-puck" if self._is_robot(name) else "Solid"
+
+    def pose(self, name: str) -> tuple[float, float, float, float]:
+        """x, y, z (m) and the yaw about the vertical (rad) of the solid ``name``."""
+        if self._is_robot(name):
+            p = self.world.snapshot()
+            return p.x_m, p.y_m, 0.0, p.theta_rad
+        block = self.world.blocks[self._block(name)]
+        return block.x_m, block.y_m, block.height_m / 2, block.yaw_rad
+
+    def set_pose(self, name: str, x_m: float, y_m: float, yaw_rad: float) -> None:
+        """Put the solid ``name`` at (x, y), turned ``yaw_rad`` (kept out of the walls)."""
+        if self._is_robot(name):
+            self.world.place(Pose(x_m, y_m, yaw_rad))
+        else:
+            self.world.move_block(self._block(name), x_m, y_m, yaw_rad)
+
+    def velocity(self, name: str) -> tuple[float, float, float, float, float, float]:
+        """Linear (m/s) and angular (rad/s) velocity, world frame; boxes stand still."""
+        if not self._is_robot(name):
+            self._block(name)
+            return (0.0,) * 6
+        vx, vy, wz = self.world.velocity()
+        return vx, vy, 0.0, 0.0, 0.0, wz
+
+    def reset(self) -> None:
+        """Everything back where the world began; the wheels keep what they were told."""
+        self.world.place(self._start.robot)
+        for index, (x, y, yaw) in enumerate(self._start.blocks):
+            self.world.move_block(index, x, y, yaw)
+
+    def _is_robot(self, name: str) -> bool:
+        return name == ROBOT or name == self.world.robot_name
+
+    def _block(self, name: str) -> int:
+        for index, block in enumerate(self.world.blocks):
+            if block.name == name:
+                return index
+        raise KeyError(f"no solid named {name!r} in the world; named: {', '.join(self.names())}")

@@ -1,0 +1,48 @@
+"""What a simulated robot's world lets a Webots Supervisor see and move: a typed seam.
+
+A real robot has no scene to supervise; the emulator (a backend ego never imports) hands
+one in through :class:`~ego.backends.Opened`, and :attr:`ego.Robot.scene` is it, else
+None. Solids are named as in the world file (a box's DEF name; ``""`` for the robot).
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+__all__ = ["ROBOT", "Scene"]
+
+#: The name of the robot itself, whatever its DEF name in the world file.
+ROBOT = ""
+
+
+class Scene(Protocol):
+    """The solids of a simulated world; an unknown name raises KeyError."""
+
+    @property
+    def robot_name(self) -> str | None:
+        """The robot's DEF name in the world file, if it has one."""
+        ...
+
+    def names(self) -> tuple[str, ...]:
+        """Every DEF name the scene answers to."""
+        ...
+
+    def kind(self, name: str) -> str:
+        """The Webots node type behind ``name`` (``E-puck``, ``Solid``)."""
+        ...
+
+    def pose(self, name: str) -> tuple[float, float, float, float]:
+        """x, y, z (m) and the yaw about the vertical (rad)."""
+        ...
+
+    def set_pose(self, name: str, x_m: float, y_m: float, yaw_rad: float) -> None:
+        """Move the solid ``name`` there (the floor is flat: no roll, no pitch)."""
+        ...
+
+    def velocity(self, name: str) -> tuple[float, float, float, float, float, float]:
+        """Linear (m/s) and angular (rad/s) velocity in the world's frame."""
+        ...
+
+    def reset(self) -> None:
+        """Every solid back where the world began (Webots' ``simulationReset``)."""
+        ...
