@@ -59,12 +59,15 @@ class StepClock:
 
     def __init__(
         self,
-        spin_s: float = 0.0004,
+        spin_s: float | None = None,
         clock: Callable[[], float] = time.perf_counter,
         sleep: Callable[[float], None] = time.sleep,
         switch_interval_s: float | None = None,
     ) -> None:
-        self.spin_s = spin_s
+        #: How long before the deadline the sleep ends and the spin begins. None: learnt
+        #: from how late this thread's sleeps wake (:class:`SpinGauge`); a number: fixed.
+        self._gauge = SpinGauge() if spin_s is None else None
+        self.spin_s = spin_s if spin_s is not None else self._gauge.spin_s  # type: ignore[union-attr]
         self._clock = clock
         self._sleep = sleep
         self._deadline: float | None = None
@@ -100,7 +103,10 @@ class StepClock:
             return True
         remaining = deadline - now
         if remaining > self.spin_s:
+            wake = now + remaining - self.spin_s
             self._sleep(remaining - self.spin_s)
+            if self._gauge is not None:
+                self.spin_s = self._gauge.woke(self._clock() - wake)
         while self._clock() < deadline:
             pass
         self._deadline = deadline
@@ -113,6 +119,35 @@ class StepClock:
         if self._shortened:
             self._shortened = False
             _restore_switch_interval()
+
+
+class SpinGauge:
+    """How long to spin before a deadline: a little more than this thread's sleeps wake late.
+
+    ``time.sleep`` wakes late by the timer slack and the scheduler's latency (a median of
+    44 us, 68 us at the 99th percentile with a 1 us slack; 50-100 us more without). A spin
+    longer than that lateness only burns CPU; a shorter one lets the step end late. The
+    gauge keeps a slowly decaying maximum of the lateness seen and spins 1.5 times that,
+    within 30 us .. 400 us.
+    """
+
+    MIN_S = 0.00003
+    MAX_S = 0.0004
+    #: Per sleep: the remembered worst lateness shrinks by 0.5 %, so one rare late wake
+    #: keeps the spin long for a few hundred steps, then lets it shrink again.
+    DECAY = 0.995
+
+    def __init__(self) -> None:
+        self._late_s = self.MAX_S / 1.5  # start as cautious as the fixed spin was
+
+    @property
+    def spin_s(self) -> float:
+        return min(self.MAX_S, max(self.MIN_S, 1.5 * self._late_s))
+
+    def woke(self, late_s: float) -> float:
+        """One sleep woke ``late_s`` after it asked; the spin to use from now on."""
+        self._late_s = max(max(late_s, 0.0), self._late_s * self.DECAY)
+        return self.spin_s
 
 
 #: prctl(2): the calling thread's timer slack, in nanoseconds.

@@ -12,7 +12,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ego.controller.node_types import node_type
-from ego.devices.base import Sampled
+from ego.devices.base import ArraySensor, Sampled
 from ego.devices.motors import MAX_SPEED_RAD_S, rad_s_to_steps
 from ego.devices.position_control import position_speed
 from ego.devices.table import find, spec
@@ -244,12 +244,16 @@ class _ValueSensor(Sensor):
 
     #: Webots' lookupTable of this kind of sensor in the E-puck PROTO.
     _table: tuple[float, ...] = ()
+    #: The family serving this sensor, found at the first read (it never changes).
+    _array: ArraySensor | None = None
 
     def getValue(self) -> float:
-        if not self._readable():
-            return _NAN
-        family = self._family()
-        return float(family.value(self._name))  # type: ignore[attr-defined]
+        array = self._array
+        if array is None:
+            family = self._family()
+            assert isinstance(family, ArraySensor)
+            array = self._array = family
+        return array.reading(self._name)
 
     def getLookupTable(self) -> list[float]:
         """Webots' e-puck table (distance m, value, noise per row), flattened."""

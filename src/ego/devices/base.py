@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import abc
 import enum
+import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
@@ -365,12 +366,23 @@ class ArraySensor(Sensor):
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)
         self._values: tuple[int, ...] = ()
+        self._index: dict[str, int] = {}
 
     def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
         return Verdict(out_of_range(self.family, values, *self.value_range))
 
     def take(self, values: Sequence[float]) -> None:
-        self._values = tuple(int(v) for v in values[: len(self.member_names)])
+        names = self.member_names
+        self._values = tuple(int(v) for v in values[: len(names)])
+        if len(self._index) != len(names):
+            self._index = {name: i for i, name in enumerate(names)}
+
+    def reading(self, name: str) -> float:
+        """One member's last sample, NaN while it is not enabled or not sampled yet
+        (Webots' convention): the faces' per-step read, kept to a few dictionary looks."""
+        if self._sampled_ms is None or name not in self._periods:
+            return math.nan
+        return float(self._values[self._index[name]])
 
     @property
     def values(self) -> tuple[int, ...]:

@@ -60,6 +60,10 @@ RESYNC = RESYNC_ZEROS + b"\nV\n"
 VERSION_REPLY = b"v,Version"
 
 
+#: The trailing guard in byte times: a 4-byte burst, and two byte times of wake-up margin.
+TRAILING_GUARD_BYTES = 6
+
+
 @dataclass(frozen=True, slots=True)
 class LinkSettings:
     """Timeouts and bounds of the link; the defaults suit the 230400-baud Overo line."""
@@ -71,9 +75,12 @@ class LinkSettings:
     #: The thesis measured 84 us/byte against a 43.4 us/byte wire: allow 3x.
     wire_factor: float = 3.0
     #: After the last expected byte, how long to watch for bytes that should not be
-    #: there. Extra bytes arrive at line rate right behind the reply, so a few byte
-    #: times catch them; a heuristic bounded in time, as no protocol field can do better.
-    trailing_guard_s: float = 0.0005
+    #: there. Extra bytes come at line rate right behind the reply, but a UART driver
+    #: hands them over in bursts (a FIFO's trigger level, 4 bytes in the emulator), so
+    #: None watches for TRAILING_GUARD_BYTES byte times at the line's rate (260 us at
+    #: 230400 baud). A heuristic bounded in time, as no protocol field can do better; a
+    #: byte later still is caught as stale before the next batch.
+    trailing_guard_s: float | None = None
     #: Resynchronising drains until the line has been quiet this long ...
     resync_quiet_s: float = 0.1
     #: ... but never longer than this.
@@ -230,6 +237,10 @@ class Link:
 
     # -- binary batches ----------------------------------------------------------------
 
+    def _line_baud(self) -> int:
+        """The rate bytes really flow at: the slower of the port's and the firmware's."""
+        return min(self.transport.baudrate or DEFAULT_BAUD, self.info.profile.line_baud)
+
     def timeout_for(self, batch: Batch) -> float:
         """Reply timeout of a batch on this line (see :func:`reply_timeout_s`)."""
         return reply_timeout_s(batch, self.info.profile, self.transport, self.settings)
@@ -279,13 +290,21 @@ class Link:
         if not batch.expects_reply:
             # docs/protocol.md: a batch that asks for nothing gets no reply: never wait.
             return b""
+        baud = self._line_baud()
         try:
-            reply = self.transport.read_exactly(batch.reply_size, self.timeout_for(batch))
+            reply = self.transport.read_exactly(
+                batch.reply_size,
+                self.timeout_for(batch),
+                expected_s=wire_time_s(len(batch.tx) + batch.reply_size, baud),
+            )
         except LinkTimeoutError as exc:
             self._check_banner(getattr(exc, "partial", b""))
             raise
         self.stats.bytes_received += len(reply)
-        extra = self.transport.read(1, self.settings.trailing_guard_s)
+        guard = self.settings.trailing_guard_s
+        extra = self.transport.trailing(
+            wire_time_s(TRAILING_GUARD_BYTES, baud) if guard is None else guard
+        )
         self._check_banner(reply + extra)
         if extra:
             raise ExtraBytesError(

@@ -14,6 +14,7 @@ import errno
 import logging
 import numbers
 import os
+import select
 import time
 from collections.abc import Iterator
 from types import TracebackType
@@ -116,8 +117,12 @@ class Transport(abc.ABC):
             line += self.read(1, remaining)
         return bytes(line)
 
-    def read_exactly(self, size: int, timeout_s: float) -> bytes:
-        """Exactly ``size`` bytes within ``timeout_s``, or LinkTimeoutError with what came."""
+    def read_exactly(self, size: int, timeout_s: float, expected_s: float = 0.0) -> bytes:
+        """Exactly ``size`` bytes within ``timeout_s``, or LinkTimeoutError with what came.
+
+        ``expected_s``: when the reply cannot have arrived sooner (its wire time), a hint
+        a transport may sleep on rather than wake for nothing.
+        """
         deadline = time.monotonic() + timeout_s
         data = bytearray()
         while len(data) < size:
@@ -125,6 +130,9 @@ class Transport(abc.ABC):
             if remaining <= 0:
                 break
             data += self.read(size - len(data), remaining)
+        return self._complete(data, size, timeout_s)
+
+    def _complete(self, data: bytearray, size: int, timeout_s: float) -> bytes:
         if len(data) < size:
             err = LinkTimeoutError(
                 f"{self.name}: {len(data)} of {size} reply bytes after {timeout_s * 1e3:.1f} ms"
@@ -132,6 +140,10 @@ class Transport(abc.ABC):
             err.partial = bytes(data)  # type: ignore[attr-defined]
             raise err
         return bytes(data)
+
+    def trailing(self, guard_s: float) -> bytes:
+        """A byte that arrives within ``guard_s`` (one that should not be there), or b""."""
+        return self.read(1, guard_s)
 
     def drain(self, quiet_s: float, max_s: float) -> bytes:
         """Read and return whatever arrives until the line has been quiet for ``quiet_s``."""
@@ -175,6 +187,11 @@ def port_busy_error(port: str) -> PortBusyError:
         "stop the other one first",
         holder_pid=holder.pid if holder else None,
     )
+
+
+#: Sleep through this share of the time the bytes cannot be here sooner than: the rest of
+#: it covers a sleep that wakes late.
+_EARLY = 0.85
 
 
 class SerialTransport(Transport):
@@ -236,6 +253,53 @@ class SerialTransport(Transport):
         with self._io("read") as port:
             waiting = int(port.in_waiting)  # type: ignore[attr-defined]  # FIONREAD, cheap
         return self.read(waiting, 0.0) if waiting else b""
+
+    # A reply is read from the port's descriptor against an absolute deadline: pyserial's
+    # own read would reconfigure the port (a tcsetattr) whenever the timeout changes, and
+    # its select loop wakes at every byte. The reply cannot come sooner than its wire time,
+    # and once it flows the rest comes at the line rate: sleep through both.
+
+    def _fd(self) -> int | None:
+        fd = getattr(self._port, "fd", None)  # a POSIX serial port or pty; URLs have none
+        return fd if isinstance(fd, int) else None
+
+    def read_exactly(self, size: int, timeout_s: float, expected_s: float = 0.0) -> bytes:
+        fd = self._fd()
+        if fd is None:
+            return super().read_exactly(size, timeout_s)
+        start = time.monotonic()
+        deadline = start + timeout_s
+        data = bytearray()
+        byte_s = 10.0 / self.baudrate
+        if expected_s > 0:
+            time.sleep(min(expected_s * _EARLY, timeout_s))
+        while len(data) < size:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                break
+            data += self._read_fd(fd, size - len(data), remaining)
+            left = size - len(data)
+            if left > 1 and data:
+                time.sleep(min(left * byte_s * _EARLY, max(0.0, deadline - time.monotonic())))
+        return self._complete(data, size, timeout_s)
+
+    def trailing(self, guard_s: float) -> bytes:
+        fd = self._fd()
+        return self._read_fd(fd, 1, guard_s) if fd is not None else super().trailing(guard_s)
+
+    def _read_fd(self, fd: int, size: int, timeout_s: float) -> bytes:
+        """Up to ``size`` bytes within ``timeout_s``, from the descriptor itself."""
+        with self._io("read"):
+            ready, _, _ = select.select([fd], [], [], max(0.0, timeout_s))
+            if not ready:
+                return b""
+            try:
+                chunk = os.read(fd, size)
+            except BlockingIOError:
+                return b""
+            if not chunk:  # ready but empty: the device went away (pyserial says the same)
+                raise serial.SerialException("readiness to read but no data: device gone")
+            return chunk
 
     def reopen(self) -> None:
         self.close()
