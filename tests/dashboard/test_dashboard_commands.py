@@ -13,6 +13,8 @@ from typing import IO, Any
 import aiohttp
 from helpers import ego_command, run_async
 
+from ego.dashboard.access import socket_url
+
 LOGGER = Path(__file__).parents[1] / "faces" / "controllers" / "sensor_logger.py"
 
 
@@ -33,11 +35,10 @@ def _url_from(stream: IO[str], timeout_s: float = 20) -> str:
 async def _visit(url: str) -> tuple[int, dict[str, Any], list[dict[str, Any]], int]:
     """The page's status, and over the socket: the hello, three samples, and how many
     camera frames (JPEG) came meanwhile."""
-    async with aiohttp.ClientSession() as session:
+    async with aiohttp.ClientSession(cookie_jar=aiohttp.CookieJar(unsafe=True)) as session:
         async with session.get(url) as page:
             status = page.status
-        ws_url = url.split("?")[0].replace("http://", "ws://") + "ws"
-        async with session.ws_connect(ws_url) as ws:
+        async with session.ws_connect(socket_url(url)) as ws:
             hello = await ws.receive_json()
             samples: list[dict[str, Any]] = []
             frames = 0
