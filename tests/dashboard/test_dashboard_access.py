@@ -79,7 +79,7 @@ def test_on_loopback_too_nothing_live_answers_without_the_token(tmp_path: Path) 
 
 
 def test_the_socket_opens_with_the_login_cookie_alone(tmp_path: Path) -> None:
-    with served_robot(tmp_path, _idle) as served:
+    with served_robot(tmp_path, _idle, secret=SECRET) as served:
 
         async def visit() -> str:
             async with aiohttp.ClientSession(cookie_jar=_jar()) as session:
