@@ -152,11 +152,13 @@ def _line(stream: IO[str], pattern: str, timeout_s: float = 30) -> str:
 
 
 @contextmanager
-def _running(args: list[str], cwd: Path, env: dict[str, str] | None = None) -> Iterator[Any]:
+def _running(
+    args: list[str], cwd: Path, env: dict[str, str] | None = None, stderr: Any = subprocess.PIPE
+) -> Iterator[Any]:
     import os
 
     proc = subprocess.Popen([*ego_command(), *args], stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True, cwd=cwd,
+                            stderr=stderr, text=True, cwd=cwd,
                             env={**os.environ, **(env or {})})  # fmt: skip
     try:
         yield proc
@@ -190,7 +192,9 @@ def _dashboard_of(command: str, bind: str, tmp_path: Path) -> Iterator[str]:
             url = _line(proc.stderr, r"dashboard at (\S+)")
             robot = _line(proc.stderr, r" on (tcp://\S+)")
             env = {"EGO_SECRET_FILE": str(secret)} if with_secret else {}
-            with _running(["run", "--port", robot, "drive.py"], tmp_path, env):
+            log = tmp_path / "client.log"  # read by nobody unless the test fails
+            with log.open("w") as err, _running(["run", "--port", robot, "drive.py"],
+                                                tmp_path, env, err):  # fmt: skip
                 yield url
     else:
         (tmp_path / "drive.py").write_text(DRIVE)
