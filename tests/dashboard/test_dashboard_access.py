@@ -91,6 +91,23 @@ def test_the_socket_opens_with_the_login_cookie_alone(tmp_path: Path) -> None:
         assert run_async(visit()) == "hello"
 
 
+def test_a_navigation_from_another_site_without_the_cookie_is_asked_again_not_served(
+    tmp_path: Path,
+) -> None:
+    with served_robot(tmp_path, _idle) as served:
+
+        async def land() -> tuple[int, str]:
+            async with (
+                aiohttp.ClientSession() as session,
+                session.get(_base(served.url), headers={"Sec-Fetch-Site": "cross-site"}) as page,
+            ):
+                return page.status, await page.text()
+
+        status, html = run_async(land())
+    assert status == 200 and '<meta http-equiv="refresh" content="0">' in html
+    assert "app.js" not in html  # nothing of the page until it asks from its own origin
+
+
 def test_a_request_for_a_name_not_the_dashboards_is_refused_even_with_the_token(
     tmp_path: Path,
 ) -> None:

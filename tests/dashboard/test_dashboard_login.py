@@ -104,6 +104,27 @@ def test_the_printed_url_logs_in_cleans_the_url_and_the_page_fills_and_drives(
         assert blocked == []
 
 
+def test_the_printed_url_clicked_on_another_sites_page_logs_in_too(
+    tmp_path: Path, browser: Any
+) -> None:
+    """A SameSite=Strict cookie does not go along a navigation another site started:
+    the page asks again from its own origin."""
+    with served_robot(tmp_path, _hold_still) as served:
+        context = browser.new_context(bypass_csp=True)
+        try:
+            page = context.new_page()
+            link = f'<a id="go" href="{served.url}">the dashboard</a>'
+            page.route("http://chat.example/", lambda route: route.fulfill(
+                body=link, content_type="text/html"))  # fmt: skip
+            page.goto("http://chat.example/")
+            page.click("#go")
+            page.wait_for_function(
+                "document.getElementById('link-status')?.textContent === 'live'")  # fmt: skip
+            assert page.url == served.url.split("?")[0]
+        finally:
+            context.close()
+
+
 def _wait_for(page: Any, expression: str, timeout_s: float = 10) -> None:
     """Poll ``expression`` in the page (wait_for_function would eval it, which the
     page's policy forbids)."""

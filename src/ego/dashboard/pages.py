@@ -5,7 +5,10 @@ script and style, talk only to its own server, and never be framed (``frame-ance
 'none'``, and X-Frame-Options for older browsers), with ``nosniff`` and no Referer: the
 page's URL once held the token. The page's files hold no data and are public; the page
 itself answers only a logged-in browser, so that one without the token is told why
-rather than left on "connecting…".
+rather than left on "connecting…". The login is a 303 to the bare page with an HttpOnly,
+SameSite=Strict cookie; when the printed URL was clicked on another site's page, the
+browser withholds that cookie from the redirect, and the page asks again from its own
+origin.
 """
 
 from __future__ import annotations
@@ -36,6 +39,11 @@ _PUBLIC = {"app.js": "text/javascript", "style.css": "text/css"}
 NEEDS_TOKEN = ("this dashboard needs its token: open the URL that ego printed "
                "(it ends in ?token=...)")  # fmt: skip
 WRONG_TOKEN = "wrong token: open the URL that ego printed, as printed"
+#: A browser sends no SameSite=Strict cookie along a navigation another site started
+#: (a link clicked in a web chat), even one it just got at login: this page asks again
+#: from the dashboard's own origin, which sends it. Without the cookie, that is a 403.
+_ASK_AGAIN = ('<!doctype html><meta http-equiv="refresh" content="0">'
+              "<title>ego dashboard</title><p>opening the dashboard…</p>\n")  # fmt: skip
 
 
 def refuse(status: int, text: str) -> web.Response:
@@ -69,6 +77,8 @@ def make_app(gate: Gate, socket: Handler) -> web.Application:
                                 samesite="Strict")  # fmt: skip
             return response
         if not gate.cookie_ok(request.cookies):
+            if request.headers.get("Sec-Fetch-Site") == "cross-site":
+                return web.Response(text=_ASK_AGAIN, content_type="text/html")
             return refuse(403, NEEDS_TOKEN)
         return _file("index.html", "text/html")
 
