@@ -6,19 +6,17 @@ a browser without it."""
 
 from __future__ import annotations
 
-import re
-import select
 import socket
 import subprocess
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 from urllib.parse import urlsplit
 
 import pytest
-from dashboard_support import served_robot
+from dashboard_support import LineReader, served_robot
 from helpers import ego_command, wait_until
 
 import ego
@@ -157,32 +155,17 @@ def _free_port() -> int:
         return int(probe.getsockname()[1])
 
 
-def _line(stream: IO[str], pattern: str, timeout_s: float = 30) -> str:
-    """The first group of ``pattern`` in the next lines of ``stream``."""
-    seen = []
-    end = time.monotonic() + timeout_s
-    while select.select([stream], [], [], max(0.0, end - time.monotonic()))[0]:
-        line = stream.readline()
-        seen.append(line)
-        match = re.search(pattern, line)
-        if match:
-            return match.group(1)
-        if not line:
-            break
-    raise AssertionError(f"no {pattern!r} in {seen}")
-
-
 @contextmanager
 def _running(
     args: list[str], cwd: Path, env: dict[str, str] | None = None, stderr: Any = subprocess.PIPE
-) -> Iterator[Any]:
+) -> Iterator[LineReader | None]:
     import os
 
     proc = subprocess.Popen([*ego_command(), *args], stdout=subprocess.DEVNULL,
                             stderr=stderr, text=True, cwd=cwd,
                             env={**os.environ, **(env or {})})  # fmt: skip
     try:
-        yield proc
+        yield LineReader(proc.stderr) if proc.stderr is not None else None
     finally:
         proc.terminate()
         try:
@@ -204,25 +187,28 @@ def _dashboard_of(command: str, bind: str, tmp_path: Path) -> Iterator[str]:
     if command == "run":
         (tmp_path / "still.py").write_text(HOLD_STILL)
         args = ["run", dashboard, "--port", "sim", *with_secret, "still.py"]
-        with _running(args, tmp_path) as proc:
-            yield _line(proc.stderr, r"dashboard at (\S+)")
+        with _running(args, tmp_path) as err:
+            assert err is not None
+            yield err.find(r"dashboard at (\S+)")
     elif command == "serve":
         (tmp_path / "drive.py").write_text(DRIVE)
         args = ["serve", dashboard, "--port", "sim", "--listen", "tcp://127.0.0.1:0", *with_secret]
-        with _running(args, tmp_path) as proc:
-            url = _line(proc.stderr, r"dashboard at (\S+)")
-            robot = _line(proc.stderr, r" on (tcp://\S+)")
+        with _running(args, tmp_path) as err:
+            assert err is not None
+            url = err.find(r"dashboard at (\S+)")
+            robot = err.find(r" on (tcp://\S+)")
             env = {"EGO_SECRET_FILE": str(secret)} if with_secret else {}
             log = tmp_path / "client.log"  # read by nobody unless the test fails
-            with log.open("w") as err, _running(["run", "--port", robot, "drive.py"],
-                                                tmp_path, env, err):  # fmt: skip
+            with log.open("w") as out, _running(["run", "--port", robot, "drive.py"],
+                                                tmp_path, env, out):  # fmt: skip
                 yield url
     else:
         (tmp_path / "drive.py").write_text(DRIVE)
         args = ["swarm", dashboard, "--robots", "2", "--zenoh-endpoint",
                 f"tcp/127.0.0.1:{_free_port()}", *with_secret, "drive.py"]  # fmt: skip
-        with _running(args, tmp_path) as proc:
-            yield _line(proc.stderr, r"dashboard at (\S+)")
+        with _running(args, tmp_path) as err:
+            assert err is not None
+            yield err.find(r"dashboard at (\S+)")
 
 
 def _open(page: Any, url: str) -> None:
