@@ -8,9 +8,11 @@ import sys
 
 import aiohttp
 
+from ego.dashboard.access import socket_url
+
 
 async def main(url: str) -> None:
-    ws_url = url.split("?")[0].replace("http://", "ws://") + "ws"
+    ws_url = socket_url(url)
     async with aiohttp.ClientSession() as session, session.ws_connect(ws_url) as ws:
         print("connected", flush=True)
         async for _ in ws:

@@ -82,7 +82,10 @@ def _cmd_swarm(args: argparse.Namespace) -> int:
 
     with Swarm(args.robots, args.world, args.firmware, args.seed, args.zenoh_endpoint) as swarm:
         if args.dashboard:
-            url = swarm.serve_dashboard(args.dashboard)
+            from ego.remote.auth import load_secret
+
+            secret = load_secret(args.secret_file) if args.secret_file else None
+            url = swarm.serve_dashboard(args.dashboard, secret)
             print(f"ego swarm: dashboard at {url}", file=sys.stderr, flush=True)
         print(f"ego swarm: {args.robots} emulated e-pucks "
               f"({', '.join(robot_name(i) for i in range(args.robots))}) in one world, "
@@ -416,6 +419,8 @@ def build_parser() -> argparse.ArgumentParser:
     swarm.add_argument("controllers", nargs="+", metavar="controller.py",
                        help="one file for every robot, or one per robot in turn")  # fmt: skip
     swarm.add_argument("--args", nargs="*", default=[], help="arguments for every controller")
+    swarm.add_argument("--secret-file", default=None, metavar="FILE",
+                       help="the shared secret a dashboard off loopback asks for")  # fmt: skip
     swarm.set_defaults(func=_cmd_swarm)
 
     plot = sub.add_parser("plot", help="PNG plots of a recorded run (sensors, path, timing)")

@@ -4,12 +4,15 @@ real dashboard on loopback."""
 from __future__ import annotations
 
 import os
+import queue
+import re
 import threading
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import ego
 from ego.dashboard.live import RobotDashboard
@@ -77,3 +80,42 @@ def served_robot(
         dashboard.out.close()
     assert not failures, failures
 
+
+class LineReader:
+    """A child's output, drained line by line by a thread of its own (so that it never
+    fills its pipe, and no line waits in a buffer that select cannot see)."""
+
+    def __init__(self, stream: IO[str]) -> None:
+        self.lines: queue.Queue[str] = queue.Queue()
+        self.thread = threading.Thread(target=self._drain, args=(stream,), daemon=True)
+        self.thread.start()
+
+    def _drain(self, stream: IO[str]) -> None:
+        for line in stream:
+            self.lines.put(line)
+        self.lines.put("")  # the end
+
+    def find(self, pattern: str, timeout_s: float = 30) -> str:
+        """The first group of ``pattern`` in the next lines."""
+        seen = []
+        end = time.monotonic() + timeout_s
+        while (left := end - time.monotonic()) > 0:
+            try:
+                line = self.lines.get(timeout=left)
+            except queue.Empty:
+                break
+            seen.append(line)
+            match = re.search(pattern, line)
+            if match:
+                return match.group(1)
+            if not line:
+                break
+        raise AssertionError(f"no {pattern!r} in {seen}")
+
+    def rest(self, timeout_s: float = 10) -> str:
+        """Every line not yet found, once the stream has ended."""
+        self.thread.join(timeout_s)
+        lines = []
+        while not self.lines.empty():
+            lines.append(self.lines.get())
+        return "".join(lines)

@@ -99,7 +99,7 @@ def test_a_viewer_without_control_cannot_drive_or_stop(
     with served_robot(tmp_path, obey) as served:
         _open(page, served.url)
         _take_control(page)
-        other = browser.new_context().new_page()
+        other = browser.new_context(bypass_csp=True).new_page()
         try:
             _open(other, served.url)
             other.wait_for_function("document.getElementById('take').disabled === true")

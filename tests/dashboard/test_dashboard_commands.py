@@ -4,40 +4,26 @@
 from __future__ import annotations
 
 import json
-import re
-import select
 import subprocess
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 
 import aiohttp
+from dashboard_support import LineReader
 from helpers import ego_command, run_async
 
+from ego.dashboard.access import socket_url
+
 LOGGER = Path(__file__).parents[1] / "faces" / "controllers" / "sensor_logger.py"
-
-
-def _url_from(stream: IO[str], timeout_s: float = 20) -> str:
-    """The dashboard URL a command prints."""
-    seen = []
-    while select.select([stream], [], [], timeout_s)[0]:
-        line = stream.readline()
-        seen.append(line)
-        match = re.search(r"dashboard at (http://\S+)", line)
-        if match:
-            return match.group(1)
-        if not line:
-            break
-    raise AssertionError(f"no dashboard URL in {seen}")
 
 
 async def _visit(url: str) -> tuple[int, dict[str, Any], list[dict[str, Any]], int]:
     """The page's status, and over the socket: the hello, three samples, and how many
     camera frames (JPEG) came meanwhile."""
-    async with aiohttp.ClientSession() as session:
+    async with aiohttp.ClientSession(cookie_jar=aiohttp.CookieJar(unsafe=True)) as session:
         async with session.get(url) as page:
             status = page.status
-        ws_url = url.split("?")[0].replace("http://", "ws://") + "ws"
-        async with session.ws_connect(ws_url) as ws:
+        async with session.ws_connect(socket_url(url)) as ws:
             hello = await ws.receive_json()
             samples: list[dict[str, Any]] = []
             frames = 0
@@ -55,13 +41,15 @@ async def _visit(url: str) -> tuple[int, dict[str, Any], list[dict[str, Any]], i
 def _visit_during(command: list[str], cwd: Path, stream: str) -> tuple[Any, str]:
     proc = subprocess.Popen([*ego_command(), *command], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, cwd=cwd)  # fmt: skip
+    assert proc.stdout is not None and proc.stderr is not None
+    out, err = LineReader(proc.stdout), LineReader(proc.stderr)
     try:
-        url = _url_from(proc.stdout if stream == "stdout" else proc.stderr)  # type: ignore[arg-type]
+        url = (out if stream == "stdout" else err).find(r"dashboard at (http://\S+)")
         seen = run_async(_visit(url))
     finally:
-        out, err = proc.communicate(timeout=60)
-    assert proc.returncode == 0, err
-    return seen, out
+        proc.wait(timeout=60)
+    assert proc.returncode == 0, err.rest()
+    return seen, out.rest()
 
 
 def test_ego_demo_serves_its_dashboard_by_default_and_prints_the_url(tmp_path: Path) -> None:

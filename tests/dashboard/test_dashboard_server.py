@@ -1,5 +1,5 @@
-"""The dashboard's server on real loopback sockets: who gets in (loopback, token, same
-origin), what a page receives, and a controlling page that vanishes mid-drive."""
+"""The dashboard's server on real loopback sockets: who gets in (the token, same origin),
+what a page receives, and a controlling page that vanishes mid-drive."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from dashboard_support import served_robot
 from helpers import run_async, wait_until
 
 import ego
-from ego.dashboard.access import dashboard_token
+from ego.dashboard.access import dashboard_token, socket_url
 from ego.dashboard.live import parse_address
 from ego.dashboard.server import SAMPLE_HZ, DashboardServer
 from ego.errors import InsecureSecretError
@@ -26,6 +26,10 @@ SECRET = b"0123456789abcdef0123456789abcdef"
 def _ws_url(url: str, token: str | None = None) -> str:
     base = url.split("?")[0].replace("http://", "ws://") + "ws"
     return base + (f"?token={token}" if token else "")
+
+
+def _jar() -> aiohttp.CookieJar:
+    return aiohttp.CookieJar(unsafe=True)  # keeps the cookies of an IP address's page
 
 
 def _run(coroutine: Any) -> Any:
@@ -53,10 +57,11 @@ def test_with_a_secret_only_the_token_opens_it_and_the_url_never_holds_the_secre
 
         async def probe() -> list[int]:
             statuses = []
-            async with aiohttp.ClientSession() as session:
+            async with aiohttp.ClientSession(cookie_jar=_jar()) as session:
                 for url in (base, base + "?token=" + "0" * 32, served.url, base + "app.js"):
                     async with session.get(url) as response:
                         statuses.append(response.status)
+            async with aiohttp.ClientSession() as session:  # not logged in
                 for url in (_ws_url(base), _ws_url(base, "f" * 32)):
                     with pytest.raises(aiohttp.WSServerHandshakeError) as info:
                         await session.ws_connect(url)
@@ -66,7 +71,8 @@ def test_with_a_secret_only_the_token_opens_it_and_the_url_never_holds_the_secre
                     statuses.append(200 if hello["type"] == "hello" else 0)
             return statuses
 
-        assert _run(probe()) == [403, 403, 200, 403, 403, 403, 200]
+        # The page's script holds no data: it is public.
+        assert _run(probe()) == [403, 403, 200, 200, 403, 403, 200]
 
 
 def test_a_page_from_another_site_cannot_open_the_socket(tmp_path: Path) -> None:
@@ -76,10 +82,10 @@ def test_a_page_from_another_site_cannot_open_the_socket(tmp_path: Path) -> None
         async def probe() -> tuple[int, str]:
             async with aiohttp.ClientSession() as session:
                 with pytest.raises(aiohttp.WSServerHandshakeError) as info:
-                    await session.ws_connect(_ws_url(served.url),
+                    await session.ws_connect(socket_url(served.url),
                                              headers={"Origin": "http://evil.example"})  # fmt: skip
                 own = {"Origin": f"http://127.0.0.1:{port}"}
-                async with session.ws_connect(_ws_url(served.url), headers=own) as ws:
+                async with session.ws_connect(socket_url(served.url), headers=own) as ws:
                     hello = await ws.receive_json()
             return info.value.status, hello["type"]
 
@@ -94,7 +100,7 @@ def test_a_page_gets_the_robot_the_world_and_samples_at_most_25_a_second(
         async def listen() -> tuple[dict[str, Any], list[dict[str, Any]]]:
             async with (
                 aiohttp.ClientSession() as session,
-                session.ws_connect(_ws_url(served.url)) as ws,
+                session.ws_connect(socket_url(served.url)) as ws,
             ):
                 hello = await ws.receive_json()
                 samples = []
@@ -124,7 +130,7 @@ def test_a_controlling_page_that_vanishes_mid_drive_leaves_the_robot_stopped(
 
         async def drive_then_vanish() -> None:
             session = aiohttp.ClientSession()
-            ws = await session.ws_connect(_ws_url(served.url))
+            ws = await session.ws_connect(socket_url(served.url))
             await ws.send_json({"type": "take"})
             for _ in range(5):
                 await ws.send_json({"type": "drive", "left": 600, "right": 600})

@@ -17,6 +17,7 @@ from fakes import FAST_LINK
 from helpers import run_async, wait_until
 
 import ego
+from ego.dashboard.access import socket_url
 from ego.dashboard.served import ServedFeed, WatchedChannel
 from ego.dashboard.server import DashboardServer
 from ego.remote.server import Server, ServerThread
@@ -58,8 +59,7 @@ def served() -> Iterator[tuple[Emulator, DashboardServer, list[tuple[int, int]]]
 async def _page(board: DashboardServer, script: list[dict[str, Any]]) -> dict[str, Any]:
     """Open the page's socket, read the hello and a sample, send ``script``; what came."""
     seen: dict[str, Any] = {"errors": []}
-    ws_url = board.url.replace("http://", "ws://") + "ws"
-    async with aiohttp.ClientSession() as session, session.ws_connect(ws_url) as ws:
+    async with aiohttp.ClientSession() as session, session.ws_connect(socket_url(board.url)) as ws:
         seen["hello"] = await ws.receive_json()
         while "sample" not in seen:
             message = json.loads((await ws.receive()).data)

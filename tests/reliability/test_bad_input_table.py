@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from dashboard_probe import DashboardProbe, HttpAnswer
 from helpers import ego_command
 from reliability_helpers import echo_device, modem_device, silent_device
 
@@ -40,6 +41,7 @@ from ego.camera import Camera
 from ego.camera.config import parse_configuration
 from ego.cli import main as ego_main
 from ego.controller import DifferentialWheels
+from ego.dashboard.live import RobotFeed
 from ego.remote.server import Server, ServerThread
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
@@ -262,6 +264,8 @@ def namespace() -> Iterator[Namespace]:
         )
         remote_robot = stack.enter_context(ego.Robot(open_server.url))
 
+        dashboard = stack.enter_context(DashboardProbe(RobotFeed(robot)))
+
         devices = {
             "silent_port": stack.enter_context(silent_device()).path,
             "echo_port": stack.enter_context(echo_device()).path,
@@ -295,6 +299,9 @@ def namespace() -> Iterator[Namespace]:
             server_udp=served.urls[1],
             remote_robot=remote_robot,
             ego_cli=ego_cli(tmp_path),
+            dashboard_get=dashboard.get,
+            dashboard_sockets=dashboard.sockets,
+            dashboard_send=dashboard.send,
             **devices,
         )
 
@@ -318,6 +325,13 @@ def check_row(row: Row, names: Namespace, caplog: pytest.LogCaptureFixture) -> N
         assert message_matches(row.message, result.stderr), (
             f"stderr does not say {row.message!r}:\n{result.stderr}"
         )
+        return
+    if row.raises.startswith("HTTP"):
+        status = int(_code(row.raises.removeprefix("HTTP").strip(), row.line))
+        result = eval(row.call, {}, names)
+        assert isinstance(result, HttpAnswer), f"{row.call} is not a dashboard_...(...) call"
+        assert result.status == status, f"HTTP {result.status}: {result.text}"
+        assert message_matches(row.message, result.text), f"it says {result.text!r}"
         return
     if row.raises.startswith("returns"):
         expected = eval(_code(row.raises.removeprefix("returns").strip(), row.line))
@@ -373,6 +387,7 @@ def test_every_entry_point_has_its_section() -> None:
         "Remote robots",
         "The ego command",
         "The emulator's command",
+        "The dashboard",
     ):
         assert any(s.startswith(expected) for s in sections), f"no section {expected!r}"
     assert len(ROWS) >= 100
@@ -383,7 +398,7 @@ def test_every_row_names_a_real_error_and_is_unique() -> None:
     calls = [row.call for row in ROWS if not row.pending]
     assert len(calls) == len(set(calls)), "a call is documented twice"
     for row in ROWS:
-        if not row.raises.startswith(("exit", "returns")):
+        if not row.raises.startswith(("exit", "returns", "HTTP")):
             error_class(_code(row.raises, row.line))
 
 

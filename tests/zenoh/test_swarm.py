@@ -123,7 +123,9 @@ def test_the_swarms_dashboard_shows_every_robot_and_stops_them_all(tmp_path: Pat
         runner.start()
 
         async def look_then_stop() -> tuple[dict[str, object], dict[str, object]]:
-            ws_url = url.replace("http://", "ws://") + "ws"
+            from ego.dashboard.access import socket_url
+
+            ws_url = socket_url(url)
             async with aiohttp.ClientSession() as session, session.ws_connect(ws_url) as ws:
                 hello = await ws.receive_json()
                 sample: dict[str, object] = {}

@@ -5,6 +5,8 @@
 drove (and, on the emulator, the world and its true pose), the camera, the microphones,
 the link's health and plots of any sensor; the page that holds control can drive, toggle
 LEDs and sensors, and stop the robot. Modules: :mod:`~ego.dashboard.control` (who may
-act, and what they asked: sans-I/O), :mod:`~ego.dashboard.access` (loopback or token),
-:mod:`~ego.dashboard.server` (aiohttp), :mod:`~ego.dashboard.live` (a robot's feed).
+act, and what they asked: sans-I/O), :mod:`~ego.dashboard.access` (the token, the
+login cookie, the Host names: sans-I/O), :mod:`~ego.dashboard.pages` (the HTTP side:
+login, files, security headers), :mod:`~ego.dashboard.server` (aiohttp),
+:mod:`~ego.dashboard.live` (a robot's feed).
 """

@@ -6,7 +6,9 @@ rest of ego's asyncio code already fits). The server knows nothing of robots: a
 pushes samples and camera frames through :meth:`DashboardServer.publish` and
 :meth:`DashboardServer.publish_image`, from any thread. Pages get at most
 :data:`SAMPLE_HZ` samples and :data:`IMAGE_HZ` frames a second, the newest ones: a
-slow browser skips frames, it never slows the robot.
+slow browser skips frames, it never slows the robot. Who gets in is
+:mod:`~ego.dashboard.access`'s and :mod:`~ego.dashboard.pages`' business; the server
+caps the pages at :data:`MAX_PAGES` and a command at :data:`MAX_MESSAGE_BYTES`.
 """
 
 from __future__ import annotations
@@ -18,23 +20,28 @@ import json
 import logging
 import threading
 import time
-from importlib import resources
 from typing import Any, Protocol
 
 from aiohttp import WSMsgType, web
 
-from ego.dashboard.access import check_binding, dashboard_token, same_origin, token_matches
+from ego.dashboard.access import Gate, url_host
 from ego.dashboard.control import Reply
+from ego.dashboard.pages import make_app, refuse
 
-__all__ = ["IMAGE_HZ", "JPEG_QUALITY", "SAMPLE_HZ", "DashboardServer", "Feed"]
+__all__ = ["IMAGE_HZ", "JPEG_QUALITY", "MAX_MESSAGE_BYTES", "MAX_PAGES", "SAMPLE_HZ",
+           "DashboardServer", "Feed"]  # fmt: skip
 
 log = logging.getLogger(__name__)
 
 SAMPLE_HZ = 25
 IMAGE_HZ = 10
 JPEG_QUALITY = 80
-_STATIC = ("index.html", "app.js", "style.css")
-_TYPES = {".html": "text/html", ".js": "text/javascript", ".css": "text/css"}
+#: How many pages may be open at once: a lab's worth of viewers, not a flood.
+MAX_PAGES = 20
+#: The longest command a page may send (a command is a small flat JSON object).
+MAX_MESSAGE_BYTES = 4096
+_NOT_A_COMMAND = (f"a command is one JSON object of at most {MAX_MESSAGE_BYTES} bytes, "
+                  "not nested deeply")  # fmt: skip
 
 
 class Feed(Protocol):
@@ -52,18 +59,22 @@ class Feed(Protocol):
 
 
 class DashboardServer:
-    """Serves ``feed`` at http://HOST:PORT/ until closed (``port`` 0: any free port)."""
+    """Serves ``feed`` at http://HOST:PORT/ until closed (``port`` 0: any free port).
+
+    Off loopback it needs ``secret`` (its token derives from it); ``names`` are more host
+    names the page may be opened by (besides loopback's and ``host``)."""
 
     def __init__(
         self, feed: Feed, host: str = "127.0.0.1", port: int = 8765,
-        secret: bytes | None = None,
+        secret: bytes | None = None, names: tuple[str, ...] = (),
     ) -> None:  # fmt: skip
-        check_binding(host, secret)
+        self.gate = Gate(host, secret, names)
         self.feed = feed
         self.host = host
-        self.token = dashboard_token(secret) if secret is not None else None
+        self.token = self.gate.token
         self._port = port
         self._clients: dict[int, web.WebSocketResponse] = {}
+        self._admitted = 0
         self._ids = itertools.count(1)
         self._sample: dict[str, Any] | None = None
         self._image: bytes | None = None
@@ -94,9 +105,8 @@ class DashboardServer:
 
     @property
     def url(self) -> str:
-        host = f"[{self.host}]" if ":" in self.host else self.host
-        query = f"?token={self.token}" if self.token else ""
-        return f"http://{host}:{self._port}/{query}"
+        """The URL that logs a browser in (bound to every interface: this machine's name)."""
+        return f"http://{url_host(self.host)}:{self._port}/?token={self.token}"
 
     @property
     def client_count(self) -> int:
@@ -134,12 +144,7 @@ class DashboardServer:
             loop.close()
 
     async def _open(self) -> None:
-        app = web.Application()
-        app.router.add_get("/", self._page)
-        app.router.add_get("/ws", self._socket)
-        for name in _STATIC[1:]:
-            app.router.add_get(f"/{name}", self._page)
-        app.router.add_get("/favicon.ico", self._no_icon)
+        app = make_app(self.gate, self._socket)
         self._runner = web.AppRunner(app, access_log=None)
         await self._runner.setup()
         site = web.TCPSite(self._runner, self.host, self._port)
@@ -224,25 +229,22 @@ class DashboardServer:
                         await ws.send_bytes(image)
                     await ws.send_json(self.feed.state(client))
 
-    async def _no_icon(self, request: web.Request) -> web.StreamResponse:
-        return web.Response(status=204)
-
-    async def _page(self, request: web.Request) -> web.StreamResponse:
-        if not token_matches(request.query.get("token"), self.token):
-            return web.Response(status=403, text="this dashboard needs its token: open the "
-                                "URL that ego printed (it ends in ?token=...)\n")  # fmt: skip
-        name = request.path.strip("/") or "index.html"
-        text = resources.files("ego.dashboard").joinpath("static").joinpath(name).read_text("utf-8")
-        content_type = _TYPES[name[name.rindex(".") :]]
-        return web.Response(text=text, content_type=content_type,
-                            headers={"Cache-Control": "no-store"})  # fmt: skip
-
     async def _socket(self, request: web.Request) -> web.StreamResponse:
-        if not token_matches(request.query.get("token"), self.token):
-            return web.Response(status=403, text="wrong or missing token\n")
-        if not same_origin(request.headers.get("Origin"), request.headers.get("Host")):
-            return web.Response(status=403, text="a page of another site may not connect\n")
-        ws = web.WebSocketResponse(heartbeat=5.0, max_msg_size=4096)
+        if not self.gate.admits(request.cookies, request.query.get("token")):
+            return refuse(403, "this dashboard's socket needs its login cookie (open the URL "
+                          "that ego printed) or ?token=...")  # fmt: skip
+        if not self.gate.origin_ok(request.headers.get("Origin"), request.headers.get("Host")):
+            return refuse(403, "a page of another site may not connect")
+        if self._admitted >= MAX_PAGES:
+            return refuse(503, f"this dashboard already serves {MAX_PAGES} pages: close one")
+        self._admitted += 1  # before the first await: the cap holds under a flood
+        try:
+            return await self._converse(request)
+        finally:
+            self._admitted -= 1
+
+    async def _converse(self, request: web.Request) -> web.WebSocketResponse:
+        ws = web.WebSocketResponse(heartbeat=5.0, max_msg_size=MAX_MESSAGE_BYTES)
         await ws.prepare(request)
         client = next(self._ids)
         self._clients[client] = ws
@@ -254,8 +256,9 @@ class DashboardServer:
                     continue
                 try:
                     message = json.loads(msg.data)
-                except ValueError:
-                    message = None
+                except (ValueError, RecursionError):  # RecursionError: nested too deep
+                    await ws.send_json({"type": "error", "error": _NOT_A_COMMAND})
+                    continue
                 reply = self.feed.handle(client, message)
                 if reply.stop_now:
                     await asyncio.get_running_loop().run_in_executor(None, self._stop_now)
