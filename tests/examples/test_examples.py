@@ -14,6 +14,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Iterator
+from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
@@ -74,7 +75,7 @@ def test_line_following_stays_on_the_line_track(tmp_path: Path) -> None:
         assert proc.returncode == 0, err
     worst = max(float(track.distance(p.x_m, p.y_m)) for p in poses)
     assert worst < 0.025, worst  # the robot's centre never left the line's neighbourhood
-    travelled = sum(math.dist((a.x_m, a.y_m), (b.x_m, b.y_m)) for a, b in zip(poses, poses[1:]))
+    travelled = sum(math.dist((a.x_m, a.y_m), (b.x_m, b.y_m)) for a, b in pairwise(poses))
     assert travelled > 0.3  # round the first corner (0.35 m ahead of the start)
 
 
