@@ -4,7 +4,7 @@ Each step reads the camera's BGRA image (Webots' format: 52x39 on the e-puck unl
 world says otherwise), marks the pixels that are clearly red, and steers towards their
 centre; with nothing red in view it turns on the spot to look; when red fills a third of
 the view it stops. NumPy does the per-pixel work (a Python loop over every pixel is too
-slow on the Overo's 600 MHz ARM). Run it with
+slow on the Overo's ARM). Run it with
 
     ego run --port sim --world examples/red_box.toml examples/colour_following.py
 """
