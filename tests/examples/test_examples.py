@@ -101,6 +101,33 @@ def test_colour_following_ends_facing_the_red_box(capsys: pytest.CaptureFixture[
     assert world.speeds == (0, 0)
 
 
+@pytest.mark.parametrize(
+    ("firmware", "expected"),
+    [
+        ("gctronic", ["firmware: gctronic (stock GCtronic asercom, selector 10)", "selector: 10"]),
+        ("webots", ["firmware: webots (Webots e-puck firmware 1.5.x, Bluetooth)",
+                    "selector: not reported"]),
+    ],
+)  # fmt: skip
+def test_which_firmware_names_the_firmware_that_answers(
+    firmware: str, expected: list[str], tmp_path: Path
+) -> None:
+    with Emulator(firmware, seed=1) as emu:
+        done = subprocess.run(
+            [sys.executable, str(EXAMPLES / "which_firmware.py"), emu.path],
+            capture_output=True, text=True, timeout=60, cwd=tmp_path,
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr
+        lines = done.stdout.splitlines()
+        for line in expected:
+            assert line in lines, done.stdout
+        served = next(line for line in lines if line.startswith("serves:"))
+        assert "proximity sensors" in served and "light sensors" in served
+        if firmware == "webots":
+            assert "battery" not in served  # Webots' firmware has no battery command
+        assert emu.world.distance_travelled_m == 0  # it moved nothing
+
+
 def _line(proc: subprocess.Popen[str]) -> str:
     assert proc.stdout is not None
     ready, _, _ = select.select([proc.stdout], [], [], 20.0)
