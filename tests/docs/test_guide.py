@@ -110,3 +110,37 @@ def test_the_readme_leads_to_the_guide_and_the_examples() -> None:
     assert "(examples/README.md)" in readme
     for example in sorted((ROOT / "examples").glob("*.py")):
         assert f"examples/{example.name}" in readme, example.name
+
+
+def test_docstrings_become_markdown_for_the_api_reference() -> None:
+    pytest.importorskip("griffe", reason="the API reference needs the docs extra")
+    spec = importlib.util.spec_from_file_location("ego_griffe_rest", GUIDE / "griffe_rest.py")
+    assert spec and spec.loader
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    docstring = (
+        "Steps through a :class:`~ego.channel.Channel` (:mod:`ego.backends`).\n"
+        "\n"
+        ">>> import ego\n"
+        '>>> with ego.Robot("sim") as robot:                  # doctest: +SKIP\n'
+        "...     robot.step(64)\n"
+        "\n"
+        "The tree::\n"
+        "\n"
+        "    EgoError\n"
+    )
+    assert module.to_markdown(docstring) == (
+        "Steps through a `Channel` (`ego.backends`).\n"
+        "\n"
+        "\n"
+        "```python\n"
+        "import ego\n"
+        'with ego.Robot("sim") as robot:\n'
+        "    robot.step(64)\n"
+        "```\n"
+        "\n"
+        "\n"
+        "The tree:\n"
+        "\n"
+        "    EgoError"
+    )
