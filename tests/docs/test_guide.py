@@ -6,8 +6,13 @@ subcommand."""
 from __future__ import annotations
 
 import importlib.util
+import os
+import pwd
 import re
 import shlex
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 from types import ModuleType
 
@@ -144,3 +149,22 @@ def test_docstrings_become_markdown_for_the_api_reference() -> None:
         "\n"
         "    EgoError"
     )
+
+
+def test_the_boot_service_is_a_unit_systemd_accepts(tmp_path: Path) -> None:
+    """The Overo page's unit, with its paths pointed at this machine's, passes
+    ``systemd-analyze verify`` without a word (an unknown key or value is reported)."""
+    analyze = shutil.which("systemd-analyze")
+    if analyze is None:
+        pytest.skip("systemd-analyze is not installed here")
+    (unit,) = re.findall(r"^```ini\n(.*?)^```", (GUIDE / "overo.md").read_text(), re.M | re.S)
+    ego = Path(sys.executable).with_name("ego")
+    (tmp_path / "obstacle_avoidance.py").write_text("")
+    unit = unit.replace("/home/epuck/ego/bin/ego", str(ego)).replace("/home/epuck", str(tmp_path))
+    unit = unit.replace("User=epuck", f"User={pwd.getpwuid(os.getuid()).pw_name}")
+    path = tmp_path / "epuck-controller.service"
+    path.write_text(unit)
+    done = subprocess.run(
+        [analyze, "verify", str(path)], capture_output=True, text=True, timeout=60, check=False
+    )
+    assert done.returncode == 0 and done.stderr.strip() == "", done.stderr
