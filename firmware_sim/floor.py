@@ -124,12 +124,16 @@ class ImageFloor:
     def from_file(cls, path: Path, size_m: tuple[float, float],
                   tile_m: tuple[float, float]) -> ImageFloor:  # fmt: skip
         import io
+        import warnings
 
         from PIL import Image, UnidentifiedImageError
 
         try:
             data = read_regular(path, MAX_TEXTURE_BYTES, "a floor image")
-            with Image.open(io.BytesIO(data), formats=("PNG", "JPEG")) as image:
+            with warnings.catch_warnings():  # the bound below says it, in one line
+                warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+                image = Image.open(io.BytesIO(data), formats=("PNG", "JPEG"))
+            with image:
                 width, height = image.size  # read from the header: nothing decoded yet
                 if width * height > MAX_TEXTURE_PIXELS:
                     raise ValueError(f"{path}: a floor image of {width}x{height} pixels is "

@@ -105,8 +105,9 @@ class Node:
         ):
             raise ValueError(f"{self.type}.{key} must be {count} numbers, not {value!r}"[:200])
         if not all(math.isfinite(v) and low <= v <= high for v in value):
-            raise ValueError(f"{self.type}.{key} {' '.join(map(str, value))} is not "
-                             f"{count} finite numbers within {low:g}..{high:g}")  # fmt: skip
+            each = "must be a finite number" if count == 1 else "must each be finite numbers"
+            raise ValueError(f"{self.type}.{key} {' '.join(map(str, value))}: {each} within "
+                             f"{low:g}..{high:g}")  # fmt: skip
         return tuple(float(v) for v in value)
 
     def walk(self) -> Iterator[Node]:

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ego.errors import RecordingError
+from ego.errors import BadFileError, RecordingError
 from ego.files import open_regular
 from ego.recording.records import RawMessage, RawRecording, read_records
 from ego.recording.schemas import CHANNELS
@@ -86,7 +86,9 @@ class Recording:
                 raw = read_records(file, file.size)
         except RecordingError:
             raise
-        except (OSError, ValueError) as exc:  # BadFileError is a ValueError
+        except BadFileError as exc:  # a FIFO, a device, a file over the bound
+            raise RecordingError(str(exc)) from exc
+        except (OSError, ValueError) as exc:
             raise RecordingError(f"{path}: not a readable ego recording: {exc}") from exc
         metadata = raw.metadata.get("ego")
         if not metadata:

@@ -154,9 +154,9 @@ class _Loader:
         self.budget -= declared
         data = _decompress(chunk.compression, chunk.data, declared, self.name)
         if len(data) != declared:
-            more = "more than" if len(data) > declared else "only"
+            holds = "more" if len(data) > declared else f"only {len(data)}"
             raise self.refuse(f"a {chunk.compression or 'plain'} chunk declares {declared} "
-                              f"bytes but holds {more} {len(data)}")  # fmt: skip
+                              f"bytes uncompressed but holds {holds}")  # fmt: skip
         if chunk.uncompressed_crc and zlib.crc32(data) != chunk.uncompressed_crc:
             raise self.refuse("a chunk fails its CRC check")
         return data
