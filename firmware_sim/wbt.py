@@ -66,8 +66,10 @@ MAX_NODES = 100_000
 MAX_DEPTH = 64
 #: Numbers, strings and booleans in a file, at most.
 MAX_VALUES = 2_000_000
-#: Boxes (WoodenBox, Solid boxes) and e-pucks a world may hold.
-MAX_BOXES = 1000
+#: Boxes (WoodenBox, Solid boxes) and e-pucks a world may hold. The emulator traces each
+#: proximity ray against every box in Python: past ~100 boxes a step's sensors no longer
+#: come back within the link's reply time (the built-in maze has 4).
+MAX_BOXES = 100
 MAX_ROBOTS = 100
 #: Every length and position, in metres, is within +-this.
 MAX_LENGTH_M = 100.0

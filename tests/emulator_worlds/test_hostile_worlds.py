@@ -45,12 +45,12 @@ def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     ("name", "reason"),
     [
         ("many-boxes.toml", "1800000 bytes is over the 1 MiB bound for a TOML world"),
-        ("2000-boxes.toml", "2000 [[box]] tables is over the bound of 1000"),
+        ("2000-boxes.toml", "2000 [[box]] tables is over the bound of 100"),
         ("huge.toml", "314572800 bytes is over the 1 MiB bound for a TOML world"),
         ("deep.toml", "nested more than 16 deep"),
         ("nan-track.toml", "floor point [nan, 0.3] is not two numbers in -5..5 m"),
         ("huge-track.toml", "floor point [1e+300, 0.3] is not two numbers in -5..5 m"),
-        ("many-boxes.wbt", "more than 1000 boxes: over the bound for a world"),
+        ("many-boxes.wbt", "more than 100 boxes: over the bound for a world"),
         ("million-boxes.wbt", "14000022 bytes is over the 8 MiB bound for a Webots world"),
         ("deep.wbt", "nodes nested more than 64 deep (at a Group)"),
         ("nan-box.wbt", "WoodenBox.size nan 0.1 0.1: must each be finite numbers within"),
@@ -107,7 +107,7 @@ def _one_error_line(args: list[str], cwd: Path, reason: str) -> None:
     ("name", "reason"),
     [
         ("deep.wbt", "deep.wbt: nodes nested more than 64 deep"),
-        ("many-boxes.wbt", "many-boxes.wbt: more than 1000 boxes"),
+        ("many-boxes.wbt", "many-boxes.wbt: more than 100 boxes"),
         ("many-boxes.toml", "many-boxes.toml: 1800000 bytes is over the 1 MiB bound"),
         ("fifo-texture.wbt", "fifo.png: is a FIFO, not a regular file"),
         ("nan-box.wbt", "nan-box.wbt: WoodenBox.size nan 0.1 0.1: must each be finite"),
