@@ -24,8 +24,8 @@ or robot rotated about anything but the vertical is refused: the emulator's worl
 flat.
 
 Bounds (docs/bad_input.md): a file of at most :data:`MAX_WBT_BYTES`, at most
-:data:`MAX_NODES` nodes nested at most :data:`MAX_DEPTH` deep and :data:`MAX_VALUES`
-values, at most :data:`MAX_BOXES` boxes and :data:`MAX_ROBOTS` e-pucks; every number
+:data:`MAX_NODES` nodes nested at most :data:`MAX_DEPTH` deep and :data:`MAX_TOKENS`
+tokens, at most :data:`MAX_BOXES` boxes and :data:`MAX_ROBOTS` e-pucks; every number
 finite, lengths and positions within +-:data:`MAX_LENGTH_M` m; a floor texture inside the
 world's folder (see firmware_sim.floor for its own bounds). A ``USE`` is the node its
 ``DEF`` made, not a copy: a walk meets each node once.
@@ -51,7 +51,7 @@ __all__ = [
     "MAX_LENGTH_M",
     "MAX_NODES",
     "MAX_ROBOTS",
-    "MAX_VALUES",
+    "MAX_TOKENS",
     "MAX_WBT_BYTES",
     "Node",
     "WbtWorld",
@@ -64,8 +64,8 @@ MAX_WBT_BYTES = 8 << 20
 #: Nodes in a file, at most, and how deep they nest.
 MAX_NODES = 100_000
 MAX_DEPTH = 64
-#: Numbers, strings and booleans in a file, at most.
-MAX_VALUES = 2_000_000
+#: Tokens (names, values, brackets) in a file, at most: a few seconds of parsing.
+MAX_TOKENS = 500_000
 #: Boxes (WoodenBox, Solid boxes) and e-pucks a world may hold. The emulator traces each
 #: proximity ray against every box in Python: past ~100 boxes a step's sensors no longer
 #: come back within the link's reply time (the built-in maze has 4).
@@ -74,8 +74,11 @@ MAX_ROBOTS = 100
 #: Every length and position, in metres, is within +-this.
 MAX_LENGTH_M = 100.0
 
+# A string is matched as runs of plain characters between escapes ("unrolled"): an
+# alternation repeated per character kept a backtracking record per character, 1 GB for
+# an unterminated 8 MB string.
 _TOKEN = re.compile(
-    r'\s*(?:#[^\n]*|("(?:[^"\\]|\\.)*")|([\[\]{}])|([^\s\[\]{}"#]+))', re.DOTALL
+    r'\s*(?:#[^\n]*|("[^"\\]*(?:\\.[^"\\]*)*")|([\[\]{}])|([^\s\[\]{}"#]+))', re.DOTALL
 )
 _LITERALS = {"TRUE": True, "FALSE": False}
 
@@ -132,7 +135,7 @@ class Node:
 
 def _tokens(text: str) -> Iterator[str]:
     """The file's tokens, one at a time (a list of them all would be ten times the text)."""
-    pos = 0
+    pos = count = 0
     while pos < len(text):
         match = _TOKEN.match(text, pos)
         if match is None or match.end() == pos:
@@ -142,6 +145,9 @@ def _tokens(text: str) -> Iterator[str]:
         pos = match.end()
         token = match.group(1) or match.group(2) or match.group(3)
         if token:
+            count += 1
+            if count > MAX_TOKENS:
+                raise ValueError(f"more than {MAX_TOKENS} tokens: over the bound for a world")
             yield token
 
 
@@ -152,7 +158,6 @@ class _Parser:
         self.defs: dict[str, Node] = {}
         self.depth = 0
         self.nodes = 0
-        self.values = 0
 
     def peek(self, ahead: int = 0) -> str | None:
         while len(self._ahead) <= ahead:
@@ -169,14 +174,10 @@ class _Parser:
         self._ahead.popleft()
         return token
 
-    def count(self, nodes: int = 0, values: int = 0) -> None:
-        """Count what the file has made so far; refused past the bounds."""
-        self.nodes += nodes
-        self.values += values
+    def count_node(self) -> None:
+        self.nodes += 1
         if self.nodes > MAX_NODES:
             raise ValueError(f"more than {MAX_NODES} nodes: over the bound for a world")
-        if self.values > MAX_VALUES:
-            raise ValueError(f"more than {MAX_VALUES} values: over the bound for a world")
 
     def at_node(self) -> bool:
         token = self.peek()
@@ -196,7 +197,7 @@ class _Parser:
             name, token = self.take(), self.take()
         if self.take() != "{":
             raise ValueError(f"{token} is not followed by {{")
-        self.count(nodes=1)
+        self.count_node()
         if self.depth >= MAX_DEPTH:
             raise ValueError(f"nodes nested more than {MAX_DEPTH} deep (at a {token})")
         self.depth += 1
@@ -217,11 +218,7 @@ class _Parser:
             while self.peek() != "]":
                 if self.peek() is None:
                     raise ValueError("the file ends inside [ ]")
-                if self.at_node():
-                    items.append(self.node())
-                else:
-                    self.count(values=1)
-                    items.append(_scalar(self.take()))
+                items.append(self.node() if self.at_node() else _scalar(self.take()))
             self.take()
             return items
         if self.at_node():
@@ -231,13 +228,16 @@ class _Parser:
             return None
         values = []
         while (token := self.peek()) is not None and _is_scalar(token):
-            self.count(values=1)
             values.append(_scalar(self.take()))
         return values
 
 
+_NAME = re.compile(r"[A-Za-z_][\w\-]*")
+_INTEGER = re.compile(r"[+-]?(0x[0-9a-fA-F]+|\d+)")
+
+
 def _is_name(token: str) -> bool:
-    return re.fullmatch(r"[A-Za-z_][\w\-]*", token) is not None and token not in _LITERALS
+    return _NAME.fullmatch(token) is not None and token not in _LITERALS
 
 
 def _is_scalar(token: str) -> bool:
@@ -246,7 +246,7 @@ def _is_scalar(token: str) -> bool:
 
 def _number(token: str) -> float | int | None:
     try:
-        return int(token, 0) if re.fullmatch(r"[+-]?(0x[0-9a-fA-F]+|\d+)", token) else float(token)
+        return int(token, 0) if _INTEGER.fullmatch(token) else float(token)
     except ValueError:
         return None
 

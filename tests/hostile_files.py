@@ -256,6 +256,8 @@ _MAKERS: dict[str, Callable[[Path], Path]] = {
     "million-boxes.wbt": _write(WBT_HEADER + "WoodenBox { }\n" * 1_000_000),
     "deep.wbt": _write(WBT_HEADER + "Group { children [ " * 2000 + "] }" * 2000 + "\n"),
     "def-use.wbt": _write(def_use_doubling(40)),
+    "unterminated.wbt": _write(WBT_HEADER + 'WorldInfo { title "' + "a" * (7 << 20) + "\n"),
+    "many-tokens.wbt": _write(WBT_HEADER + "Shape { point [ " + "0 " * (3 << 20) + "] }\n"),
     "nan-box.wbt": _write(WBT_HEADER + "WoodenBox { size nan 0.1 0.1 }\n"),
     "inf-arena.wbt": _write(WBT_HEADER + "RectangleArena { floorSize inf 1 }\n"),
     "huge-box.wbt": _write(WBT_HEADER + "WoodenBox { translation 1e300 0 0 }\n"),

@@ -53,6 +53,8 @@ def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
         ("many-boxes.wbt", "more than 100 boxes: over the bound for a world"),
         ("million-boxes.wbt", "14000022 bytes is over the 8 MiB bound for a Webots world"),
         ("deep.wbt", "nodes nested more than 64 deep (at a Group)"),
+        ("unterminated.wbt", "unreadable text at offset 39"),
+        ("many-tokens.wbt", "more than 500000 tokens: over the bound for a world"),
         ("nan-box.wbt", "WoodenBox.size nan 0.1 0.1: must each be finite numbers within"),
         ("inf-arena.wbt", "RectangleArena.floorSize inf 1: must each be finite numbers"),
         ("huge-box.wbt", "WoodenBox.translation 1e+300 0 0: must each be finite numbers"),
