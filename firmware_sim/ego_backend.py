@@ -14,7 +14,7 @@ from typing import Any
 
 from ego.backends import Opened, open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
-from ego.errors import CameraCaptureError, CameraError
+from ego.errors import CameraCaptureError, CameraError, WorldFileError
 from ego.i2c.bus import given_bus
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Firmware
@@ -24,8 +24,20 @@ from firmware_sim.cli import main as cli_main
 from firmware_sim.scene import Scene
 from firmware_sim.server import Emulator
 from firmware_sim.virtual_time import VirtualClock
+from firmware_sim.world import World
 
-__all__ = ["SimBackend", "SimulatedCamera"]
+__all__ = ["SimBackend", "SimulatedCamera", "load_world"]
+
+
+def load_world(spec: str, seed: int | None) -> World:
+    """The world a built-in name or a file names; ego's WorldFileError (one line naming
+    the file and the reason) where the emulator refuses it."""
+    from firmware_sim.worlds import load_world as load
+
+    try:
+        return load(spec, seed)
+    except ValueError as exc:
+        raise WorldFileError(str(exc)) from exc
 
 
 class SimulatedCamera:
@@ -105,6 +117,8 @@ class SimBackend:
         name = (firmware or Firmware.WEBOTS).value
         if baudrate is not None:
             baudrate = check_baudrate(baudrate)  # ego's error, before the emulator starts
+        if isinstance(emulator_options.get("world"), str):  # ego's error too, same place
+            emulator_options["world"] = load_world(emulator_options["world"], seed)
         emulator = Emulator(name, baud=baudrate, seed=seed, **emulator_options).start()
         try:
             channel = open_link(
@@ -131,8 +145,6 @@ class SimBackend:
         the default arena), joined into one crowd: ego swarm's robots, each starting
         where the file places it, the others spread around the centre."""
         from firmware_sim.crowd import Crowd, spread_poses
-        from firmware_sim.world import World
-        from firmware_sim.worlds import load_world
 
         worlds: list[World] = [
             load_world(spec, None if seed is None else seed + k) if spec else World(seed=seed)

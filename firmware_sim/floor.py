@@ -5,6 +5,10 @@ it under their three spots and the camera renders it. Four kinds: the default ma
 black stripe and a disc on white), a line track (a black line of some width along a
 polyline) for line followers, a plain white floor, and an image laid on the floor (a
 Webots world's floor texture), which also gives the camera its colours.
+
+A floor image file is a PNG or a JPEG (as Webots takes), a regular file of at most
+:data:`MAX_TEXTURE_BYTES`, whose declared size is checked against
+:data:`MAX_TEXTURE_PIXELS` before it is decoded (a 445 KB PNG can declare 12000x12000).
 """
 
 from __future__ import annotations
@@ -15,7 +19,25 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["BLACK", "WHITE", "ImageFloor", "LineTrack", "Marks", "Plain"]
+from firmware_sim.files import read_regular
+
+__all__ = [
+    "BLACK",
+    "MAX_TEXTURE_BYTES",
+    "MAX_TEXTURE_PIXELS",
+    "WHITE",
+    "ImageFloor",
+    "LineTrack",
+    "Marks",
+    "Plain",
+]
+
+#: A floor image file's size, at most.
+MAX_TEXTURE_BYTES = 64 << 20
+#: A floor image's pixels, at most (4096 x 4096): about 200 MB while it is read.
+MAX_TEXTURE_PIXELS = 4096 * 4096
+#: Rows converted to grey at a time: the float32 copy of a block, not of the image.
+_ROWS = 256
 
 WHITE = 1.0
 BLACK = 0.15
@@ -90,18 +112,34 @@ class ImageFloor:
             raise ValueError("a floor image must be (height, width, 3) uint8")
         if min(*self.size_m, *self.tile_m) <= 0:
             raise ValueError("a floor's size and tile size must be positive")
-        luminance = image @ np.array([0.299, 0.587, 0.114]) / 255.0
-        object.__setattr__(self, "_grey", BLACK + (WHITE - BLACK) * luminance)
+        # float32, a block of rows at a time: a float64 copy of a 16 Mpx image is 400 MB.
+        weights = np.array([0.299, 0.587, 0.114], np.float32) * np.float32((WHITE - BLACK) / 255)
+        grey = np.empty(image.shape[:2], np.float32)
+        for top in range(0, image.shape[0], _ROWS):
+            grey[top : top + _ROWS] = image[top : top + _ROWS].astype(np.float32) @ weights
+        grey += np.float32(BLACK)
+        object.__setattr__(self, "_grey", grey)
 
     @classmethod
     def from_file(cls, path: Path, size_m: tuple[float, float],
                   tile_m: tuple[float, float]) -> ImageFloor:  # fmt: skip
+        import io
+        import warnings
+
         from PIL import Image, UnidentifiedImageError
 
         try:
-            with Image.open(path) as image:
+            data = read_regular(path, MAX_TEXTURE_BYTES, "a floor image")
+            with warnings.catch_warnings():  # the bound below says it, in one line
+                warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+                image = Image.open(io.BytesIO(data), formats=("PNG", "JPEG"))
+            with image:
+                width, height = image.size  # read from the header: nothing decoded yet
+                if width * height > MAX_TEXTURE_PIXELS:
+                    raise ValueError(f"{path}: a floor image of {width}x{height} pixels is "
+                                     f"over the bound of {MAX_TEXTURE_PIXELS} (4096x4096)")
                 rgb = np.asarray(image.convert("RGB"), dtype=np.uint8)
-        except (OSError, UnidentifiedImageError) as exc:
+        except (OSError, UnidentifiedImageError, Image.DecompressionBombError) as exc:
             raise ValueError(f"floor image {str(path)!r} cannot be read: {exc}") from exc
         return cls(rgb, size_m, tile_m)
 

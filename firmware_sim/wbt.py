@@ -22,24 +22,63 @@ R2022a (ENU: z up, the floor in x-y); an older file (y up) is refused with the a
 Webots itself gives (open and save it once in a newer Webots, which converts it). A box
 or robot rotated about anything but the vertical is refused: the emulator's world is
 flat.
+
+Bounds (docs/bad_input.md): a file of at most :data:`MAX_WBT_BYTES`, at most
+:data:`MAX_NODES` nodes nested at most :data:`MAX_DEPTH` deep and :data:`MAX_TOKENS`
+tokens, at most :data:`MAX_BOXES` boxes and :data:`MAX_ROBOTS` e-pucks; every number
+finite, lengths and positions within +-:data:`MAX_LENGTH_M` m; a floor texture inside the
+world's folder (see firmware_sim.floor for its own bounds). A ``USE`` is the node its
+``DEF`` made, not a copy: a walk meets each node once.
 """
 
 from __future__ import annotations
 
 import math
 import re
+from collections import deque
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from firmware_sim.files import read_regular
 from firmware_sim.floor import ImageFloor, Plain
 from firmware_sim.world import Arena, Block, Lamp, Pose, World
 
-__all__ = ["Node", "WbtWorld", "parse_wbt", "world_from_wbt"]
+__all__ = [
+    "MAX_BOXES",
+    "MAX_DEPTH",
+    "MAX_LENGTH_M",
+    "MAX_NODES",
+    "MAX_ROBOTS",
+    "MAX_TOKENS",
+    "MAX_WBT_BYTES",
+    "Node",
+    "WbtWorld",
+    "parse_wbt",
+    "world_from_wbt",
+]
 
+#: A .wbt file's size, at most (Webots' own worlds are tens of KB).
+MAX_WBT_BYTES = 8 << 20
+#: Nodes in a file, at most, and how deep they nest.
+MAX_NODES = 100_000
+MAX_DEPTH = 64
+#: Tokens (names, values, brackets) in a file, at most: a few seconds of parsing.
+MAX_TOKENS = 500_000
+#: Boxes (WoodenBox, Solid boxes) and e-pucks a world may hold. The emulator traces each
+#: proximity ray against every box in Python: past ~100 boxes a step's sensors no longer
+#: come back within the link's reply time (the built-in maze has 4).
+MAX_BOXES = 100
+MAX_ROBOTS = 100
+#: Every length and position, in metres, is within +-this.
+MAX_LENGTH_M = 100.0
+
+# A string is matched as runs of plain characters between escapes ("unrolled"): an
+# alternation repeated per character kept a backtracking record per character, 1 GB for
+# an unterminated 8 MB string.
 _TOKEN = re.compile(
-    r'\s*(?:#[^\n]*|("(?:[^"\\]|\\.)*")|([\[\]{}])|([^\s\[\]{}"#]+))', re.DOTALL
+    r'\s*(?:#[^\n]*|("[^"\\]*(?:\\.[^"\\]*)*")|([\[\]{}])|([^\s\[\]{}"#]+))', re.DOTALL
 )
 _LITERALS = {"TRUE": True, "FALSE": False}
 
@@ -52,7 +91,15 @@ class Node:
     fields: dict[str, Any] = field(default_factory=dict)
     name: str | None = None
 
-    def numbers(self, key: str, count: int, default: tuple[float, ...]) -> tuple[float, ...]:
+    def numbers(
+        self,
+        key: str,
+        count: int,
+        default: tuple[float, ...],
+        low: float = -MAX_LENGTH_M,
+        high: float = MAX_LENGTH_M,
+    ) -> tuple[float, ...]:
+        """The field ``key``: ``count`` finite numbers within ``low..high``."""
         value = self.fields.get(key)
         if value is None:
             return default
@@ -61,50 +108,76 @@ class Node:
             or len(value) != count
             or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
         ):
-            raise ValueError(f"{self.type}.{key} must be {count} numbers, not {value!r}")
+            raise ValueError(f"{self.type}.{key} must be {count} numbers, not {value!r}"[:200])
+        if not all(math.isfinite(v) and low <= v <= high for v in value):
+            each = "must be a finite number" if count == 1 else "must each be finite numbers"
+            raise ValueError(f"{self.type}.{key} {' '.join(map(str, value))}: {each} within "
+                             f"{low:g}..{high:g}")  # fmt: skip
         return tuple(float(v) for v in value)
 
     def walk(self) -> Iterator[Node]:
-        """This node and every node below it, depth first."""
-        yield self
-        for value in self.fields.values():
-            for item in value if isinstance(value, list) else [value]:
-                if isinstance(item, Node):
-                    yield from item.walk()
+        """This node and every node below it, each once (a USE is its DEF's node, so a
+        file that USEs a node twice at each of 40 levels still has 41 nodes to visit)."""
+        seen: set[int] = set()
+        stack = [self]
+        while stack:
+            node = stack.pop()
+            if id(node) in seen:
+                continue
+            seen.add(id(node))
+            yield node
+            children: list[Node] = []
+            for value in node.fields.values():
+                children.extend(i for i in (value if isinstance(value, list) else [value])
+                                if isinstance(i, Node))  # fmt: skip
+            stack.extend(reversed(children))
 
 
-def _tokens(text: str) -> list[str]:
-    out: list[str] = []
-    pos = 0
+def _tokens(text: str) -> Iterator[str]:
+    """The file's tokens, one at a time (a list of them all would be ten times the text)."""
+    pos = count = 0
     while pos < len(text):
         match = _TOKEN.match(text, pos)
         if match is None or match.end() == pos:
-            if text[pos:].strip():
+            if text[pos:pos + 4096].strip():
                 raise ValueError(f"unreadable text at offset {pos}: {text[pos:pos + 20]!r}")
             break
         pos = match.end()
         token = match.group(1) or match.group(2) or match.group(3)
         if token:
-            out.append(token)
-    return out
+            count += 1
+            if count > MAX_TOKENS:
+                raise ValueError(f"more than {MAX_TOKENS} tokens: over the bound for a world")
+            yield token
 
 
 class _Parser:
-    def __init__(self, tokens: list[str]) -> None:
-        self.tokens = tokens
-        self.i = 0
+    def __init__(self, text: str) -> None:
+        self._tokens = _tokens(text)
+        self._ahead: deque[str] = deque()
         self.defs: dict[str, Node] = {}
+        self.depth = 0
+        self.nodes = 0
 
     def peek(self, ahead: int = 0) -> str | None:
-        j = self.i + ahead
-        return self.tokens[j] if j < len(self.tokens) else None
+        while len(self._ahead) <= ahead:
+            token = next(self._tokens, None)
+            if token is None:
+                return None
+            self._ahead.append(token)
+        return self._ahead[ahead]
 
     def take(self) -> str:
         token = self.peek()
         if token is None:
             raise ValueError("the file ends inside a node")
-        self.i += 1
+        self._ahead.popleft()
         return token
+
+    def count_node(self) -> None:
+        self.nodes += 1
+        if self.nodes > MAX_NODES:
+            raise ValueError(f"more than {MAX_NODES} nodes: over the bound for a world")
 
     def at_node(self) -> bool:
         token = self.peek()
@@ -124,11 +197,16 @@ class _Parser:
             name, token = self.take(), self.take()
         if self.take() != "{":
             raise ValueError(f"{token} is not followed by {{")
+        self.count_node()
+        if self.depth >= MAX_DEPTH:
+            raise ValueError(f"nodes nested more than {MAX_DEPTH} deep (at a {token})")
+        self.depth += 1
         node = Node(token, name=name)
         while (key := self.take()) != "}":
             if not _is_name(key):
                 raise ValueError(f"in {token}: {key!r} is not a field name")
             node.fields[key] = self.value()
+        self.depth -= 1
         if name is not None:
             self.defs[name] = node
         return node
@@ -154,8 +232,12 @@ class _Parser:
         return values
 
 
+_NAME = re.compile(r"[A-Za-z_][\w\-]*")
+_INTEGER = re.compile(r"[+-]?(0x[0-9a-fA-F]+|\d+)")
+
+
 def _is_name(token: str) -> bool:
-    return re.fullmatch(r"[A-Za-z_][\w\-]*", token) is not None and token not in _LITERALS
+    return _NAME.fullmatch(token) is not None and token not in _LITERALS
 
 
 def _is_scalar(token: str) -> bool:
@@ -164,7 +246,7 @@ def _is_scalar(token: str) -> bool:
 
 def _number(token: str) -> float | int | None:
     try:
-        return int(token, 0) if re.fullmatch(r"[+-]?(0x[0-9a-fA-F]+|\d+)", token) else float(token)
+        return int(token, 0) if _INTEGER.fullmatch(token) else float(token)
     except ValueError:
         return None
 
@@ -183,7 +265,7 @@ def _scalar(token: str) -> Any:
 def parse_wbt(text: str) -> tuple[str, list[Node]]:
     """The file's header version (``R2023b``; ``""`` if none) and its top-level nodes."""
     header = re.match(r"#VRML_SIM\s+(\S+)", text)
-    parser = _Parser(_tokens(text))
+    parser = _Parser(text)
     nodes: list[Node] = []
     while (token := parser.peek()) is not None:
         if token in ("EXTERNPROTO", "IMPORTABLE"):
@@ -209,8 +291,14 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     """The emulator's World for a Webots world file (the subset in this module's doc)."""
     where = str(path)
     try:
-        version, nodes = parse_wbt(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
+        text = read_regular(path, MAX_WBT_BYTES, "a Webots world").decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{where}: byte {exc.start} is not UTF-8 text") from exc
+    except OSError as exc:
+        raise ValueError(f"{where}: {exc.strerror or exc}") from exc
+    try:
+        version, nodes = parse_wbt(text)
+    except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from exc
     if _before_r2022a(version):
         raise ValueError(f"{where}: a {version} world is y-up; open and save it once in "
@@ -242,6 +330,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
                 lamp = Lamp(x, y, max(z, 0.0))
             else:
                 skipped[node.type] = skipped.get(node.type, 0) + 1
+            _within_bounds(blocks, starts)
     except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from exc
     notes = [f"skipped {count} {kind}" for kind, count in sorted(skipped.items())]
@@ -259,6 +348,13 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     )
     world.robot_name = robot_name
     return WbtWorld(world, notes)
+
+
+def _within_bounds(blocks: list[Block], starts: list[Pose]) -> None:
+    if len(blocks) > MAX_BOXES:
+        raise ValueError(f"more than {MAX_BOXES} boxes: over the bound for a world")
+    if len(starts) > MAX_ROBOTS:
+        raise ValueError(f"more than {MAX_ROBOTS} E-pucks: over the bound for a world")
 
 
 def _before_r2022a(version: str) -> bool:
@@ -283,7 +379,8 @@ def _arena(node: Node, folder: Path) -> tuple[Arena, ImageFloor | Plain]:
     if abs(tx) > 1e-6 or abs(ty) > 1e-6:
         raise ValueError("a RectangleArena off the origin is not modelled")
     sx, sy = node.numbers("floorSize", 2, (1.0, 1.0))
-    tile = node.numbers("floorTileSize", 2, (0.5, 0.5))
+    tile_x, tile_y = node.numbers("floorTileSize", 2, (0.5, 0.5))
+    tile = (tile_x, tile_y)
     height = node.numbers("wallHeight", 1, (0.1,))[0]
     if min(sx, sy, tile[0], tile[1], height) <= 0:
         raise ValueError("RectangleArena sizes must be positive")
@@ -292,9 +389,18 @@ def _arena(node: Node, folder: Path) -> tuple[Arena, ImageFloor | Plain]:
     for sub in appearance.walk() if isinstance(appearance, Node) else ():
         urls = sub.fields.get("url") if sub.type == "ImageTexture" else None
         if urls:
-            image = (folder / str(urls[0])).resolve()
-            return arena, ImageFloor.from_file(image, (sx, sy), (tile[0], tile[1]))
+            return arena, ImageFloor.from_file(_texture(folder, urls[0]), (sx, sy), tile)
     return arena, Plain()
+
+
+def _texture(folder: Path, url: object) -> Path:
+    """The floor texture's file, which must be in the world's folder or below it (as a
+    Webots project keeps its textures): a world names no other file of the machine."""
+    image = (folder / str(url)).resolve()
+    if not image.is_relative_to(folder.resolve()):
+        raise ValueError(f"the floor texture {str(url)!r} is outside the world's folder "
+                         f"{str(folder)!r}: textures are read from beside the world")  # fmt: skip
+    return image
 
 
 def _box_shape(solid: Node) -> tuple[tuple[float, ...], tuple[int, int, int]] | None:
@@ -313,7 +419,7 @@ def _colour(shape: Node) -> tuple[int, int, int]:
     for sub in appearance.walk() if isinstance(appearance, Node) else ():
         for key in ("baseColor", "diffuseColor"):
             if key in sub.fields:
-                r, g, b = sub.numbers(key, 3, (1.0, 1.0, 1.0))
+                r, g, b = sub.numbers(key, 3, (1.0, 1.0, 1.0), 0.0, 1.0)
                 return (round(255 * r), round(255 * g), round(255 * b))
     return (200, 200, 200)
 
@@ -336,8 +442,9 @@ def _pose(node: Node) -> Pose:
 def _camera_size(node: Node) -> tuple[int, int] | None:
     if "camera_width" not in node.fields and "camera_height" not in node.fields:
         return None
-    width = node.numbers("camera_width", 1, (52.0,))[0]
-    height = node.numbers("camera_height", 1, (39.0,))[0]
+    # As a TOML world's: the rendered image is width x height, so bounded like it.
+    width = node.numbers("camera_width", 1, (52.0,), 1, 640)[0]
+    height = node.numbers("camera_height", 1, (39.0,), 1, 640)[0]
     if not (width.is_integer() and height.is_integer() and min(width, height) >= 1):
         raise ValueError(f"E-puck camera size {width}x{height} is not whole pixels")
     return int(width), int(height)

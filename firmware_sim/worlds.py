@@ -45,6 +45,11 @@ Built in, by name: ``arena`` (the default), ``line-track``, ``maze``, ``light``.
 with a key it does not know, or a value of the wrong kind, is refused with ValueError
 naming the file and the key. A Webots world file (``.wbt``) is read too, for the part
 the emulator models (firmware_sim.wbt); what it skips is logged.
+
+Bounds (docs/bad_input.md): a TOML world is a regular file of at most
+:data:`MAX_TOML_BYTES`, nested at most :data:`MAX_DEPTH` deep, with at most
+:data:`MAX_BOXES` boxes, :data:`MAX_ROBOTS` robots and :data:`MAX_TRACK_POINTS` track
+points; every number is finite and within its key's range.
 """
 
 from __future__ import annotations
@@ -57,11 +62,28 @@ from typing import Any
 
 import tomllib
 
+from firmware_sim.files import read_regular
 from firmware_sim.floor import LineTrack, Marks
-from firmware_sim.wbt import world_from_wbt
+from firmware_sim.wbt import MAX_BOXES, MAX_ROBOTS, world_from_wbt
 from firmware_sim.world import Arena, Block, Lamp, Pose, SoundSource, World
 
-__all__ = ["BUILT_IN", "load_world", "world_names"]
+__all__ = [
+    "BUILT_IN",
+    "MAX_BOXES",
+    "MAX_DEPTH",
+    "MAX_ROBOTS",
+    "MAX_TOML_BYTES",
+    "MAX_TRACK_POINTS",
+    "load_world",
+    "world_names",
+]
+
+#: A TOML world file's size, at most (the built-in worlds are under 1 KB).
+MAX_TOML_BYTES = 1 << 20
+#: Tables and arrays nest at most this deep (a world needs 3: floor.points).
+MAX_DEPTH = 16
+#: A line track's points, at most.
+MAX_TRACK_POINTS = 10_000
 
 log = logging.getLogger(__name__)
 #: Nodes of a Webots world that only change how Webots draws it: skipped quietly.
@@ -100,12 +122,33 @@ def load_world(spec: str | Path, seed: int | None = None) -> World:
             )
         if path.suffix == ".wbt":
             return _webots_world(path, seed)
-        text, where = path.read_text(encoding="utf-8"), str(path)
+        text, where = _read_toml(path), str(path)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{where}: not TOML: {exc}") from exc
+    except RecursionError as exc:  # tomllib recurses once a level, ~300 levels at most
+        raise ValueError(f"{where}: nested more than {MAX_DEPTH} deep") from exc
+    _check_depth(data, where)
     return _build(data, where, seed)
+
+
+def _read_toml(path: Path) -> str:
+    try:
+        return read_regular(path, MAX_TOML_BYTES, "a TOML world").decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: byte {exc.start} is not UTF-8 text") from exc
+
+
+def _check_depth(data: Any, where: str) -> None:
+    """Refuse tables and arrays nested deeper than MAX_DEPTH (walked without recursion)."""
+    stack: list[tuple[Any, int]] = [(data, 1)]
+    while stack:
+        value, depth = stack.pop()
+        if depth > MAX_DEPTH:
+            raise ValueError(f"{where}: nested more than {MAX_DEPTH} deep")
+        items = value.values() if isinstance(value, dict) else value
+        stack.extend((v, depth + 1) for v in items if isinstance(v, dict | list))
 
 
 def _webots_world(path: Path, seed: int | None) -> World:
@@ -126,6 +169,8 @@ def _build(data: dict[str, Any], where: str, seed: int | None) -> World:
     boxes = data.get("box", [])
     if not isinstance(boxes, list):
         raise ValueError(f"{where}: [[box]] must be an array of tables")
+    _at_most(boxes, MAX_BOXES, "[[box]] tables", where)
+    _at_most(data.get("robots", []), MAX_ROBOTS - 1, "[[robots]] tables", where)
     arena = Arena(half_size_m=_number(tables["arena"], "size_m", where, 1.0, 0.2, 10.0) / 2)
     robot = tables["robot"]
     start = Pose(
@@ -183,6 +228,11 @@ def _camera_size(robot: dict[str, Any], where: str) -> tuple[int, int] | None:
     return size[0], size[1]
 
 
+def _at_most(items: Any, bound: int, what: str, where: str) -> None:
+    if isinstance(items, list) and len(items) > bound:
+        raise ValueError(f"{where}: {len(items)} {what} is over the bound of {bound}")
+
+
 def _table(data: dict[str, Any], name: str, where: str) -> dict[str, Any]:
     table = data.get(name, {})
     if not isinstance(table, dict):
@@ -238,11 +288,15 @@ def _floor(table: dict[str, Any], where: str) -> Marks | LineTrack:
     if kind != "track":
         raise ValueError(f"{where}: floor kind {kind!r} is not marks or track")
     points = table.get("points")
+    _at_most(points, MAX_TRACK_POINTS, "floor points", where)
     if not (isinstance(points, list) and all(
         isinstance(p, list) and len(p) == 2 and all(isinstance(v, int | float) for v in p)
         for p in points
     )):  # fmt: skip
         raise ValueError(f"{where}: floor points must be a list of [x, y] pairs")
+    for point in points:
+        if not all(not isinstance(v, bool) and -5 <= v <= 5 for v in point):  # NaN fails too
+            raise ValueError(f"{where}: floor point {point!r} is not two numbers in -5..5 m")
     try:
         return LineTrack(
             tuple((float(x), float(y)) for x, y in points),

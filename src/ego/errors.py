@@ -19,6 +19,9 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     │   ├── ExtraBytesError                      bytes left over after the reply
     │   ├── RobotResetError                      the dsPIC restarted (its banner arrived)
     │   └── FirmwareMismatchError                the firmware is not the one we were told
+    ├── BadFileError (ValueError)                not a regular file, or over a bound
+    │   ├── RecordingError                       not an ego recording, or cut short
+    │   └── WorldFileError                       an emulator world or floor image
     ├── CameraError
     │   ├── CameraConfigError (ValueError)       a camera configuration file line (path:line:)
     │   │   ├── ConfigSyntaxError                not ``key = value``, or a bad value
@@ -44,6 +47,7 @@ from __future__ import annotations
 
 __all__ = [
     "AuthenticationError",
+    "BadFileError",
     "CameraCaptureError",
     "CameraConfigError",
     "CameraError",
@@ -68,6 +72,7 @@ __all__ = [
     "PortBusyError",
     "PortNotFoundError",
     "ProtocolError",
+    "RecordingError",
     "RemoteError",
     "RobotBusyError",
     "RobotResetError",
@@ -79,6 +84,7 @@ __all__ = [
     "UnsupportedControlError",
     "UnsupportedDeviceError",
     "VersionMismatchError",
+    "WorldFileError",
 ]
 
 
@@ -166,6 +172,22 @@ class RobotResetError(ProtocolError):
 
 class FirmwareMismatchError(ProtocolError):
     """The firmware answers differently from the profile in use."""
+
+
+class BadFileError(EgoError, ValueError):
+    """A file ego refuses to read: not a regular file (a FIFO or a device would hang or
+    never end), larger than its documented bound, or holding more than its parser's
+    bounds; the message names the file and the reason (docs/bad_input.md lists the
+    bounds)."""
+
+
+class RecordingError(BadFileError):
+    """A file that is not an ego recording, one cut short, or one past a recording bound."""
+
+
+class WorldFileError(BadFileError):
+    """An emulator world file (TOML or Webots ``.wbt``), or its floor texture, that the
+    emulator cannot use."""
 
 
 class CameraError(EgoError):

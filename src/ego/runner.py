@@ -9,7 +9,13 @@ from pathlib import Path
 
 import ego.controller
 from ego.default_robot import FaceContext, activate
-from ego.errors import CameraCaptureError, ControllerError, LinkError, RemoteError
+from ego.errors import (
+    BadFileError,
+    CameraCaptureError,
+    ControllerError,
+    LinkError,
+    RemoteError,
+)
 from ego.runtime import RunOptions
 from ego.safety import RobotKeeper, install_signal_handlers
 
@@ -42,8 +48,8 @@ def run_controller(path: str | Path, options: RunOptions, argv: Sequence[str] = 
         with RobotKeeper(), activate(context):
             try:
                 runpy.run_path(str(script), run_name="__main__")
-            except (LinkError, RemoteError, CameraCaptureError):
-                raise  # the robot's, not a line of the controller's: said in one line
+            except (LinkError, RemoteError, CameraCaptureError, BadFileError):
+                raise  # the robot's (or its world's, its recording's): said in one line
             except Exception as exc:
                 raise ControllerError(
                     f"{script.name}: {type(exc).__name__}: {exc}", _user_traceback(exc)

@@ -30,6 +30,7 @@ from typing import Any
 import pytest
 from dashboard_probe import DashboardProbe, HttpAnswer
 from helpers import ego_command
+from hostile_files import make as make_hostile
 from reliability_helpers import echo_device, modem_device, silent_device
 
 import ego
@@ -42,6 +43,7 @@ from ego.camera.config import parse_configuration
 from ego.cli import main as ego_main
 from ego.controller import DifferentialWheels
 from ego.dashboard.live import RobotFeed
+from ego.recording.reader import Recording
 from ego.remote.server import Server, ServerThread
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
@@ -163,11 +165,12 @@ class CliResult:
 
 
 def ego_cli(tmp: Path) -> Callable[..., CliResult]:
-    """``ego(*args)``: the ``ego`` command. ``ego run`` runs in a child process (it closes
-    the process's default robot when the controller ends); the rest in this process."""
+    """``ego(*args)``: the ``ego`` command. ``ego run``, ``ego replay`` and ``ego demo``
+    run in a child process (they run a controller, and close the process's default robot
+    when it ends); the rest in this process."""
 
     def run(*args: str) -> CliResult:
-        if args and args[0] == "run":
+        if args and args[0] in ("run", "replay", "demo"):
             done = subprocess.run(
                 [*ego_command(), *args],
                 cwd=tmp,
@@ -278,6 +281,9 @@ def namespace() -> Iterator[Namespace]:
             path.write_bytes(text if isinstance(text, bytes) else text.encode("utf-8"))
             return str(path)
 
+        hostile_dir = tmp_path / "hostile"
+        hostile_dir.mkdir()
+
         yield Namespace(
             ego=ego,
             Robot=ego.Robot,
@@ -302,6 +308,8 @@ def namespace() -> Iterator[Namespace]:
             dashboard_get=dashboard.get,
             dashboard_sockets=dashboard.sockets,
             dashboard_send=dashboard.send,
+            Recording=Recording,
+            hostile=lambda name: make_hostile(hostile_dir, name),
             **devices,
         )
 

@@ -26,7 +26,9 @@ Each problem raises a typed error carrying ``path`` and ``line_number`` and a me
 that starts ``path:line:``: :class:`ConfigSyntaxError` (no ``=``, no key or value, a
 value of the wrong type, a repeated key), :class:`UnknownSettingError` (listing the
 keys), :class:`SettingOutOfRangeError` (naming the range). Nothing is applied unless the
-whole file is valid.
+whole file is valid. The file itself must be a regular file of at most
+:data:`MAX_CONFIG_BYTES` (a FIFO or ``/dev/zero`` is refused, not read): else a
+:class:`CameraConfigError` naming it and the reason.
 """
 
 from __future__ import annotations
@@ -40,12 +42,20 @@ from typing import TYPE_CHECKING, Final
 
 from ego.camera.convert import ROTATIONS
 from ego.camera.source import CONTROLS
-from ego.errors import ConfigSyntaxError, SettingOutOfRangeError, UnknownSettingError
+from ego.errors import (
+    BadFileError,
+    CameraConfigError,
+    ConfigSyntaxError,
+    SettingOutOfRangeError,
+    UnknownSettingError,
+)
+from ego.files import read_regular
 
 if TYPE_CHECKING:
     from ego.camera.device import Camera
 
 __all__ = [
+    "MAX_CONFIG_BYTES",
     "MAX_SIZE",
     "MIN_SIZE",
     "CameraConfiguration",
@@ -58,6 +68,9 @@ __all__ = [
 #: The sensor's smallest and largest frame, (width, height) as it is mounted (thesis C.2).
 MIN_SIZE: Final = (32, 32)
 MAX_SIZE: Final = (640, 480)
+
+#: A configuration file's size, at most (eight settings and their comments fit in 1 KiB).
+MAX_CONFIG_BYTES = 64 << 10
 
 _TRUE = {"1", "on", "true", "yes"}
 _FALSE = {"0", "off", "false", "no"}
@@ -184,7 +197,10 @@ def read_configuration(
 ) -> CameraConfiguration:
     """Read and parse a configuration file (``OSError`` if it cannot be read)."""
     file = Path(path)
-    data = file.read_bytes()
+    try:
+        data = read_regular(file, MAX_CONFIG_BYTES, "a camera configuration")
+    except BadFileError as exc:
+        raise CameraConfigError(str(exc)) from exc
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:

@@ -157,43 +157,50 @@ class Robot:
             if (found := view_class(name)) is not None and issubclass(found, cls)
         ]
 
-    def _deprecated(self, getter: str, name: str) -> Device | None:
+    def _deprecated(self, getter: str, name: str, cls: type[Device]) -> Device | None:
         """Webots' deprecated typed getters: its notice, then ``getDevice`` (Webots' warning
-        and None for a name the e-puck has not; no check of the device's class)."""
+        and None for a name the e-puck has not; the device whatever its class, as Webots
+        does not check it). Under ``--strict`` a device of another class is refused."""
         print(
             f"DEPRECATION: Robot.{getter} is deprecated, please use Robot.getDevice instead.",
             file=sys.stderr,
         )
-        return self.getDevice(name)
+        device = self.getDevice(name)
+        if self._options.strict and device is not None and not isinstance(device, cls):
+            raise UnknownDeviceError(
+                f"{name!r} is a {type(device).__name__}, not a {cls.__name__}; valid names "
+                f"for a {cls.__name__}: {', '.join(self._device_names(cls)) or 'none'}"
+            )
+        return device
 
     def getDistanceSensor(self, name: str) -> DistanceSensor | None:
-        return self._deprecated("getDistanceSensor", name)  # type: ignore[return-value]
+        return self._deprecated("getDistanceSensor", name, DistanceSensor)  # type: ignore[return-value]
 
     def getLightSensor(self, name: str) -> LightSensor | None:
-        return self._deprecated("getLightSensor", name)  # type: ignore[return-value]
+        return self._deprecated("getLightSensor", name, LightSensor)  # type: ignore[return-value]
 
     def getMotor(self, name: str) -> Motor | None:
-        return self._deprecated("getMotor", name)  # type: ignore[return-value]
+        return self._deprecated("getMotor", name, Motor)  # type: ignore[return-value]
 
     def getLED(self, name: str) -> LED | None:
-        return self._deprecated("getLed", name)  # type: ignore[return-value]
+        return self._deprecated("getLed", name, LED)  # type: ignore[return-value]
 
     def getCamera(self, name: str) -> Camera | None:
-        return self._deprecated("getCamera", name)  # type: ignore[return-value]
+        return self._deprecated("getCamera", name, Camera)  # type: ignore[return-value]
 
     def getAccelerometer(self, name: str) -> Accelerometer | None:
-        return self._deprecated("getAccelerometer", name)  # type: ignore[return-value]
+        return self._deprecated("getAccelerometer", name, Accelerometer)  # type: ignore[return-value]
 
     def getPositionSensor(self, name: str) -> PositionSensor | None:
-        return self._deprecated("getPositionSensor", name)  # type: ignore[return-value]
+        return self._deprecated("getPositionSensor", name, PositionSensor)  # type: ignore[return-value]
 
     def getEmitter(self, name: str) -> Emitter | None:
         """The radio emitter (see ego.controller.radio), deprecated as in Webots."""
-        return self._deprecated("getEmitter", name)  # type: ignore[return-value]
+        return self._deprecated("getEmitter", name, Emitter)  # type: ignore[return-value]
 
     def getReceiver(self, name: str) -> Receiver | None:
         """The radio receiver (see ego.controller.radio), deprecated as in Webots."""
-        return self._deprecated("getReceiver", name)  # type: ignore[return-value]
+        return self._deprecated("getReceiver", name, Receiver)  # type: ignore[return-value]
 
     # Deprecated getters of devices the e-puck has not: the same notice, then None.
     def _absent_getter(self, name: str) -> None:

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from ego.backends import Opened
-from ego.errors import LinkLostError, UnsupportedDeviceError
+from ego.errors import LinkLostError, RecordingError, UnsupportedDeviceError
 from ego.recording.reader import Recording
 from ego.serial.firmware import FirmwareInfo, gctronic_profile
 from ego.serial.link import LinkStats
@@ -37,7 +37,18 @@ class ReplayEndedError(LinkLostError):
         self.expected = expected
 
 
-def _info(metadata: dict[str, str]) -> FirmwareInfo:
+def _info(recording: Recording) -> FirmwareInfo:
+    """The firmware the recorded robot ran, from the file's metadata (RecordingError if the
+    metadata cannot say)."""
+    try:
+        return _firmware_info(recording.metadata)
+    except (KeyError, ValueError) as exc:  # a missing key, an unknown firmware, not a number
+        reason = f"no {exc}" if isinstance(exc, KeyError) else str(exc)
+        raise RecordingError(f"{recording.path}: its metadata cannot say which firmware "
+                             f"the robot ran: {reason}") from exc  # fmt: skip
+
+
+def _firmware_info(metadata: dict[str, str]) -> FirmwareInfo:
     firmware = Firmware(metadata["firmware"])
     selector = int(metadata["selector"]) if metadata.get("selector") else None
     hardware = int(metadata["hardware_version"]) if metadata.get("hardware_version") else None
@@ -55,7 +66,7 @@ class ReplayChannel:
 
     def __init__(self, recording: Recording) -> None:
         self.recording = recording
-        self._info = _info(recording.metadata)
+        self._info = _info(recording)
         self._stats = LinkStats()
         self._next = 0
 

@@ -15,6 +15,7 @@ from typing import Any
 
 from ego.dashboard.control import Reply
 from ego.dashboard.server import DashboardServer
+from ego.errors import RecordingError
 from ego.recording.reader import Recording
 
 __all__ = ["SPEEDS", "ReplayFeed"]
@@ -25,7 +26,7 @@ SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)
 class ReplayFeed:
     def __init__(self, recording: Recording, speed: float = 1.0, playing: bool = True) -> None:
         if not recording.samples:
-            raise ValueError(f"{recording.path}: the recording holds no step")
+            raise RecordingError(f"{recording.path}: the recording holds no step")
         if speed not in SPEEDS:
             raise ValueError(f"replay speed {speed} is not one of {', '.join(map(str, SPEEDS))}")
         self.recording = recording
