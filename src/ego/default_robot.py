@@ -56,6 +56,7 @@ class FaceContext:
             firmware=options.firmware,
             seed=options.seed,
             world=options.world,
+            secret=options.secret,
             baudrate=baudrate or DEFAULT_BAUD,
         )
         self._robot = robot

@@ -96,7 +96,7 @@ class Robot:
         self.link: Channel = self._opened.channel
         self._closed = False
         self._lost = False
-        self.clock = StepClock()
+        self.clock = self._opened.clock or StepClock()
         # Everything the stop and the close need, held apart from the Robot so that a
         # finalizer can stop the wheels when the Robot is dropped without close(), or
         # when the interpreter exits with it still open.

@@ -36,6 +36,8 @@ class RunOptions:
     strict: bool = False
     #: ``ego run --camera WxH``: the Webots face's camera size (None: Webots' e-puck 52x39).
     camera_size: tuple[int, int] | None = None
+    #: ``ego run --secret-file``: the shared secret of a served robot (tcp://, udp://, unix://).
+    secret: bytes | None = None
     #: Called with each core Robot a face creates (progress displays subscribe here).
     on_robot: list[Callable[[Robot], None]] = field(default_factory=list)
 

@@ -40,6 +40,7 @@ from ego.serial.protocol import Firmware
 if TYPE_CHECKING:
     from ego.camera import FrameSource
     from ego.channel import Channel
+    from ego.scheduler import StepClock
     from ego.serial.link import Link, LinkSettings
     from ego.serial.transport import Transport
 
@@ -54,6 +55,7 @@ __all__ = [
     "open_port",
     "register",
     "scheme_of",
+    "takes_option",
 ]
 
 #: Where packages declare backends: ``[project.entry-points."ego.backends"] sim = ...``.
@@ -73,6 +75,9 @@ class Opened:
     closers: list[Callable[[], None]] = field(default_factory=list)
     #: Whether the robot is driven over a network (Webots' MODE_REMOTE_CONTROL).
     remote: bool = False
+    #: What paces the robot's steps, for a robot whose time is not the wall clock's (a
+    #: replay at 4x); None: real time.
+    clock: StepClock | None = None
 
     def close(self) -> None:
         """Close the channel and everything beside it; idempotent."""
@@ -223,6 +228,15 @@ def find_backend(scheme: str) -> Backend:
         factory = declared.load()
         _REGISTRY[scheme] = factory
     return factory()
+
+
+def takes_option(port: str, name: str) -> bool:
+    """Whether the backend of ``port`` names the option ``name`` among its own (a served
+    robot's backend takes ``secret``; the emulator's and a serial port's do not)."""
+    import inspect
+
+    parameters = inspect.signature(find_backend(scheme_of(port)).open).parameters
+    return name in parameters and parameters[name].kind is inspect.Parameter.KEYWORD_ONLY
 
 
 def open_port(port: str, *, firmware: Firmware | None = None, **options: Any) -> Opened:

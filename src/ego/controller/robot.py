@@ -75,8 +75,9 @@ class Robot:
         self._mouse: Mouse | None = None
         self._joystick: Joystick | None = None
         self._core = CoreRobot(
-            options.port, firmware=options.firmware, seed=options.seed, world=options.world
-        )
+            options.port, firmware=options.firmware, seed=options.seed, world=options.world,
+            secret=options.secret,
+        )  # fmt: skip
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
         context.webots_robot = self

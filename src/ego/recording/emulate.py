@@ -5,8 +5,14 @@ against its recording: :class:`ReplayChannel` (the seam under ``Robot``) answers
 controller's k-th batch with the reply bytes the robot sent to the k-th batch of the
 run, so every value the controller reads is the one it read then, exactly. A controller
 that asks for something else than the run's controller did (another sensor, another
-order) is told where the two part ways, and a replay that reaches the end of the
-recording ends like a link that is gone: ``step`` returns -1.
+order) is told where the two part ways (:class:`ReplayDivergedError`, which ends the
+run), and a replay that reaches the end of the recording ends like a link that is gone:
+``step`` returns -1. A stop (wheels to 0, LEDs off) that the run did not record is
+acknowledged at once: a replay has no wheels to stop.
+
+``replay://run.mcap?speed=4`` paces the controller's steps at four times real time
+(0.25, 0.5, 1, 2 or 4; default 1): the controller's own time still advances by each
+step's length.
 
 The camera's frames are in the recording as JPEG for viewing; they are not fed back to
 a controller (a JPEG is not the frame the camera gave), so the replayed robot has no
@@ -15,26 +21,40 @@ camera.
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import Any
 
 from ego.backends import Opened
-from ego.errors import LinkLostError, UnsupportedDeviceError
+from ego.errors import LinkError, LinkLostError, UnsupportedDeviceError
 from ego.recording.reader import Recording
+from ego.safety import stop_requests
+from ego.scheduler import StepClock
 from ego.serial.firmware import FirmwareInfo, gctronic_profile
 from ego.serial.link import LinkStats
 from ego.serial.protocol import PROFILES, Batch, Firmware, Profile, parse_batch
 
-__all__ = ["ReplayBackend", "ReplayChannel", "ReplayEndedError"]
+__all__ = ["SPEEDS", "ReplayBackend", "ReplayChannel", "ReplayDivergedError", "ReplayEndedError"]
+
+#: The paces a replay plays at, as multiples of real time (the dashboard's player's too).
+SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)
 
 
 class ReplayEndedError(LinkLostError):
-    """The recording has no more steps, or the controller asked what it never recorded."""
+    """The recording has no more steps: the run is over, as it was then."""
 
     def __init__(self, message: str, *, expected: bool = False) -> None:
         super().__init__(message)
         #: True at the recording's end: the run is over, as it was then, not broken.
         self.expected = expected
+
+
+class ReplayDivergedError(LinkError):
+    """The controller asked what the recorded run never asked: the replay cannot answer.
+
+    Not a lost link (``step`` does not return -1): the run ends with this error, which
+    says at which step and what each asked, so that ``ego replay --emulate`` fails.
+    """
 
 
 def _info(metadata: dict[str, str]) -> FirmwareInfo:
@@ -85,7 +105,9 @@ class ReplayChannel:
         asked = [request.command for request in batch.requests]
         then = [request.command for request in parse_batch(recorded.tx, self.profile).requests]
         if asked != then:
-            raise ReplayEndedError(
+            if list(batch.requests) == stop_requests(self.profile.leds):
+                return bytes(batch.reply_size)  # stopped: wheels at (0, 0)
+            raise ReplayDivergedError(
                 f"{self.name}: at step {recorded.step} the controller asks "
                 f"{_letters(asked)}, but the recorded run asked {_letters(then)}: the replay "
                 "cannot answer what was never recorded"
@@ -117,15 +139,37 @@ def _letters(commands: list[Any]) -> str:
     return " ".join(c.letter for c in commands if c.letter) or "nothing"
 
 
+def _speed(port: str) -> tuple[str, float]:
+    """The recording's path in ``port`` and the ``?speed=X`` it asks (1 if none)."""
+    path, sep, speed = port.removeprefix("replay://").rpartition("?speed=")
+    if not sep:
+        return path + speed, 1.0
+    try:
+        value = float(speed)
+    except ValueError:
+        value = 0.0
+    if value not in SPEEDS:
+        raise ValueError(
+            f"{port}: replay speed {speed!r} is not one of {', '.join(f'{s:g}' for s in SPEEDS)}"
+        )
+    return path, value
+
+
+def paced_clock(speed: float) -> StepClock:
+    """A step clock whose seconds last ``1 / speed`` real seconds."""
+    return StepClock(clock=lambda: time.perf_counter() * speed,
+                     sleep=lambda seconds: time.sleep(seconds / speed))  # fmt: skip
+
+
 class ReplayBackend:
-    """``Robot("replay://run.mcap")``: the run recorded in that file (no options)."""
+    """``Robot("replay://run.mcap")``: the run recorded in that file, at ``?speed=X``."""
 
     def open(self, port: str, *, firmware: Firmware | None) -> Opened:
-        path = Path(port.removeprefix("replay://"))
-        recording = Recording.open(path)
+        path, speed = _speed(port)
+        recording = Recording.open(Path(path))
         channel = ReplayChannel(recording)
         if firmware is not None and channel.info.firmware is not firmware:
             raise UnsupportedDeviceError(
                 f"{port} recorded a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
-        return Opened(channel)
+        return Opened(channel, clock=None if speed == 1.0 else paced_clock(speed))
