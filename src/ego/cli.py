@@ -260,7 +260,8 @@ def _add_demo(sub: Any) -> None:
                  world_parent("the emulator's world")],
     )  # fmt: skip
     demo.add_argument("--duration", type=_positive, default=20.0, help="seconds (default 20)")
-    add_dashboard_options(demo, "the live dashboard (on unless --no-dashboard)", secret=False)
+    add_dashboard_options(demo, "the live dashboard, on unless --no-dashboard", secret=False,
+                          off_loopback="loopback only: the demo takes no secret")  # fmt: skip
     demo.add_argument("--no-dashboard", action="store_true", help="no dashboard")
     demo.add_argument("--record", default=None, metavar="FILE.mcap", help="record the run")
     demo.set_defaults(func=_cmd_demo)
@@ -292,7 +293,9 @@ def _add_run(sub: Any) -> None:
     run.add_argument("--supervisor-deadline-ms", type=_deadline_ms, default=500, metavar="MS",
                      help="a supervised controller that does not step for this long has its "
                      "robot stopped (1..60000, default 500)")  # fmt: skip
-    add_dashboard_options(run, "a live dashboard of the robot")
+    add_dashboard_options(run, "a live dashboard of the robot", secret_help="the shared "
+                          "secret of a served robot (tcp://, udp://, unix://) that wants one, "
+                          "and of a dashboard off loopback")  # fmt: skip
     run.add_argument("--record", default=None, metavar="FILE.mcap",
                      help="record every step to MCAP")  # fmt: skip
     run.add_argument("controller", help="the controller's .py file")
@@ -312,8 +315,8 @@ def _add_replay(sub: Any) -> None:
     replay.add_argument("--emulate", action="store_true", help="run CONTROLLER against the "
                         "recording: it reads exactly what the robot answered; it fails, "
                         "saying at which step, where it asks what the run did not")  # fmt: skip
-    add_dashboard_options(replay, "with --emulate, a dashboard of the replayed robot "
-                          "(played back, a recording is always shown on one)")  # fmt: skip
+    add_dashboard_options(replay, "a dashboard of the replayed robot with --emulate (a "
+                          "recording played back is always shown on one)")  # fmt: skip
     replay.add_argument("--speed", type=_speed, default=1.0, metavar="X",
                         help="times real time: 0.25, 0.5, 1, 2 or 4 (default 1); with "
                         "--emulate, the pace of the controller's steps")  # fmt: skip
@@ -327,7 +330,7 @@ def _add_swarm(sub: Any) -> None:
         "swarm", help="N emulated e-pucks in one world, each controller in its own process "
         "over Zenoh",
         parents=[firmware_parent(emulated=True, default="webots"),
-                 seed_parent(1, " (each robot's own, derived from N and its index)"),
+                 seed_parent(1, " (each robot's own, derived from it and the robot's index)"),
                  world_parent("the shared world (a file may place robots: [[robots]])")],
     )  # fmt: skip
     swarm.add_argument("--robots", type=int, default=4, help="how many (default 4)")

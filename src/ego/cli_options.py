@@ -104,11 +104,18 @@ class _DashboardSwitch(argparse.Action):
 
 
 def add_dashboard_options(
-    parser: argparse.ArgumentParser, what: str, *, switch: bool = True, secret: bool = True
+    parser: argparse.ArgumentParser,
+    what: str,
+    *,
+    switch: bool = True,
+    secret: bool = True,
+    off_loopback: str = "off loopback it needs --secret-file",
+    secret_help: str = "the shared secret a dashboard off loopback asks for",
 ) -> None:
     """``--dashboard`` (a switch: ``what`` says what it serves), ``--dashboard-address``
     and, unless ``secret`` is False, ``--secret-file``; ``args.dashboard`` is the address
-    to serve at, or None."""
+    to serve at, or None. ``off_loopback`` says what an address off loopback needs, and
+    ``secret_help`` what the secret file is for."""
     if switch:
         parser.add_argument(
             "--dashboard", action=_DashboardSwitch, default=None,
@@ -118,13 +125,12 @@ def add_dashboard_options(
     parser.add_argument(
         "--dashboard-address", dest="dashboard", type=_address, metavar="HOST:PORT",
         default=None, help=f"where the dashboard listens (default {DEFAULT_DASHBOARD}; "
-        "off loopback it needs --secret-file)" + ("; implies --dashboard" if switch else ""),
+        f"{off_loopback})" + ("; implies --dashboard" if switch else ""),
     )  # fmt: skip
     if secret:
         parser.add_argument(
             "--secret-file", default=None, metavar="FILE",
-            help="the shared secret a dashboard off loopback asks for, and a robot served "
-            "with one (tcp://, udp://, unix://) wants; ego secret makes one",
+            help=f"{secret_help} (ego secret makes one)",
         )  # fmt: skip
 
 
