@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import logging
 import math
+import re
 import subprocess
 import sys
 import traceback
@@ -101,6 +102,7 @@ def _cmd_replay(args: argparse.Namespace) -> int:
 def _cmd_swarm(args: argparse.Namespace) -> int:
     from ego.swarm import Swarm, robot_name
 
+    _no_address_for_a_controller(args.controllers)
     with Swarm(args.robots, args.world, args.firmware, args.seed, args.zenoh_endpoint) as swarm:
         if args.dashboard:
             secret = _secret(args)
@@ -125,6 +127,18 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _no_address_for_a_controller(files: Sequence[str]) -> None:
+    """Refuse a missing controller file named like ``HOST:PORT``: the older command line
+    ``--dashboard HOST:PORT file.py`` now means the dashboard, then the controller
+    ``HOST:PORT``."""
+    for name in files:
+        if not Path(name).exists() and re.fullmatch(r"\[?[\w.:-]*\]?:\d+", name):
+            raise EgoError(
+                f"controller file {name!r} does not exist: a dashboard's address goes "
+                f"after --dashboard-address (ego run --dashboard-address {name} file.py)"
+            )
+
+
 def _secret(args: argparse.Namespace) -> bytes | None:
     """The shared secret in ``--secret-file``, or None."""
     from ego.remote.auth import load_secret
@@ -140,6 +154,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from ego.scheduler import tune_for_stepping
     from ego.supervisor import wants_supervision
 
+    _no_address_for_a_controller([args.controller])
     secret = _secret(args)
     if args.supervised is None:
         args.supervised = wants_supervision(args.port)

@@ -94,6 +94,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="serve the robot as a Zenoh node instead of on --listen: ego/NAME/... "
         "(docs/zenoh.md); controllers reach it as zenoh://NAME",
     )
+    _add_zenoh_arguments(parser)
+    add_dashboard_options(
+        parser, "a dashboard of the robot as the client drives it, with a stop button",
+        secret=False,  # --secret-file above serves the dashboard too
+    )  # fmt: skip
+    parser.add_argument(
+        "--camera",
+        metavar="DEVICE",
+        default=None,
+        help=f"video device to serve (default: $EGO_CAMERA, else {DEFAULT_CAMERA_DEVICE} if it "
+        "exists; the emulator's camera with --port sim); 'none' serves no camera",
+    )
+
+
+def _add_zenoh_arguments(parser: argparse.ArgumentParser) -> None:
+    """``ego serve --zenoh`` and its session's options."""
     parser.add_argument("--name", default="epuck", help="the robot's Zenoh name (default epuck)")
     parser.add_argument(
         "--zenoh-listen",
@@ -107,17 +123,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="Zenoh endpoint (a router, another peer) to connect to, repeatable",
     )  # fmt: skip
     parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration")
-    add_dashboard_options(
-        parser, "a dashboard of the robot as the client drives it, with a stop button",
-        secret=False,  # --secret-file above serves the dashboard too
-    )  # fmt: skip
-    parser.add_argument(
-        "--camera",
-        metavar="DEVICE",
-        default=None,
-        help=f"video device to serve (default: $EGO_CAMERA, else {DEFAULT_CAMERA_DEVICE} if it "
-        "exists; the emulator's camera with --port sim); 'none' serves no camera",
-    )
 
 
 @dataclass
