@@ -302,10 +302,11 @@ def _option_help(text: str, option: str) -> str:
     return " ".join(line.strip() for line in lines[start:end])
 
 
-@pytest.mark.parametrize("command", ["demo", "run", "swarm"])
+@pytest.mark.parametrize("command", ["demo", "run", "swarm", "sim"])
 def test_world_and_seed_say_what_they_take(command: str) -> None:
     text = _help(command)
     world = _option_help(text, "--world")
     assert ".wbt" in world and "TOML" in world, world
     seed = _option_help(text, "--seed")
     assert "noise" in seed and "default" in seed, seed
+    assert "TOML" in world
