@@ -78,6 +78,9 @@ class Opened:
     #: What paces the robot's steps, for a robot whose time is not the wall clock's (a
     #: replay at 4x); None: real time.
     clock: StepClock | None = None
+    #: When the last reply came, in seconds, for the checks of a reply's plausibility (a
+    #: replay: when the recorded robot's came); None: the host's monotonic clock.
+    reply_clock: Callable[[], float] | None = None
 
     def close(self) -> None:
         """Close the channel and everything beside it; idempotent."""

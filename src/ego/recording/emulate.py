@@ -12,7 +12,9 @@ acknowledged at once: a replay has no wheels to stop.
 
 ``replay://run.mcap?speed=4`` paces the controller's steps at four times real time
 (0.25, 0.5, 1, 2 or 4; default 1): the controller's own time still advances by each
-step's length.
+step's length. Whatever the pace, each reply is judged plausible or not (an encoder's
+jump against the time since its last reading) at the time the recorded robot's came, as
+it was then: a replay asks again exactly where the recorded run did, never elsewhere.
 
 The camera's frames are in the recording as JPEG for viewing; they are not fed back to
 a controller (a JPEG is not the frame the camera gave), so the replayed robot has no
@@ -22,12 +24,13 @@ camera.
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from ego.backends import Opened
 from ego.errors import LinkError, LinkLostError, UnsupportedDeviceError
-from ego.recording.reader import Recording
+from ego.recording.reader import Recording, RecordingError
 from ego.safety import stop_requests
 from ego.scheduler import StepClock
 from ego.serial.firmware import FirmwareInfo, gctronic_profile
@@ -36,6 +39,8 @@ from ego.serial.protocol import PROFILES, Batch, Firmware, Profile, parse_batch
 
 __all__ = ["SPEEDS", "ReplayBackend", "ReplayChannel", "ReplayDivergedError", "ReplayEndedError"]
 
+#: Where a recording keeps each batch and its reply (ego.recording.writer).
+EXCHANGE_TOPIC = "/ego/exchange"
 #: The paces a replay plays at, as multiples of real time (the dashboard's player's too).
 SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)
 
@@ -73,11 +78,23 @@ def _info(metadata: dict[str, str]) -> FirmwareInfo:
 class ReplayChannel:
     """The channel of a recorded run (see the module's doc)."""
 
-    def __init__(self, recording: Recording) -> None:
+    def __init__(self, recording: Recording, reply_times_ns: Sequence[int] = ()) -> None:
         self.recording = recording
         self._info = _info(recording.metadata)
         self._stats = LinkStats()
         self._next = 0
+        #: When each recorded reply came (wall clock, ns), one an exchange; () if unknown.
+        self._reply_times_ns = reply_times_ns
+        self._last_reply_s = 0.0
+
+    @property
+    def replies_timed(self) -> bool:
+        """Whether the recording says when each reply came."""
+        return bool(self._reply_times_ns)
+
+    def reply_time(self) -> float:
+        """When the recorded robot's reply to the last batch answered came (seconds)."""
+        return self._last_reply_s
 
     @property
     def name(self) -> str:
@@ -112,6 +129,8 @@ class ReplayChannel:
                 f"{_letters(asked)}, but the recorded run asked {_letters(then)}: the replay "
                 "cannot answer what was never recorded"
             )
+        if self._reply_times_ns:
+            self._last_reply_s = self._reply_times_ns[self._next] / 1e9
         self._next += 1
         self._stats.batches += 1
         self._stats.bytes_sent += len(batch.tx)
@@ -161,15 +180,32 @@ def paced_clock(speed: float) -> StepClock:
                      sleep=lambda seconds: time.sleep(seconds / speed))  # fmt: skip
 
 
+def _reply_times_ns(recording: Recording) -> list[int]:
+    """When each recorded exchange's reply came (its message's log time, ns), in order;
+    [] when they cannot be matched one to one with the recording's exchanges."""
+    from mcap.exceptions import McapError
+    from mcap.reader import make_reader
+
+    try:
+        with open(recording.path, "rb") as f:
+            times = [message.log_time for _, _, message in make_reader(f).iter_messages(
+                topics=[EXCHANGE_TOPIC], log_time_order=True)]  # fmt: skip
+    except (OSError, McapError, ValueError) as exc:
+        raise RecordingError(f"{recording.path}: not a readable ego recording: {exc}") from exc
+    return times if len(times) == len(recording.exchanges) else []
+
+
 class ReplayBackend:
     """``Robot("replay://run.mcap")``: the run recorded in that file, at ``?speed=X``."""
 
     def open(self, port: str, *, firmware: Firmware | None) -> Opened:
         path, speed = _speed(port)
         recording = Recording.open(Path(path))
-        channel = ReplayChannel(recording)
+        channel = ReplayChannel(recording, _reply_times_ns(recording))
         if firmware is not None and channel.info.firmware is not firmware:
             raise UnsupportedDeviceError(
                 f"{port} recorded a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
-        return Opened(channel, clock=None if speed == 1.0 else paced_clock(speed))
+        clock = None if speed == 1.0 else paced_clock(speed)
+        reply_clock = channel.reply_time if channel.replies_timed else None
+        return Opened(channel, clock=clock, reply_clock=reply_clock)
