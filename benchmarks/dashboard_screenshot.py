@@ -20,7 +20,8 @@ def main(argv: list[str]) -> int:
 
     out = Path(argv[0] if argv else "docs/dashboard.png")
     demo = subprocess.Popen(
-        [sys.executable, "-m", "ego", "demo", "--duration", "25", "--dashboard", "127.0.0.1:0"],
+        [sys.executable, "-m", "ego", "demo", "--duration", "25", "--dashboard-address",
+         "127.0.0.1:0"],
         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
     )  # fmt: skip
     try:

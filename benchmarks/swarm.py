@@ -50,11 +50,12 @@ def _udp_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
     from ego.backends import find_backend
     from ego.remote.server import Server, ServerThread
     from ego.serial.protocol import Firmware
+    from ego.swarm import robot_seed
 
     backend: Any = find_backend("sim")
     with contextlib.ExitStack() as stack:
         urls = []
-        for world in backend.swarm_worlds(None, count, 1):
+        for world in backend.swarm_worlds(None, [robot_seed(1, i) for i in range(count)]):
             opened = backend.open("sim", firmware=Firmware.WEBOTS, world=world)
             stack.callback(opened.close)
             thread = stack.enter_context(

@@ -72,13 +72,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="KIND=RATE|KIND@N",
         help=f"inject faults; KIND is one of {', '.join(FAULT_KINDS)}",
     )
-    parser.add_argument("--seed", type=int, default=None, help="seed for noise and faults")
+    parser.add_argument(
+        "--seed", type=int, default=None,
+        help="seed for noise and faults (default: a fresh one each run)",
+    )  # fmt: skip
     parser.add_argument(
         "--world",
         default=None,
         metavar="NAME|FILE",
-        help="the world: a TOML world file, or a built-in one (arena, line-track, maze, "
-        "light; default arena)",
+        help="the world: a TOML world file, a Webots world (.wbt), or a built-in one "
+        "(arena, line-track, maze, light; default arena)",
     )
     parser.add_argument(
         "--hardware-version",

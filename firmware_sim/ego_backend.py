@@ -10,6 +10,7 @@ entry point group (pyproject.toml) and never imports ``firmware_sim``.
 from __future__ import annotations
 
 import errno
+from collections.abc import Sequence
 from typing import Any
 
 from ego.backends import Opened, open_link
@@ -140,17 +141,17 @@ class SimBackend:
         )
 
     @staticmethod
-    def swarm_worlds(spec: str | None, count: int, seed: int | None = None) -> list[Any]:
-        """``count`` worlds made from one world file (a built-in's name, a path, None for
-        the default arena), joined into one crowd: ego swarm's robots, each starting
-        where the file places it, the others spread around the centre."""
+    def swarm_worlds(spec: str | None, seeds: Sequence[int | None]) -> list[Any]:
+        """One world for each of ``seeds`` (its robot's noise seed), all made from one
+        world file (a built-in's name, a path, None for the default arena), joined into
+        one crowd: ego swarm's robots, each starting where the file places it, the others
+        spread around the centre."""
         from firmware_sim.crowd import Crowd, spread_poses
 
         worlds: list[World] = [
-            load_world(spec, None if seed is None else seed + k) if spec else World(seed=seed)
-            for k in range(count)
-        ]  # fmt: skip
-        poses = spread_poses(count, worlds[0].arena.half_size_m,
+            load_world(spec, seed) if spec else World(seed=seed) for seed in seeds
+        ]
+        poses = spread_poses(len(worlds), worlds[0].arena.half_size_m,
                              worlds[0].starts if spec else [])  # fmt: skip
         for world, pose in zip(worlds, poses, strict=True):
             world.start_at(pose)  # before they meet: nobody is in anybody's way yet

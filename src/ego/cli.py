@@ -1,10 +1,11 @@
-"""The ``ego`` command: demo, run, sim, serve, bench."""
+"""The ``ego`` command: demo, run, sim, serve, secret, replay, swarm, plot, bench."""
 
 from __future__ import annotations
 
 import argparse
 import logging
 import math
+import re
 import subprocess
 import sys
 import traceback
@@ -13,8 +14,17 @@ from pathlib import Path
 from typing import Any
 
 from ego import __version__, runtime
+from ego.cli_options import (
+    DEFAULT_DASHBOARD,
+    CommandParser,
+    add_dashboard_options,
+    error_line,
+    firmware_parent,
+    missing_extra,
+    seed_parent,
+    world_parent,
+)
 from ego.errors import ControllerError, EgoError
-from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES
 
 __all__ = ["build_parser", "main"]
 
@@ -46,12 +56,23 @@ def _deadline_ms(text: str) -> int:
     return value
 
 
+def _speed(text: str) -> float:
+    from ego.recording.emulate import SPEEDS
+
+    value = _positive(text)
+    if value not in SPEEDS:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not one of {', '.join(f'{s:g}' for s in SPEEDS)}"
+        )
+    return value
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     from ego.demo import run_demo
     from ego.scheduler import tune_for_stepping
 
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
-    dashboard = None if args.no_dashboard else args.dashboard
+    dashboard = None if args.no_dashboard else (args.dashboard or DEFAULT_DASHBOARD)
     run_demo(args.duration, args.firmware, args.seed, world=args.world, dashboard=dashboard,
              record=args.record)  # fmt: skip
     return 0
@@ -64,7 +85,8 @@ def _cmd_replay(args: argparse.Namespace) -> int:
 
         if not args.controller:
             raise SystemExit("ego replay --emulate needs a controller file after the recording")
-        options = runtime.RunOptions(port=f"replay://{args.recording}")
+        # The replay paces the controller's steps at --speed times real time.
+        options = runtime.RunOptions(port=f"replay://{args.recording}?speed={args.speed:g}")
         with observe_run(options, dashboard=args.dashboard, secret_file=args.secret_file):
             run_controller(args.controller[0], options, args.controller[1:])
         return 0
@@ -73,18 +95,17 @@ def _cmd_replay(args: argparse.Namespace) -> int:
                          "--emulate")  # fmt: skip
     from ego.recording.play import play
 
-    return play(args.recording, args.dashboard or "127.0.0.1:8765", args.secret_file,
+    return play(args.recording, args.dashboard or DEFAULT_DASHBOARD, args.secret_file,
                 args.speed, args.duration)  # fmt: skip
 
 
 def _cmd_swarm(args: argparse.Namespace) -> int:
     from ego.swarm import Swarm, robot_name
 
+    _no_address_for_a_controller(args.controllers)
     with Swarm(args.robots, args.world, args.firmware, args.seed, args.zenoh_endpoint) as swarm:
         if args.dashboard:
-            from ego.remote.auth import load_secret
-
-            secret = load_secret(args.secret_file) if args.secret_file else None
+            secret = _secret(args)
             url = swarm.serve_dashboard(args.dashboard, secret)
             print(f"ego swarm: dashboard at {url}", file=sys.stderr, flush=True)
         print(f"ego swarm: {args.robots} emulated e-pucks "
@@ -106,56 +127,82 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _no_address_for_a_controller(files: Sequence[str]) -> None:
+    """Refuse a missing controller file named like ``HOST:PORT``: the older command line
+    ``--dashboard HOST:PORT file.py`` now means the dashboard, then the controller
+    ``HOST:PORT``."""
+    for name in files:
+        if not Path(name).exists() and re.fullmatch(r"\[?[\w.:-]*\]?:\d+", name):
+            raise EgoError(
+                f"controller file {name!r} does not exist: a dashboard's address goes "
+                f"after --dashboard-address (ego run --dashboard-address {name} file.py)"
+            )
+
+
+def _secret(args: argparse.Namespace) -> bytes | None:
+    """The shared secret in ``--secret-file``, or None."""
+    from ego.remote.auth import load_secret
+
+    return load_secret(args.secret_file) if args.secret_file else None
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
+    from ego.backends import takes_option
     from ego.observers import observe_run
+    from ego.ports import resolve_port
     from ego.runner import run_controller
     from ego.scheduler import tune_for_stepping
-    from ego.supervisor import run_supervised, wants_supervision
+    from ego.supervisor import wants_supervision
 
+    _no_address_for_a_controller([args.controller])
     if args.fast and args.port != "sim":
         raise EgoError(f"--fast runs the emulator in virtual time: it needs --port sim, "
                        f"not {args.port or 'a real robot'}")  # fmt: skip
+    secret = _secret(args)
     if args.supervised is None:
         args.supervised = wants_supervision(args.port)
     if args.supervised:
-        passed = [
-            *(["--duration", str(args.duration)] if args.duration is not None else []),
-            "--time-step",
-            str(args.time_step),
-            *(["-" + "v" * args.verbose] if args.verbose > 0 else []),
-            *(["-q"] if args.verbose < 0 else []),
-            *(["--strict"] if args.strict else []),
-            *(["--camera", "{}x{}".format(*args.camera)] if args.camera else []),
-            *(["--dashboard", args.dashboard] if args.dashboard else []),
-            *(["--secret-file", args.secret_file] if args.secret_file else []),
-            *(["--record", args.record] if args.record else []),
-        ]
-        return run_supervised(
-            args.controller,
-            passed,
-            args.args,
-            port=args.port,
-            firmware=args.firmware or "auto",
-            deadline_s=args.supervisor_deadline_ms / 1000,
-        )
-
+        return _run_supervised(args, secret)
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
-
+    # The secret goes to the robot's backend when it takes one (a served robot's), and to
+    # the dashboard; an emulator or a serial port takes none.
+    wanted = takes_option(resolve_port(args.port), "secret")
     options = runtime.RunOptions(
-        port=args.port,
-        firmware=args.firmware,
-        duration_s=args.duration,
-        basic_time_step_ms=args.time_step,
-        seed=args.seed,
-        strict=args.strict,
-        camera_size=args.camera,
-        world=args.world,
+        port=args.port, firmware=args.firmware, duration_s=args.duration,
+        basic_time_step_ms=args.time_step, seed=args.seed, strict=args.strict,
+        camera_size=args.camera, world=args.world, secret=secret if wanted else None,
         fast=args.fast,
-    )
+    )  # fmt: skip
     with observe_run(options, dashboard=args.dashboard, secret_file=args.secret_file,
                      record=args.record):  # fmt: skip
         run_controller(args.controller, options, args.args)
     return 0
+
+
+def _run_supervised(args: argparse.Namespace, secret: bytes | None) -> int:
+    """``ego run --supervised``: this process holds the port, a child runs the controller."""
+    from ego.supervisor import run_supervised
+
+    passed = [
+        *(["--duration", str(args.duration)] if args.duration is not None else []),
+        "--time-step",
+        str(args.time_step),
+        *(["-" + "v" * args.verbose] if args.verbose > 0 else []),
+        *(["-q"] if args.verbose < 0 else []),
+        *(["--strict"] if args.strict else []),
+        *(["--camera", "{}x{}".format(*args.camera)] if args.camera else []),
+        *(["--dashboard-address", args.dashboard] if args.dashboard else []),
+        *(["--secret-file", args.secret_file] if args.secret_file else []),
+        *(["--record", args.record] if args.record else []),
+    ]
+    try:
+        return run_supervised(
+            args.controller, passed, args.args, port=args.port,
+            firmware=args.firmware or "auto", deadline_s=args.supervisor_deadline_ms / 1000,
+            secret=secret,
+        )  # fmt: skip
+    except KeyboardInterrupt:
+        return 130  # the controller, which had the Ctrl-C too, said it stopped
 
 
 def _cmd_sim(args: argparse.Namespace) -> int:
@@ -225,131 +272,103 @@ def _add_verbosity(parser: argparse.ArgumentParser, default: object) -> None:
     )
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="ego", description="Run e-puck controllers on the robot, the emulator or remotely."
-    )
-    parser.add_argument("--version", action="version", version=f"ego {__version__}")
-    _add_verbosity(parser, default=0)
-    sub = parser.add_subparsers(dest="command", required=True)
-
-    demo = sub.add_parser("demo", help="obstacle avoidance on the built-in emulator, shown live")
+def _add_demo(sub: Any) -> None:
+    demo = sub.add_parser(
+        "demo", help="obstacle avoidance on the built-in emulator, shown live",
+        parents=[firmware_parent(emulated=True, default="webots"), seed_parent(1, ""),
+                 world_parent("the emulator's world")],
+    )  # fmt: skip
     demo.add_argument("--duration", type=_positive, default=20.0, help="seconds (default 20)")
-    demo.add_argument(
-        "--firmware",
-        choices=(*FIRMWARE_CHOICES[1:], *DEPRECATED_FIRMWARE_NAMES),
-        metavar="{gctronic,webots}",
-        default="webots",
-        help="which firmware the emulator answers as (default: webots)",
-    )
-    demo.add_argument("--seed", type=int, default=1)
-    demo.add_argument(
-        "--world",
-        default=None,
-        metavar="NAME|FILE",
-        help="the emulator's world: arena (default), line-track, maze, light, or a TOML file",
-    )
-    demo.add_argument(
-        "--dashboard",
-        default="127.0.0.1:8765",
-        metavar="HOST:PORT",
-        help="where the live dashboard listens (default 127.0.0.1:8765; the URL is printed)",
-    )
+    add_dashboard_options(demo, "the live dashboard, on unless --no-dashboard", secret=False,
+                          off_loopback="loopback only: the demo takes no secret")  # fmt: skip
     demo.add_argument("--no-dashboard", action="store_true", help="no dashboard")
     demo.add_argument("--record", default=None, metavar="FILE.mcap", help="record the run")
     demo.set_defaults(func=_cmd_demo)
 
-    run = sub.add_parser("run", help="run a Webots controller file unchanged")
+
+def _add_run(sub: Any) -> None:
+    run = sub.add_parser(
+        "run", help="run a Webots controller file unchanged",
+        parents=[firmware_parent(emulated=False, default=None),
+                 seed_parent(None, " (port sim)"), world_parent("the emulator's world (port sim)")],
+    )  # fmt: skip
+    run.add_argument("--port", default=None, help="serial port, pyserial URL, 'sim', tcp://, "
+                     "udp://, unix://, zenoh:// (default: EGO_PORT or /dev/ttyS0)")  # fmt: skip
+    run.add_argument("--duration", type=_positive, default=None,
+                     help="stop after this many seconds of controller time")  # fmt: skip
+    run.add_argument("--time-step", type=_positive, default=32.0,
+                     help="what getBasicTimeStep() answers, ms (default 32)")  # fmt: skip
+    run.add_argument("--camera", type=_camera_size, default=None, metavar="WxH",
+                     help="the Webots face's camera size (default 52x39, Webots' "
+                     "e-puck's)")  # fmt: skip
+    run.add_argument("--strict", action="store_true", help="where Webots warns and carries "
+                     "on (a device the e-puck has not), raise ego's error instead")  # fmt: skip
+    run.add_argument("--fast", action="store_true", help="port sim: run in virtual time, as "
+                     "fast as the CPU allows (Webots' fast mode); the same world, sensors "
+                     "and batches, but the world moves only as the controller steps")  # fmt: skip
     run.add_argument(
-        "--port",
-        default=None,
-        help="serial port, pyserial URL, 'sim', tcp:// or udp:// (default: EGO_PORT or /dev/ttyS0)",
-    )
-    run.add_argument(
-        "--firmware",
-        choices=(*FIRMWARE_CHOICES, *DEPRECATED_FIRMWARE_NAMES),
-        metavar="{auto,gctronic,webots}",
-        default=None,
-        help="the dsPIC's firmware (default: auto, asked with V and C at open)",
-    )
-    run.add_argument(
-        "--duration",
-        type=_positive,
-        default=None,
-        help="stop after this many seconds of controller time",
-    )
-    run.add_argument(
-        "--time-step",
-        type=_positive,
-        default=32.0,
-        help="what getBasicTimeStep() answers, ms (default 32)",
-    )
-    run.add_argument("--seed", type=int, default=None, help="seed of the emulator (port sim)")
-    run.add_argument(
-        "--world",
-        default=None,
-        metavar="NAME|FILE",
-        help="the emulator's world (port sim): arena, line-track, maze, light, or a TOML file",
-    )
-    run.add_argument(
-        "--camera",
-        type=_camera_size,
-        default=None,
-        metavar="WxH",
-        help="the Webots face's camera size (default 52x39, Webots' e-puck's)",
-    )
-    run.add_argument(
-        "--strict",
-        action="store_true",
-        help="where Webots warns and carries on (a device the e-puck has not), raise ego's "
-        "error instead",
-    )
-    run.add_argument(
-        "--fast",
-        action="store_true",
-        help="port sim: run in virtual time, as fast as the CPU allows (Webots' fast mode); "
-        "the same world, sensors and serial batches, but the world moves only as the "
-        "controller steps",
-    )
-    run.add_argument(
-        "--supervised",
-        action=argparse.BooleanOptionalAction,
-        default=None,
+        "--supervised", action=argparse.BooleanOptionalAction, default=None,
         help="a supervisor process owns the port and stops the robot however the controller "
         "ends (SIGKILL, out of memory, a loop that stops stepping); default: on for the "
         "robot's own UART (/dev/ttyS*), off elsewhere",
-    )
-    run.add_argument(
-        "--supervisor-deadline-ms",
-        type=_deadline_ms,
-        default=500,
-        metavar="MS",
-        help="a supervised controller that does not step for this long has its robot "
-        "stopped (1..60000, default 500)",
-    )
-    run.add_argument(
-        "--dashboard",
-        nargs="?",
-        const="127.0.0.1:8765",
-        default=None,
-        metavar="HOST:PORT",
-        help="serve a live dashboard of the robot (default address 127.0.0.1:8765; off "
-        "loopback it needs --secret-file)",
-    )
-    run.add_argument(
-        "--secret-file",
-        default=None,
-        metavar="FILE",
-        help="the shared secret a dashboard off loopback asks for (ego secret makes one)",
-    )
-    run.add_argument(
-        "--record", default=None, metavar="FILE.mcap", help="record every step to MCAP"
-    )
+    )  # fmt: skip
+    run.add_argument("--supervisor-deadline-ms", type=_deadline_ms, default=500, metavar="MS",
+                     help="a supervised controller that does not step for this long has its "
+                     "robot stopped (1..60000, default 500)")  # fmt: skip
+    add_dashboard_options(run, "a live dashboard of the robot", secret_help="the shared "
+                          "secret of a served robot (tcp://, udp://, unix://) that wants one, "
+                          "and of a dashboard off loopback")  # fmt: skip
+    run.add_argument("--record", default=None, metavar="FILE.mcap",
+                     help="record every step to MCAP")  # fmt: skip
     run.add_argument("controller", help="the controller's .py file")
     run.add_argument("args", nargs=argparse.REMAINDER, help="arguments for the controller")
     _add_verbosity(run, default=argparse.SUPPRESS)
     run.set_defaults(func=_cmd_run)
 
+
+def _add_replay(sub: Any) -> None:
+    replay = sub.add_parser("replay", help="play a recorded run back into the dashboard, "
+                            "or (--emulate) feed it to a controller as if it were the "
+                            "robot")  # fmt: skip
+    replay.add_argument("recording", help="the .mcap file ego run --record wrote")
+    replay.add_argument("controller", nargs="*",
+                        help="with --emulate: the controller file, then its arguments "
+                        "(after --)")  # fmt: skip
+    replay.add_argument("--emulate", action="store_true", help="run CONTROLLER against the "
+                        "recording: it reads exactly what the robot answered; it fails, "
+                        "saying at which step, where it asks what the run did not")  # fmt: skip
+    add_dashboard_options(replay, "a dashboard of the replayed robot with --emulate (a "
+                          "recording played back is always shown on one)")  # fmt: skip
+    replay.add_argument("--speed", type=_speed, default=1.0, metavar="X",
+                        help="times real time: 0.25, 0.5, 1, 2 or 4 (default 1); with "
+                        "--emulate, the pace of the controller's steps")  # fmt: skip
+    replay.add_argument("--duration", type=_positive, default=None,
+                        help="stop serving after this many seconds (default: Ctrl-C)")  # fmt: skip
+    replay.set_defaults(func=_cmd_replay)
+
+
+def _add_swarm(sub: Any) -> None:
+    swarm = sub.add_parser(
+        "swarm", help="N emulated e-pucks in one world, each controller in its own process "
+        "over Zenoh",
+        parents=[firmware_parent(emulated=True, default="webots"),
+                 seed_parent(1, " (each robot's own, derived from it and the robot's index)"),
+                 world_parent("the shared world (a file may place robots: [[robots]])")],
+    )  # fmt: skip
+    swarm.add_argument("--robots", type=int, default=4, help="how many (default 4)")
+    swarm.add_argument("--duration", type=_positive, default=None,
+                       help="each controller's duration, seconds of controller time")  # fmt: skip
+    swarm.add_argument("--zenoh-endpoint", default="tcp/127.0.0.1:7447", metavar="ENDPOINT",
+                       help="where the robots' Zenoh node listens (default loopback)")  # fmt: skip
+    add_dashboard_options(swarm, "a dashboard of the whole swarm")
+    swarm.add_argument("controllers", nargs="+", metavar="controller.py",
+                       help="one file for every robot, or one per robot in turn")  # fmt: skip
+    swarm.add_argument("--args", nargs="*", default=[], help="arguments for every controller")
+    swarm.set_defaults(func=_cmd_swarm)
+
+
+def _add_servers(sub: Any) -> None:
+    """sim, serve, secret: the emulator on a pty, and a robot served to others."""
     sim = sub.add_parser(
         "sim",
         help="serve the emulated dsPIC on a pty (prints its path; ego sim -h for its options)",
@@ -360,12 +379,9 @@ def build_parser() -> argparse.ArgumentParser:
     sim.set_defaults(func=_cmd_sim)
 
     serve = sub.add_parser("serve", help="let a PC drive this robot over TCP or UDP")
-    try:
-        from ego.remote.cli import add_arguments as add_serve_arguments
-    except ImportError:  # pragma: no cover - only while the remote package is absent
-        pass
-    else:
-        add_serve_arguments(serve)
+    from ego.remote.cli import add_arguments as add_serve_arguments
+
+    add_serve_arguments(serve)
     serve.set_defaults(func=_cmd_serve)
 
     secret = sub.add_parser(
@@ -376,54 +392,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     secret.set_defaults(func=_cmd_secret)
 
-    replay = sub.add_parser(
-        "replay",
-        help="play a recorded run back into the dashboard, or (--emulate) feed it to a "
-        "controller as if it were the robot",
-    )
-    replay.add_argument("recording", help="the .mcap file ego run --record wrote")
-    replay.add_argument(
-        "controller",
-        nargs="*",
-        help="with --emulate: the controller file, then its arguments (after --)",
-    )
-    replay.add_argument(
-        "--emulate",
-        action="store_true",
-        help="run CONTROLLER against the recording: it reads exactly what the robot answered",
-    )
-    replay.add_argument("--dashboard", default=None, metavar="HOST:PORT",
-                        help="where the dashboard listens (default 127.0.0.1:8765)")  # fmt: skip
-    replay.add_argument("--secret-file", default=None, metavar="FILE",
-                        help="the shared secret a dashboard off loopback asks for")  # fmt: skip
-    replay.add_argument("--speed", type=float, default=1.0, help="0.25, 0.5, 1, 2 or 4")
-    replay.add_argument("--duration", type=_positive, default=None,
-                        help="stop serving after this many seconds (default: Ctrl-C)")  # fmt: skip
-    replay.set_defaults(func=_cmd_replay)
 
-    swarm = sub.add_parser(
-        "swarm", help="N emulated e-pucks in one world, each controller in its own process "
-        "over Zenoh",
-    )  # fmt: skip
-    swarm.add_argument("--robots", type=int, default=4, help="how many (default 4)")
-    swarm.add_argument("--world", default=None, metavar="NAME|FILE",
-                       help="the shared world (a file may place robots: [[robots]])")  # fmt: skip
-    swarm.add_argument("--firmware", choices=("gctronic", "webots"), default="webots")
-    swarm.add_argument("--seed", type=int, default=1)
-    swarm.add_argument("--duration", type=_positive, default=None,
-                       help="each controller's duration, seconds of controller time")  # fmt: skip
-    swarm.add_argument("--zenoh-endpoint", default="tcp/127.0.0.1:7447", metavar="ENDPOINT",
-                       help="where the robots' Zenoh node listens (default loopback)")  # fmt: skip
-    swarm.add_argument("--dashboard", nargs="?", const="127.0.0.1:8765", default=None,
-                       metavar="HOST:PORT", help="a dashboard of the whole swarm")  # fmt: skip
-    swarm.add_argument("controllers", nargs="+", metavar="controller.py",
-                       help="one file for every robot, or one per robot in turn")  # fmt: skip
-    swarm.add_argument("--args", nargs="*", default=[], help="arguments for every controller")
-    swarm.add_argument("--secret-file", default=None, metavar="FILE",
-                       help="the shared secret a dashboard off loopback asks for")  # fmt: skip
-    swarm.set_defaults(func=_cmd_swarm)
-
-    plot = sub.add_parser("plot", help="PNG plots of a recorded run (sensors, path, timing)")
+def _add_tools(sub: Any) -> None:
+    """plot, bench: the commands around the runs."""
+    plot = sub.add_parser("plot", help="PNG plots of a recorded run (sensors, path, timing; "
+                          "needs matplotlib: pip install 'ego[plot]')")  # fmt: skip
     plot.add_argument("recording", help="the .mcap file ego run --record wrote")
     plot.add_argument("--out", default=".", metavar="DIR", help="where to write (default .)")
     plot.set_defaults(func=_cmd_plot)
@@ -432,16 +405,27 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument(
         "--quick", action="store_true", help="few repetitions, small sizes: a smoke test"
     )
-    bench.add_argument(
-        "--only",
-        action="append",
-        default=[],
-        metavar="SECTION",
-        help="run only this section (repeatable; see python -m benchmarks -h)",
-    )
+    bench.add_argument("--only", action="append", default=[], metavar="SECTION",
+                       help="run only this section (repeatable; see python -m "
+                       "benchmarks -h)")  # fmt: skip
     bench.add_argument("--out", default=None, help="results folder")
     bench.set_defaults(func=_cmd_bench)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="ego", description="Run e-puck controllers on the robot, the emulator or remotely."
+    )
+    parser.add_argument("--version", action="version", version=f"ego {__version__}")
+    _add_verbosity(parser, default=0)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=CommandParser)
+    for add in (_add_demo, _add_run, _add_servers, _add_replay, _add_swarm, _add_tools):
+        add(sub)
     return parser
+
+
+#: What ``ego`` says when Ctrl-C ends a command that drives robots.
+_STOPPED = {"run": " (robot stopped)", "demo": " (robot stopped)", "swarm": " (robots stopped)"}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -456,13 +440,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(shown or exc.traceback, end="", file=sys.stderr)
         print(f"ego: error: {exc}", file=sys.stderr)
         return 1
-    except EgoError as exc:
-        print(f"ego: error: {exc}", file=sys.stderr)
+    except (EgoError, FileNotFoundError) as exc:
+        print(f"ego: error: {error_line(exc)}", file=sys.stderr)
         return 1
-    except FileNotFoundError as exc:
-        print(f"ego: error: {exc}", file=sys.stderr)
+    except ModuleNotFoundError as exc:
+        needed = missing_extra(exc, args.command)
+        if needed is None:
+            raise
+        print(f"ego: error: {needed}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
+        print(f"ego: stopped by Ctrl-C{_STOPPED.get(args.command, '')}", file=sys.stderr)
         return 130
 
 

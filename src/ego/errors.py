@@ -34,6 +34,7 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     │   └── ImageFormatError (ValueError)        a file extension neither JPEG nor PNG
     └── RemoteError (ConnectionError)
         ├── AuthenticationError                  wrong or missing shared secret
+        │   └── SecretRequiredError              the server wants a secret; none was given
         ├── RobotBusyError                       another client already controls the robot
         ├── InsecureSecretError (ValueError)     a secret too short, or a file others can read
         └── FrameError (ValueError)              a malformed or oversized network frame
@@ -76,6 +77,7 @@ __all__ = [
     "RemoteError",
     "RobotBusyError",
     "RobotResetError",
+    "SecretRequiredError",
     "SettingOutOfRangeError",
     "ShortReplyError",
     "StepOverrunWarning",
@@ -248,6 +250,26 @@ class RemoteError(EgoError, ConnectionError):
 
 class AuthenticationError(RemoteError):
     """The shared secret was wrong or missing."""
+
+
+class SecretRequiredError(AuthenticationError):
+    """The server wants a shared secret and none was given.
+
+    Its message says how to give one in Python; :meth:`told` says it in another
+    interface's words (``ego run`` says "pass --secret-file FILE").
+    """
+
+    #: How a Python program gives the secret.
+    PYTHON_REMEDY = "pass secret=..., or set EGO_SECRET_FILE or EGO_SECRET"
+
+    def __init__(self, where: str) -> None:
+        super().__init__(self.told(where, self.PYTHON_REMEDY))
+        self.where = where
+
+    @staticmethod
+    def told(where: str, remedy: str) -> str:
+        """The message for the robot at ``where``, with ``remedy`` saying how to give one."""
+        return f"{where} requires a shared secret: {remedy}"
 
 
 class RobotBusyError(RemoteError):

@@ -106,8 +106,10 @@ class Robot:
         self.link: Channel = self._opened.channel
         self._closed = False
         self._lost = False
-        #: Paces the steps: the wall clock, or an emulator's virtual time (``--fast``).
+        #: Paces the steps: the wall clock, or an emulator's virtual time (``--fast``), or a
+        #: replay's clock at its speed.
         self.clock: Pacer = self._opened.pacer or StepClock()
+        self._reply_clock = self._opened.reply_clock or time.monotonic
         # Everything the stop and the close need, held apart from the Robot so that a
         # finalizer can stop the wheels when the Robot is dropped without close(), or
         # when the interpreter exits with it still open.
@@ -313,7 +315,7 @@ class Robot:
             guard(self)
         try:
             with self.link_lock:
-                run_step(self._step_parts, self.link, now, self._restarted)
+                run_step(self._step_parts, self.link, now, self._restarted, self._reply_clock)
         except LinkLostError as exc:
             ended = getattr(exc, "expected", False)  # a replay's end: over, not broken
             log.log(logging.INFO if ended else logging.ERROR, "link lost for good: %s", exc)

@@ -38,6 +38,8 @@ class RunOptions:
     camera_size: tuple[int, int] | None = None
     #: ``ego run --fast``: the emulator in virtual time, as fast as it can (port sim).
     fast: bool = False
+    #: ``ego run --secret-file``: the shared secret of a served robot (tcp://, udp://, unix://).
+    secret: bytes | None = None
     #: Called with each core Robot a face creates (progress displays subscribe here).
     on_robot: list[Callable[[Robot], None]] = field(default_factory=list)
 
@@ -48,6 +50,7 @@ class RunOptions:
             "seed": self.seed,
             "world": self.world,
             "virtual_time": True if self.fast else None,
+            "secret": self.secret,
         }
 
     def time_is_up(self, time_s: float) -> bool:

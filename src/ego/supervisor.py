@@ -60,20 +60,24 @@ def run_supervised(
     port: str | None = None,
     firmware: str = "auto",
     deadline_s: float = DEFAULT_DEADLINE_S,
+    secret: bytes | None = None,
 ) -> int:
     """Run ``controller`` under supervision (see the module); its exit status.
 
     ``run_arguments`` are passed to the child's ``ego run`` (``--duration``...), never a
-    ``--port``: the child's port is the supervisor's socket.
+    ``--port``: the child's port is the supervisor's socket. ``secret`` (``--secret-file``)
+    goes to the robot's port if it takes one, and guards the socket: the child, given the
+    same ``--secret-file`` for its dashboard, proves it knows it there.
     """
     if not 0 < deadline_s <= 60:
         raise ValueError(f"supervisor deadline {deadline_s} s is outside 0..60 s")
     install_signal_handlers()
     folder = Path(tempfile.mkdtemp(prefix="ego-supervisor-"))  # mode 700
-    robot = open_robot(port, firmware)
+    robot = open_robot(port, firmware, secret=secret)
     try:
         url = f"unix://{folder / 'robot.sock'}"
-        server = Server(robot.channel, listen=url, deadline_s=deadline_s, frame_source=robot.camera)
+        server = Server(robot.channel, listen=url, secret=secret, deadline_s=deadline_s,
+                        frame_source=robot.camera)  # fmt: skip
         with ServerThread(server):
             log.info("supervising %s on %s", controller, robot.channel.name)
             return _run_child(url, controller, run_arguments, controller_arguments)

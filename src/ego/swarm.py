@@ -7,6 +7,11 @@ this process's Zenoh session; each runs its controller in a process of its own t
 ``ego run --port zenoh://epuckK``: the same path as a real robot's. Webots' Emitter and
 Receiver work between them (their signal strength from the world). Given several
 controller files, robot K runs file ``K mod len(files)``.
+
+Each robot's sensors have a noise stream of their own, seeded from the swarm's seed and
+the robot's index (:func:`robot_seed`): the same seed gives the same run, and no two
+robots read the same noise. What a controller prints reaches this process's standard
+output and error line by line, each line headed by its robot's name (``[epuck0] ``).
 """
 
 from __future__ import annotations
@@ -15,22 +20,35 @@ import contextlib
 import os
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import IO, Any
 
 from ego.backends import Opened, find_backend
 from ego.serial.protocol import Firmware
 
-__all__ = ["Swarm", "robot_name"]
+__all__ = ["MAX_ROBOTS", "Swarm", "robot_name", "robot_seed"]
 
 #: The names of a swarm's robots: epuck0, epuck1...
 NAME_PREFIX = "epuck"
+#: The largest swarm served.
+MAX_ROBOTS = 64
 
 
 def robot_name(index: int) -> str:
     return f"{NAME_PREFIX}{index}"
+
+
+def robot_seed(seed: int | None, index: int) -> int | None:
+    """The noise seed of robot ``index`` in a swarm seeded ``seed`` (None: a fresh one).
+
+    ``seed * MAX_ROBOTS + index``: distinct for every robot of every seed, so that two
+    seeds never share a stream between their robots (``seed + index`` would give robot 1
+    of seed 1 the noise of robot 0 of seed 2).
+    """
+    return None if seed is None else seed * MAX_ROBOTS + index
 
 
 @dataclass
@@ -50,15 +68,16 @@ class Swarm:
     _closers: list[Any] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        if not 1 <= self.count <= 64:
-            raise ValueError(f"a swarm of {self.count} robots: 1..64 are served")
+        if not 1 <= self.count <= MAX_ROBOTS:
+            raise ValueError(f"a swarm of {self.count} robots: 1..{MAX_ROBOTS} are served")
 
     def start(self) -> Swarm:
         from ego.zenoh_net.node import RobotNode
         from ego.zenoh_net.sessions import ZenohSettings, open_session
 
         backend: Any = find_backend("sim")
-        self.worlds = backend.swarm_worlds(self.world, self.count, self.seed)
+        seeds = [robot_seed(self.seed, index) for index in range(self.count)]
+        self.worlds = backend.swarm_worlds(self.world, seeds)
         self.session = open_session(ZenohSettings(listen=[self.endpoint], connect=[]))
         try:
             for index, world in enumerate(self.worlds):
@@ -107,29 +126,67 @@ class Swarm:
         self.close()
 
     def controller_env(self) -> dict[str, str]:
-        """The environment a controller process reaches its robot with."""
+        """The environment a controller process reaches its robot with (its output
+        unbuffered: its lines are relayed as they come)."""
         return {**os.environ, "EGO_ZENOH_CONNECT": self.endpoint,
-                "EGO_ZENOH_LISTEN": "tcp/127.0.0.1:0"}  # fmt: skip
+                "EGO_ZENOH_LISTEN": "tcp/127.0.0.1:0", "PYTHONUNBUFFERED": "1"}  # fmt: skip
 
     def run_controllers(
         self, files: Sequence[str], args: Sequence[str] = (), duration_s: float | None = None
     ) -> list[int]:
-        """Run each robot's controller in its own process until all end; their statuses."""
-        processes = []
-        for index in range(self.count):
-            command = [sys.executable, "-m", "ego", "run", "--port",
-                       f"zenoh://{robot_name(index)}"]  # fmt: skip
-            if duration_s is not None:
-                command += ["--duration", str(duration_s)]
-            command += [files[index % len(files)], *args]
-            processes.append(subprocess.Popen(command, env=self.controller_env()))
+        """Run each robot's controller in its own process until all end; their statuses.
+
+        Their output is relayed line by line, each line headed ``[epuckK] ``.
+        """
+        processes: list[subprocess.Popen[bytes]] = []
+        relays: list[threading.Thread] = []
         try:
+            for index in range(self.count):
+                command = [sys.executable, "-m", "ego", "run", "--port",
+                           f"zenoh://{robot_name(index)}"]  # fmt: skip
+                if duration_s is not None:
+                    command += ["--duration", str(duration_s)]
+                command += [files[index % len(files)], *args]
+                pipe = subprocess.PIPE
+                process = subprocess.Popen(command, env=self.controller_env(), stdout=pipe,
+                                           stderr=pipe)  # fmt: skip
+                processes.append(process)
+                relays += _relay(process, f"[{robot_name(index)}] ")
             return [process.wait() for process in processes]
         finally:
-            for process in processes:
-                if process.poll() is None:
-                    process.terminate()
-            deadline = time.monotonic() + 5
-            for process in processes:
-                with contextlib.suppress(subprocess.TimeoutExpired):
-                    process.wait(max(0.1, deadline - time.monotonic()))
+            _end_all(processes)
+            for relay in relays:
+                relay.join(5)
+
+
+def _relay(process: subprocess.Popen[bytes], prefix: str) -> list[threading.Thread]:
+    """Threads that copy ``process``'s output and errors here, each line after ``prefix``."""
+    pairs = ((process.stdout, sys.stdout), (process.stderr, sys.stderr))
+    threads = [
+        threading.Thread(target=_copy_lines, args=(source, to, prefix),
+                         name=f"ego-swarm-relay {prefix.strip()}", daemon=True)
+        for source, to in pairs
+        if source is not None
+    ]  # fmt: skip
+    for thread in threads:
+        thread.start()
+    return threads
+
+
+def _copy_lines(source: IO[bytes], to: IO[str], prefix: str) -> None:
+    with source:
+        for raw in source:
+            line = raw.decode("utf-8", "replace").rstrip("\r\n")
+            to.write(f"{prefix}{line}\n")
+            to.flush()
+
+
+def _end_all(processes: Sequence[subprocess.Popen[bytes]]) -> None:
+    """Terminate the processes still running, and give each up to 5 s to end."""
+    for process in processes:
+        if process.poll() is None:
+            process.terminate()
+    deadline = time.monotonic() + 5
+    for process in processes:
+        with contextlib.suppress(subprocess.TimeoutExpired):
+            process.wait(max(0.1, deadline - time.monotonic()))

@@ -175,7 +175,7 @@ def test_a_teleop_controller_runs_unchanged_from_the_browsers_keys(
 
     teleop = Path(__file__).parents[1] / "faces" / "controllers" / "keyboard_teleop.py"
     proc = subprocess.Popen(
-        [*ego_command(), "run", "--port", "sim", "--dashboard", "127.0.0.1:0", str(teleop)],
+        [*ego_command(), "run", "--port", "sim", "--dashboard-address", "127.0.0.1:0", str(teleop)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
     )  # fmt: skip
     try:

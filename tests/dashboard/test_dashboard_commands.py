@@ -54,7 +54,7 @@ def _visit_during(command: list[str], cwd: Path, stream: str) -> tuple[Any, str]
 
 def test_ego_demo_serves_its_dashboard_by_default_and_prints_the_url(tmp_path: Path) -> None:
     (status, hello, samples, frames), out = _visit_during(
-        ["demo", "--duration", "4", "--dashboard", "127.0.0.1:0"], tmp_path, "stdout"
+        ["demo", "--duration", "4", "--dashboard-address", "127.0.0.1:0"], tmp_path, "stdout"
     )
     assert status == 200
     assert hello["mode"] == "live" and hello["world"] is not None
@@ -65,8 +65,8 @@ def test_ego_demo_serves_its_dashboard_by_default_and_prints_the_url(tmp_path: P
 
 def test_ego_run_dashboard_and_record_together(tmp_path: Path) -> None:
     (status, hello, samples, _), _ = _visit_during(
-        ["run", "--port", "sim", "--duration", "3", "--dashboard", "127.0.0.1:0", "--record",
-         "run.mcap", str(LOGGER), "log.json"], tmp_path, "stderr",
+        ["run", "--port", "sim", "--duration", "3", "--dashboard-address", "127.0.0.1:0",
+         "--record", "run.mcap", str(LOGGER), "log.json"], tmp_path, "stderr",
     )  # fmt: skip
     assert status == 200 and hello["robot"]["port"] == "sim"
     assert samples[-1]["encoders"] is not None
@@ -80,7 +80,7 @@ def test_ego_replay_plays_a_recording_into_the_dashboard(tmp_path: Path) -> None
     )  # fmt: skip
     assert recorded.returncode == 0, recorded.stderr
     (status, hello, samples, _), _ = _visit_during(
-        ["replay", "run.mcap", "--duration", "4", "--dashboard", "127.0.0.1:0"], tmp_path,
+        ["replay", "run.mcap", "--duration", "4", "--dashboard-address", "127.0.0.1:0"], tmp_path,
         "stderr",
     )  # fmt: skip
     assert status == 200 and hello["mode"] == "replay"

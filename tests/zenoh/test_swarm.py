@@ -64,8 +64,9 @@ def _swarm(tmp_path: Path, robots: int, world: str) -> dict[str, dict[str, objec
         capture_output=True, text=True, timeout=120, cwd=tmp_path,
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
-    found = [json.loads(line[len("RESULT "):]) for line in result.stdout.splitlines()
-             if line.startswith("RESULT ")]  # fmt: skip
+    # Each line is headed by its robot's name: "[epuck0] RESULT {...}".
+    found = [json.loads(line.partition("RESULT ")[2]) for line in result.stdout.splitlines()
+             if "] RESULT " in line]  # fmt: skip
     return {str(r["me"]): r for r in found}
 
 

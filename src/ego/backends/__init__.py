@@ -60,6 +60,7 @@ __all__ = [
     "open_port",
     "register",
     "scheme_of",
+    "takes_option",
 ]
 
 #: Where packages declare backends: ``[project.entry-points."ego.backends"] sim = ...``.
@@ -85,6 +86,9 @@ class Opened:
     scene: Scene | None = None
     #: What paces the steps instead of the wall clock (an emulator's virtual time).
     pacer: Pacer | None = None
+    #: When the last reply came, in seconds, for the checks of a reply's plausibility (a
+    #: replay: when the recorded robot's came); None: the host's monotonic clock.
+    reply_clock: Callable[[], float] | None = None
 
     def close(self) -> None:
         """Close the channel and everything beside it; idempotent."""
@@ -263,6 +267,15 @@ def find_backend(scheme: str) -> Backend:
         factory = declared.load()
         _REGISTRY[scheme] = factory
     return factory()
+
+
+def takes_option(port: str, name: str) -> bool:
+    """Whether the backend of ``port`` names the option ``name`` among its own (a served
+    robot's backend takes ``secret``; the emulator's and a serial port's do not)."""
+    import inspect
+
+    parameters = inspect.signature(find_backend(scheme_of(port)).open).parameters
+    return name in parameters and parameters[name].kind is inspect.Parameter.KEYWORD_ONLY
 
 
 def open_port(port: str, *, firmware: Firmware | None = None, **options: Any) -> Opened:

@@ -5,8 +5,16 @@ against its recording: :class:`ReplayChannel` (the seam under ``Robot``) answers
 controller's k-th batch with the reply bytes the robot sent to the k-th batch of the
 run, so every value the controller reads is the one it read then, exactly. A controller
 that asks for something else than the run's controller did (another sensor, another
-order) is told where the two part ways, and a replay that reaches the end of the
-recording ends like a link that is gone: ``step`` returns -1.
+order) is told where the two part ways (:class:`ReplayDivergedError`, which ends the
+run), and a replay that reaches the end of the recording ends like a link that is gone:
+``step`` returns -1. A stop (wheels to 0, LEDs off) that the run did not record is
+acknowledged at once: a replay has no wheels to stop.
+
+``replay://run.mcap?speed=4`` paces the controller's steps at four times real time
+(0.25, 0.5, 1, 2 or 4; default 1): the controller's own time still advances by each
+step's length. Whatever the pace, each reply is judged plausible or not (an encoder's
+jump against the time since its last reading) at the time the recorded robot's came, as
+it was then: a replay asks again exactly where the recorded run did, never elsewhere.
 
 The camera's frames are in the recording as JPEG for viewing; they are not fed back to
 a controller (a JPEG is not the frame the camera gave), so the replayed robot has no
@@ -15,26 +23,43 @@ camera.
 
 from __future__ import annotations
 
+import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from ego.backends import Opened
-from ego.errors import LinkLostError, RecordingError, UnsupportedDeviceError
+from ego.errors import LinkError, LinkLostError, RecordingError, UnsupportedDeviceError
 from ego.recording.reader import Recording
+from ego.safety import stop_requests
+from ego.scheduler import StepClock
 from ego.serial.firmware import FirmwareInfo, gctronic_profile
 from ego.serial.link import LinkStats
 from ego.serial.protocol import PROFILES, Batch, Firmware, Profile, parse_batch
 
-__all__ = ["ReplayBackend", "ReplayChannel", "ReplayEndedError"]
+__all__ = ["SPEEDS", "ReplayBackend", "ReplayChannel", "ReplayDivergedError", "ReplayEndedError"]
+
+#: Where a recording keeps each batch and its reply (ego.recording.writer).
+EXCHANGE_TOPIC = "/ego/exchange"
+#: The paces a replay plays at, as multiples of real time (the dashboard's player's too).
+SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)
 
 
 class ReplayEndedError(LinkLostError):
-    """The recording has no more steps, or the controller asked what it never recorded."""
+    """The recording has no more steps: the run is over, as it was then."""
 
     def __init__(self, message: str, *, expected: bool = False) -> None:
         super().__init__(message)
         #: True at the recording's end: the run is over, as it was then, not broken.
         self.expected = expected
+
+
+class ReplayDivergedError(LinkError):
+    """The controller asked what the recorded run never asked: the replay cannot answer.
+
+    Not a lost link (``step`` does not return -1): the run ends with this error, which
+    says at which step and what each asked, so that ``ego replay --emulate`` fails.
+    """
 
 
 def _info(recording: Recording) -> FirmwareInfo:
@@ -64,11 +89,23 @@ def _firmware_info(metadata: dict[str, str]) -> FirmwareInfo:
 class ReplayChannel:
     """The channel of a recorded run (see the module's doc)."""
 
-    def __init__(self, recording: Recording) -> None:
+    def __init__(self, recording: Recording, reply_times_ns: Sequence[int] = ()) -> None:
         self.recording = recording
         self._info = _info(recording)
         self._stats = LinkStats()
         self._next = 0
+        #: When each recorded reply came (wall clock, ns), one an exchange; () if unknown.
+        self._reply_times_ns = reply_times_ns
+        self._last_reply_s = 0.0
+
+    @property
+    def replies_timed(self) -> bool:
+        """Whether the recording says when each reply came."""
+        return bool(self._reply_times_ns)
+
+    def reply_time(self) -> float:
+        """When the recorded robot's reply to the last batch answered came (seconds)."""
+        return self._last_reply_s
 
     @property
     def name(self) -> str:
@@ -96,11 +133,15 @@ class ReplayChannel:
         asked = [request.command for request in batch.requests]
         then = [request.command for request in parse_batch(recorded.tx, self.profile).requests]
         if asked != then:
-            raise ReplayEndedError(
+            if list(batch.requests) == stop_requests(self.profile.leds):
+                return bytes(batch.reply_size)  # stopped: wheels at (0, 0)
+            raise ReplayDivergedError(
                 f"{self.name}: at step {recorded.step} the controller asks "
                 f"{_letters(asked)}, but the recorded run asked {_letters(then)}: the replay "
                 "cannot answer what was never recorded"
             )
+        if self._reply_times_ns:
+            self._last_reply_s = self._reply_times_ns[self._next] / 1e9
         self._next += 1
         self._stats.batches += 1
         self._stats.bytes_sent += len(batch.tx)
@@ -128,15 +169,54 @@ def _letters(commands: list[Any]) -> str:
     return " ".join(c.letter for c in commands if c.letter) or "nothing"
 
 
+def _speed(port: str) -> tuple[str, float]:
+    """The recording's path in ``port`` and the ``?speed=X`` it asks (1 if none)."""
+    path, sep, speed = port.removeprefix("replay://").rpartition("?speed=")
+    if not sep:
+        return path + speed, 1.0
+    try:
+        value = float(speed)
+    except ValueError:
+        value = 0.0
+    if value not in SPEEDS:
+        raise ValueError(
+            f"{port}: replay speed {speed!r} is not one of {', '.join(f'{s:g}' for s in SPEEDS)}"
+        )
+    return path, value
+
+
+def paced_clock(speed: float) -> StepClock:
+    """A step clock whose seconds last ``1 / speed`` real seconds."""
+    return StepClock(clock=lambda: time.perf_counter() * speed,
+                     sleep=lambda seconds: time.sleep(seconds / speed))  # fmt: skip
+
+
+def _reply_times_ns(recording: Recording) -> list[int]:
+    """When each recorded exchange's reply came (its message's log time, ns), in order;
+    [] when they cannot be matched one to one with the recording's exchanges."""
+    from mcap.exceptions import McapError
+    from mcap.reader import make_reader
+
+    try:
+        with open(recording.path, "rb") as f:
+            times = [message.log_time for _, _, message in make_reader(f).iter_messages(
+                topics=[EXCHANGE_TOPIC], log_time_order=True)]  # fmt: skip
+    except (OSError, McapError, ValueError) as exc:
+        raise RecordingError(f"{recording.path}: not a readable ego recording: {exc}") from exc
+    return times if len(times) == len(recording.exchanges) else []
+
+
 class ReplayBackend:
-    """``Robot("replay://run.mcap")``: the run recorded in that file (no options)."""
+    """``Robot("replay://run.mcap")``: the run recorded in that file, at ``?speed=X``."""
 
     def open(self, port: str, *, firmware: Firmware | None) -> Opened:
-        path = Path(port.removeprefix("replay://"))
-        recording = Recording.open(path)
-        channel = ReplayChannel(recording)
+        path, speed = _speed(port)
+        recording = Recording.open(Path(path))
+        channel = ReplayChannel(recording, _reply_times_ns(recording))
         if firmware is not None and channel.info.firmware is not firmware:
             raise UnsupportedDeviceError(
                 f"{port} recorded a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
-        return Opened(channel)
+        clock = None if speed == 1.0 else paced_clock(speed)
+        reply_clock = channel.reply_time if channel.replies_timed else None
+        return Opened(channel, pacer=clock, reply_clock=reply_clock)

@@ -16,11 +16,10 @@ from typing import Any
 from ego.dashboard.control import Reply
 from ego.dashboard.server import DashboardServer
 from ego.errors import RecordingError
+from ego.recording.emulate import SPEEDS
 from ego.recording.reader import Recording
 
 __all__ = ["SPEEDS", "ReplayFeed"]
-
-SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)
 
 
 class ReplayFeed:

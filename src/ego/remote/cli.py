@@ -21,8 +21,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from ego.backends import open_port
+from ego.backends import open_port, takes_option
 from ego.channel import Channel
+from ego.cli_options import add_dashboard_options, error_line
 from ego.errors import EgoError
 from ego.ports import DEFAULT_CAMERA_DEVICE
 from ego.remote.auth import load_secret
@@ -71,7 +72,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--secret-file",
         metavar="FILE",
-        help="file holding the shared secret clients must prove they know (chmod 600)",
+        help="file holding the shared secret clients must prove they know (chmod 600); "
+        "also given to a --port that wants one (tcp://, udp://, unix://)",
     )
     parser.add_argument(
         "--firmware",
@@ -92,6 +94,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="serve the robot as a Zenoh node instead of on --listen: ego/NAME/... "
         "(docs/zenoh.md); controllers reach it as zenoh://NAME",
     )
+    _add_zenoh_arguments(parser)
+    add_dashboard_options(
+        parser, "a dashboard of the robot as the client drives it, with a stop button",
+        secret=False,  # --secret-file above serves the dashboard too
+    )  # fmt: skip
+    parser.add_argument(
+        "--camera",
+        metavar="DEVICE",
+        default=None,
+        help=f"video device to serve (default: $EGO_CAMERA, else {DEFAULT_CAMERA_DEVICE} if it "
+        "exists; the emulator's camera with --port sim); 'none' serves no camera",
+    )
+
+
+def _add_zenoh_arguments(parser: argparse.ArgumentParser) -> None:
+    """``ego serve --zenoh`` and its session's options."""
     parser.add_argument("--name", default="epuck", help="the robot's Zenoh name (default epuck)")
     parser.add_argument(
         "--zenoh-listen",
@@ -105,22 +123,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="Zenoh endpoint (a router, another peer) to connect to, repeatable",
     )  # fmt: skip
     parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration")
-    parser.add_argument(
-        "--dashboard",
-        nargs="?",
-        const="127.0.0.1:8765",
-        default=None,
-        metavar="HOST:PORT",
-        help="serve a dashboard of the robot as the client drives it, with a stop button "
-        "(default address 127.0.0.1:8765; off loopback it needs --secret-file)",
-    )
-    parser.add_argument(
-        "--camera",
-        metavar="DEVICE",
-        default=None,
-        help=f"video device to serve (default: $EGO_CAMERA, else {DEFAULT_CAMERA_DEVICE} if it "
-        "exists; the emulator's camera with --port sim); 'none' serves no camera",
-    )
 
 
 @dataclass
@@ -139,14 +141,22 @@ class ServedRobot:
                 close()
 
 
-def open_robot(port: str | None, firmware: str = "auto", camera: str | None = None) -> ServedRobot:
-    """The robot on ``port`` (any backend's: "sim" starts an emulator) and its camera."""
+def open_robot(
+    port: str | None,
+    firmware: str = "auto",
+    camera: str | None = None,
+    secret: bytes | None = None,
+) -> ServedRobot:
+    """The robot on ``port`` (any backend's: "sim" starts an emulator) and its camera;
+    ``secret`` goes to a backend that takes one (a robot served elsewhere)."""
     from ego.ports import resolve_port
 
     resolved = resolve_port(port)
     # Only a device named on the command line goes to the backend (the emulator has no
     # V4L2 devices, and says so when given one).
-    options = {"camera_device": camera} if camera not in (None, "none") else {}
+    options: dict[str, Any] = {"camera_device": camera} if camera not in (None, "none") else {}
+    if secret is not None and takes_option(resolved, "secret"):
+        options["secret"] = secret
     opened = open_port(resolved, firmware=Firmware.choose(firmware), **options)
     world = getattr(opened.ground_truth, "world", None)
     robot = ServedRobot(opened.channel, closers=[opened.close], world=world)
@@ -177,9 +187,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"ego serve: {exc}", file=sys.stderr)
         return 2
     try:
-        robot = open_robot(args.port, args.firmware, args.camera)
+        robot = open_robot(args.port, args.firmware, args.camera, secret)
     except EgoError as exc:
-        print(f"ego serve: {exc}", file=sys.stderr)
+        print(f"ego serve: {error_line(exc)}", file=sys.stderr)
         return 1
     try:
         channel = _dashboard(args, robot, secret) if args.dashboard else robot.channel

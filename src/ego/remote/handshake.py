@@ -27,7 +27,7 @@ import hmac
 import secrets
 from dataclasses import dataclass, field
 
-from ego.errors import AuthenticationError, FrameError
+from ego.errors import AuthenticationError, FrameError, SecretRequiredError
 from ego.remote.auth import NONCE_SIZE, check_proof, client_proof, new_nonce, server_proof
 from ego.remote.wire import FrameKey, pack_json, unpack_json
 
@@ -149,10 +149,7 @@ class ClientHandshake:
         self.offered = obj
         if self.secret is None:
             if wants:
-                raise AuthenticationError(
-                    f"{self.where} requires a shared secret: pass secret=..., or set "
-                    "EGO_SECRET_FILE or EGO_SECRET"
-                )
+                raise SecretRequiredError(self.where)
             return pack_json({"proof": ""})
         expected = server_proof(self.secret, self.nonce, server_nonce, session)
         if not wants or not check_proof(expected, _hex(obj, "proof")):
