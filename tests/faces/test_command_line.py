@@ -207,10 +207,12 @@ def test_ego_plot_without_matplotlib_names_the_extra(tmp_path: Path) -> None:
 
 
 def test_another_missing_module_is_a_bug_and_keeps_its_traceback(tmp_path: Path) -> None:
-    done = subprocess.run([sys.executable, "-c", WITHOUT, "mcap.reader", "plot", "run.mcap"],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=60)  # fmt: skip
+    done = subprocess.run(
+        [sys.executable, "-c", WITHOUT, "mcap.stream_reader", "plot", "run.mcap"],
+        cwd=tmp_path, capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
     assert done.returncode == 1
-    assert "Traceback" in done.stderr and "mcap.reader" in done.stderr
+    assert "Traceback" in done.stderr and "mcap.stream_reader" in done.stderr
 
 
 # -- ego replay --emulate ---------------------------------------------------------------------

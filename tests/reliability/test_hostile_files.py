@@ -135,5 +135,5 @@ def test_ego_replay_emulate_says_a_bad_recording_in_one_error_line(
 def test_ego_replay_says_a_bad_recording_in_one_error_line(
     folder: Path, name: str, reason: str
 ) -> None:
-    args = ["replay", make(folder, name), "--dashboard", "127.0.0.1:0", "--duration", "1"]
+    args = ["replay", make(folder, name), "--dashboard-address", "127.0.0.1:0", "--duration", "1"]
     _one_error_line(args, folder, reason)

@@ -37,6 +37,8 @@ class Exchange:
     t: float
     tx: bytes
     rx: bytes
+    #: When it was written (its message's log time, ns): when the reply had come.
+    time_ns: int = 0
 
 
 @dataclass(frozen=True, slots=True)
@@ -133,7 +135,9 @@ class Recording:
                 step, t = m.get("step"), _finite(m, "t")
                 if not isinstance(step, int) or isinstance(step, bool):
                     raise ValueError(f"its step is {step!r}, not a whole number")
-                self.exchanges.append(Exchange(step, t, _b64(m, "tx"), _b64(m, "rx")))
+                self.exchanges.append(
+                    Exchange(step, t, _b64(m, "tx"), _b64(m, "rx"), message.log_time)
+                )
             else:
                 self.frames.append(Frame(message.log_time, _b64(m, "data")))
         except ValueError as exc:
