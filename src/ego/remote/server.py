@@ -15,6 +15,9 @@ only moves bytes and runs calls:
 * the deadman runs in a thread of its own, so that it fires on time even when the
   event loop is flooded: it asks the session every few milliseconds, and stops the
   robot itself;
+* a stop never waits behind calls: it runs in a thread of its own, and a call whose
+  session ended before its turn came is dropped, not run (the session lets a
+  controller have one request in flight, so at most one batch runs after it is gone);
 * running out of file descriptors is logged once in a while, quietly.
 
 Off loopback the server insists on a shared secret (:mod:`ego.remote.handshake`).
@@ -30,6 +33,7 @@ import asyncio
 import concurrent.futures
 import contextlib
 import errno
+import functools
 import logging
 import threading
 import time
@@ -150,6 +154,8 @@ class Server:
         self._last_fd_warning = 0.0
         self._channel_thread = concurrent.futures.ThreadPoolExecutor(1, "ego-serve-channel")
         self._camera_thread = concurrent.futures.ThreadPoolExecutor(1, "ego-serve-camera")
+        #: Stops never queue behind calls (the channel's lock orders them with a batch).
+        self._stop_thread = concurrent.futures.ThreadPoolExecutor(1, "ego-serve-stop")
 
     @property
     def deadline_s(self) -> float:
@@ -226,6 +232,7 @@ class Server:
             task.cancel()
         self._channel_thread.shutdown(wait=True)
         self._camera_thread.shutdown(wait=True)
+        self._stop_thread.shutdown(wait=True)
         self._closed.set()
 
     # -- input -------------------------------------------------------------------------------
@@ -258,7 +265,7 @@ class Server:
                 elif isinstance(action, Run):
                     self.feed_run(action)
                 else:
-                    await loop.run_in_executor(self._channel_thread, self._stop_robot, action)
+                    await loop.run_in_executor(self._stop_thread, self._stop_robot, action)
             except Exception:  # one bad action must never take the server down
                 log.exception("internal error performing %s", type(action).__name__)
 
@@ -269,16 +276,23 @@ class Server:
 
     async def _run(self, run: Run) -> None:
         pool = self._camera_thread if self.service.uses_camera(run.call) else self._channel_thread
-        result: bytes | Exception
+        result: bytes | Exception | None
         try:
             result = await asyncio.get_running_loop().run_in_executor(
-                pool, self.service.run, run.call
+                pool, self.service.run, run.call, functools.partial(self._live, run.session)
             )
         except Exception as exc:
             if not isinstance(exc, FrameError):
                 log.warning("%s: %s failed: %s", run.peer.label, type(run.call).__name__, exc)
             result = exc
+        if result is None:
+            log.debug("%s: %s dropped, its session ended", run.peer.label, type(run.call).__name__)
+            return
         self.call_session(self.session.completed, run.session, run.seq, result, time.monotonic())
+
+    def _live(self, session: int) -> bool:
+        with self._lock:
+            return self.session.live(session)
 
     def _stop_robot(self, stop: StopRobot) -> None:
         try:

@@ -353,6 +353,11 @@ class SequenceGuard:
         """The encoded reply to the last request that completed."""
         return self._cached
 
+    @property
+    def running(self) -> int | None:
+        """The request being run now, if any."""
+        return self._running
+
     def check(self, seq: int) -> Verdict:
         if seq == self._running:
             return Verdict.WORKING
