@@ -30,6 +30,7 @@ from typing import Any
 import pytest
 from helpers import ego_command
 from reliability_helpers import echo_device, modem_device, silent_device
+from remote_probes import pipelined, udp_request
 
 import ego
 import ego.errors
@@ -294,6 +295,8 @@ def namespace() -> Iterator[Namespace]:
             server_tcp=served.urls[0],
             server_udp=served.urls[1],
             remote_robot=remote_robot,
+            pipelined=pipelined,
+            udp_request=udp_request,
             ego_cli=ego_cli(tmp_path),
             **devices,
         )

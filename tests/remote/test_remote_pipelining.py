@@ -10,57 +10,27 @@ dropped, so the stop goes first.
 
 from __future__ import annotations
 
-import time
-
-from remote_helpers import RawClient, Served, ServeFactory, wait_for
+from abuse import GO, drive, pipeline_and_close
+from remote_helpers import ServeFactory
 
 from ego.errors import FrameError
 from ego.remote.connection import error_from_reply
-from ego.remote.messages import pack_step
 from ego.remote.wire import MessageType
-from ego.serial.protocol import Command, Request
 
 SECRET = "s3cret-s3cret-s3cret"
-#: Far more than one request in flight: what a pipelining controller writes at once.
-PIPELINED = 3000
 #: Batches the emulator may see after the close: the step running then, and the stop.
 AFTER_CLOSE_BUDGET = 4
 #: "The moment the socket closes", with room for a loaded machine (issue 22 saw 5.5 s).
 STOP_BUDGET_S = 1.0
-GO = pack_step((Request(Command.SET_SPEED, (300, 300)), Request(Command.GET_SPEED)))
-
-
-def _controller(served: Served) -> RawClient:
-    """A raw client that hands shake and authenticates as the real client does, and drives."""
-    raw = RawClient(served.url, timeout_s=5.0)
-    assert raw.handshake(SECRET.encode()).type is MessageType.OK
-    raw.send(MessageType.STEP, GO)
-    assert raw.receive().type is MessageType.OK
-    assert served.emu.world.speeds == (300, 300)
-    return raw
-
-
-def pipeline_and_close(served: Served, count: int = PIPELINED) -> tuple[float, int]:
-    """Write ``count`` STEPs at once and close: (seconds until the wheels stood still,
-    batches the robot saw after the close)."""
-    raw = _controller(served)
-    raw.send_raw(b"".join(raw.frame(MessageType.STEP, GO) for _ in range(count)))
-    closed_at, seen = time.monotonic(), len(served.emu.history)
-    raw.close()
-    world = served.emu.world
-    wait_for(lambda: world.speeds == (0, 0), STOP_BUDGET_S, 0.001)
-    stopped_s = time.monotonic() - closed_at
-    # Whatever was still queued would run now: give it the time a few batches take.
-    wait_for(lambda: served.server.controller is None, 1.0)
-    time.sleep(0.2)
-    return stopped_s, len(served.emu.history) - seen
 
 
 def test_a_pipelining_controller_that_closes_has_the_robot_stopped_at_once(
     serve: ServeFactory,
 ) -> None:
     served = serve(kinds=("tcp",), secret=SECRET, deadline_s=5.0)  # not the deadman's doing
-    stopped_s, after_close = pipeline_and_close(served)
+    stopped_s, after_close = pipeline_and_close(
+        served.url, served.emu, served.server, SECRET, budget_s=STOP_BUDGET_S
+    )
     assert stopped_s < STOP_BUDGET_S
     assert after_close <= AFTER_CLOSE_BUDGET, after_close
     assert served.emu.world.speeds == (0, 0)  # and nothing drove it again afterwards
@@ -72,7 +42,7 @@ def test_a_request_sent_while_another_runs_is_refused_and_the_first_is_answered(
     serve: ServeFactory,
 ) -> None:
     served = serve(kinds=("tcp",), secret=SECRET)
-    raw = _controller(served)
+    raw = drive(served.url, served.emu, SECRET)
     raw.send_raw(raw.frame(MessageType.STEP, GO) + raw.frame(MessageType.STEP, GO))  # at once
     first, second = raw.seq - 1, raw.seq
     replies = {frame.seq: frame for frame in (raw.receive(), raw.receive())}
@@ -89,6 +59,6 @@ def test_a_request_sent_while_another_runs_is_refused_and_the_first_is_answered(
 
 def test_a_short_pipeline_too_is_dropped_when_its_controller_goes(serve: ServeFactory) -> None:
     served = serve(kinds=("tcp",), secret=SECRET, deadline_s=5.0)
-    _, after_close = pipeline_and_close(served, 50)
+    _, after_close = pipeline_and_close(served.url, served.emu, served.server, SECRET, 50)
     assert after_close <= AFTER_CLOSE_BUDGET, after_close
     assert served.emu.world.speeds == (0, 0)
