@@ -333,11 +333,11 @@ def pipelining_table(trials: int) -> Table:
                          ("STEPs run in all (1 before the pipeline)", steps)):  # fmt: skip
         table.rows.append([what, statistics.median(values), max(values)])
     table.notes.append(
-        "Before (issue 22; bf62639 measured the same way on this machine, emulator at "
-        "230400 baud): every STEP ran, 3001 of them; the wheels stood still 6.3 to 7.4 s "
-        "after the close, after 3001 to 3008 batches. Now a request that comes while "
-        "another of its session runs is refused (FrameError), a call whose session ended "
-        "before its turn is dropped, and the stop runs in a thread of its own."
+        "Before (issue 22; bf62639 measured the same way, 3 trials): every STEP ran, "
+        "3001 of them, and the wheels stood still 6006 ms after the close (at most "
+        "6914 ms), after 3002 batches. Now a request that comes while another of its "
+        "session runs is refused (FrameError), a call whose session ended before its turn "
+        "is dropped, and the stop runs in a thread of its own."
     )
     return table
 

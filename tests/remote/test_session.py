@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import struct
+import zlib
 from collections.abc import Iterator
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ego.errors import AuthenticationError
 from ego.remote.actions import Action, Authenticated, Hangup, Peer, Run, Send, StopRobot
@@ -13,6 +17,9 @@ from ego.remote.handshake import ClientHandshake
 from ego.remote.messages import Step, pack_step
 from ego.remote.session import Session
 from ego.remote.wire import (
+    HEADER,
+    MAGIC,
+    PROTOCOL_VERSION,
     Frame,
     FrameKey,
     MessageType,
@@ -319,3 +326,34 @@ def test_the_deadman_tells_its_client_the_session_ended_and_why() -> None:
     assert "deadman" in unpack_error(decode_frame(reply.data).payload)[1]  # type: ignore[union-attr]
     stranger = Peer(("udp", 0, ("127.0.0.1", 6000)), "udp 127.0.0.1:6000", "127.0.0.1", 16384)
     assert server.datagram(stranger, late, 1.1) == []  # elsewhere: too big an answer
+
+
+STRANGER = Peer(("udp", 0, ("127.0.0.1", 6000)), "udp 127.0.0.1:6000", "127.0.0.1", 16384)
+
+
+@st.composite
+def _any_frame(draw: st.DrawFn) -> tuple[int, int, bytes]:
+    """(type byte, which session, payload) of a frame with a good CRC."""
+    type_ = draw(st.sampled_from([*MessageType, 0x3F]) | st.integers(0, 255))
+    return int(type_), draw(st.integers(0, 3)), draw(st.binary(max_size=64))
+
+
+@settings(max_examples=300, deadline=None)
+@given(frames=st.lists(_any_frame(), min_size=1, max_size=10), cut=st.integers(0, 40))
+def test_no_datagram_of_a_stranger_gets_a_bigger_answer(
+    frames: list[tuple[int, int, bytes]], cut: int
+) -> None:
+    server = session(secret=None)
+    gone = Client(server, UDP, secret=None)
+    gone.connect()
+    gone.feed(gone.frame(MessageType.BYE))  # an ended session
+    controller = Client(server, UDP, secret=None)
+    controller.connect()
+    sessions = (0, controller.sid, gone.sid, 0x1234)
+    for type_, pick, payload in frames:
+        head = HEADER.pack(MAGIC, PROTOCOL_VERSION, type_, sessions[pick], 1, len(payload))
+        data = head + payload + struct.pack("<I", zlib.crc32(head + payload))
+        for sent in (data, data[: max(1, len(data) - cut)]):
+            for action in server.datagram(STRANGER, sent, 0.2):
+                assert isinstance(action, Send) and len(action.data) <= len(sent), (type_, pick)
+    assert server.controller == UDP  # and the controller kept the robot
