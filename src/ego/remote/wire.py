@@ -22,10 +22,10 @@ sequence numbers (:class:`SequenceGuard`) make a replayed frame stale. Without a
 
 The header layout is frozen across protocol versions, so that a peer speaking another
 version is told so in a frame it can still read. The client is stop-and-wait: it sends
-request ``n+1`` only once request ``n`` was answered, so over UDP a lost request or reply
-is retransmitted with the *same* sequence number, and the server's
-:class:`SequenceGuard` answers a duplicate from its cache instead of running the batch
-twice. A reply is matched to its request by session and sequence number alone: a late,
+request ``n+1`` only once request ``n`` was answered (the server refuses one that comes
+while another runs), so over UDP a lost request or reply is retransmitted with the
+*same* sequence number, and the server's :class:`SequenceGuard` answers a duplicate
+from its cache instead of running the batch twice. A reply is matched to its request by session and sequence number alone: a late,
 duplicated or reordered datagram can never be taken for another step's reply.
 
 A reply too big for one datagram (a camera frame over UDP) comes as a first
