@@ -25,8 +25,9 @@ version is told so in a frame it can still read. The client is stop-and-wait: it
 request ``n+1`` only once request ``n`` was answered (the server refuses one that comes
 while another runs), so over UDP a lost request or reply is retransmitted with the
 *same* sequence number, and the server's :class:`SequenceGuard` answers a duplicate
-from its cache instead of running the batch twice. A reply is matched to its request by session and sequence number alone: a late,
-duplicated or reordered datagram can never be taken for another step's reply.
+from its cache instead of running the batch twice. A reply is matched to its request
+by session and sequence number alone: a late, duplicated or reordered datagram can never
+be taken for another step's reply.
 
 A reply too big for one datagram (a camera frame over UDP) comes as a first
 :data:`MessageType.PART`; the client fetches the rest with :data:`MessageType.FETCH`
