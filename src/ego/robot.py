@@ -316,6 +316,8 @@ class Robot:
         try:
             with self.link_lock:
                 run_step(self._step_parts, self.link, now, self._restarted, self._reply_clock)
+            # Also where a network channel says its session ended with nothing to send.
+            self.link.waiting_until(time.monotonic() + step_ms / 1000.0)
         except LinkLostError as exc:
             ended = getattr(exc, "expected", False)  # a replay's end: over, not broken
             log.log(logging.INFO if ended else logging.ERROR, "link lost for good: %s", exc)
@@ -331,7 +333,6 @@ class Robot:
         # in the wait rather than added to the step (a dashboard, a recorder).
         for listener in self._listeners:
             listener(self)
-        self.link.waiting_until(time.monotonic() + step_ms / 1000.0)
         self.clock.wait(step_ms)
         return 0
 

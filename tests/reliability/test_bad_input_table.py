@@ -32,6 +32,7 @@ from dashboard_probe import DashboardProbe, HttpAnswer
 from helpers import ego_command
 from hostile_files import make as make_hostile
 from reliability_helpers import echo_device, modem_device, silent_device
+from remote_probes import pipelined, udp_request
 
 import ego
 import ego.errors
@@ -304,6 +305,8 @@ def namespace() -> Iterator[Namespace]:
             server_tcp=served.urls[0],
             server_udp=served.urls[1],
             remote_robot=remote_robot,
+            pipelined=pipelined,
+            udp_request=udp_request,
             ego_cli=ego_cli(tmp_path),
             dashboard_get=dashboard.get,
             dashboard_sockets=dashboard.sockets,

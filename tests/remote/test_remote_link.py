@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 
 import pytest
+from fakes import FAST_LINK
 from remote_helpers import ConnectFactory, ServeFactory, wait_for
 
 from ego.backends import open_port
@@ -17,9 +18,12 @@ from ego.errors import (
     UnsupportedDeviceError,
 )
 from ego.remote.client import RemoteChannel
+from ego.remote.server import Server, ServerThread
 from ego.remote.wire import MessageType
-from ego.serial.protocol import PROFILES, Command, Firmware, Request, encode_batch
-from firmware_sim import FaultTimings
+from ego.serial.link import Link
+from ego.serial.protocol import PROFILES, Batch, Command, Firmware, Request, encode_batch
+from ego.serial.transport import SerialTransport
+from firmware_sim import Emulator, FaultTimings
 
 #: The thesis' full sensor batch: a E M N O Q u.
 SENSORS = (
@@ -183,3 +187,38 @@ def test_client_close_is_idempotent_and_stops_the_robot(
     link.close()
     assert served.emu.world.speeds == (0, 0)  # the goodbye stopped it at once
     assert served.server.controller is None
+
+
+class SlowStop:
+    """A served robot's channel whose stop batch reaches the line 100 ms late (a busy
+    serial line, a loaded machine): injected, as hardware is."""
+
+    def __init__(self, inner: Link, delay_s: float = 0.1) -> None:
+        self.inner = inner
+        self.delay_s = delay_s
+
+    def exchange(self, batch: Batch) -> bytes:
+        if batch.requests and batch.requests[0] == Request(Command.SET_SPEED, (0, 0)):
+            time.sleep(self.delay_s)
+        return self.inner.exchange(batch)
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self.inner, name)
+
+
+def test_close_over_udp_returns_only_once_the_robot_stands_still() -> None:
+    """The goodbye's stop outlasts the client's retransmission timer: its repeated BYE
+    must not be told OK before the robot stopped."""
+    with Emulator("webots", seed=1) as emu:
+        link = Link(SerialTransport(emu.path), settings=FAST_LINK)
+        try:
+            server = Server(SlowStop(link), listen="udp://127.0.0.1:0")  # type: ignore[arg-type]
+            with ServerThread(server) as running:
+                client = RemoteChannel.from_url(running.url, retransmit_s=0.005, heartbeat=False)
+                go = [Request(Command.SET_SPEED, (200, 200)), Request(Command.GET_SPEED)]
+                client.exchange(encode_batch(go, client.profile))
+                assert emu.world.speeds == (200, 200)
+                client.close()
+                assert emu.world.speeds == (0, 0)  # stopped before close() returned
+        finally:
+            link.close()

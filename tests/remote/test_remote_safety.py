@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import gc
+import logging
 import random
 import socket
 import struct
@@ -315,9 +316,12 @@ def test_other_protocol_version_is_told_both_versions(serve: ServeFactory, kind:
 
 def test_request_outside_a_session_is_refused(serve: ServeFactory) -> None:
     served = serve(kinds=("udp",))
-    raw = RawClient(served.url)
+    raw = RawClient(served.url, timeout_s=0.3)
     raw.session = 1234
     raw.send(MessageType.STEP, b"\xbb\x00")
+    with pytest.raises(TimeoutError):  # the answer would be bigger: no amplification
+        raw.receive()
+    raw.send(MessageType.STEP, b"\xbb\x00" * 100)  # room for the answer
     reply = raw.receive()
     raw.close()
     assert reply.type is MessageType.ERROR
@@ -420,3 +424,30 @@ def test_idle_and_surplus_connections_are_dropped_and_the_client_still_gets_in(
     finally:
         for sock in idle:
             sock.close()
+
+
+def test_a_controller_that_only_sets_speeds_ends_once_the_deadman_stopped_its_robot(
+    serve: ServeFactory, kind: str, caplog: pytest.LogCaptureFixture
+) -> None:
+    """Its steps send nothing (the speeds were confirmed once): only the heartbeat hears
+    that the session ended. The controller must end as on a lost link (step() is -1),
+    not step on with wheels it believes turning."""
+    import ego
+
+    served = serve(kinds=(kind,), deadline_s=DEADLINE_S)
+    with ego.Robot(served.url, handle_signals=False) as robot:
+        robot.motors.set_speed(250, 250)
+        assert robot.step(32) == 0
+        assert served.emu.world.speeds == (250, 250)
+        wait_for(lambda: served.emu.world.speeds == (0, 0), 3.0)  # hung in its own code
+        assert served.server.stats.deadman_stops == 1
+        with caplog.at_level(logging.ERROR):
+            steps = [robot.step(32) for _ in range(3)]
+            for _ in range(60):  # 2 s of steps at most
+                if steps[-1] == -1:
+                    break
+                steps.append(robot.step(32))
+    assert steps[-1] == -1, steps
+    logged = [r.getMessage() for r in caplog.records if r.levelno >= logging.ERROR]
+    assert any("the server's deadman stopped the robot" in m for m in logged), logged
+    assert served.server.stats.sessions == 1  # it ended; it did not drive on in a new one

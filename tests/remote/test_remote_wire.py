@@ -403,3 +403,12 @@ def test_errors_cross_the_network_as_their_class_with_their_fields(
     assert str(rebuilt) == f"tcp://robot:4242: {error}"
     for key, value in attributes.items():
         assert getattr(rebuilt, key) == value
+
+
+def test_a_directory_as_the_secret_file_is_refused_by_its_path(
+    tmp_path: os.PathLike[str],
+) -> None:
+    path = os.fspath(tmp_path)
+    with pytest.raises(InsecureSecretError) as caught:
+        load_secret(path)
+    assert str(caught.value) == f"{path}: is a directory, not a secret file"  # not "... : 3"

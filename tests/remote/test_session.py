@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import struct
+import zlib
 from collections.abc import Iterator
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ego.errors import AuthenticationError
 from ego.remote.actions import Action, Authenticated, Hangup, Peer, Run, Send, StopRobot
@@ -13,6 +17,9 @@ from ego.remote.handshake import ClientHandshake
 from ego.remote.messages import Step, pack_step
 from ego.remote.session import Session
 from ego.remote.wire import (
+    HEADER,
+    MAGIC,
+    PROTOCOL_VERSION,
     Frame,
     FrameKey,
     MessageType,
@@ -258,3 +265,95 @@ def test_authenticated_peer_gets_its_key() -> None:
     proof = shake.answer(decode_frame(reply.data).payload, client.sid)  # type: ignore[union-attr]
     authenticated, _ = client.feed(client.frame(MessageType.AUTH, proof))
     assert isinstance(authenticated, Authenticated) and authenticated.key is not None
+
+
+# -- issue 22: one request in flight, no amplification, the end told -------------------------
+
+
+def test_a_request_sent_while_another_runs_is_refused_not_queued(
+    controlled: tuple[Session, Client],
+) -> None:
+    server, client = controlled
+    (run,) = client.feed(client.frame(MessageType.STEP, pack_step(SPEEDS.requests)))
+    assert isinstance(run, Run)
+    for _ in range(3):  # pipelined: none of them becomes a Run
+        (refused,) = client.feed(client.frame(MessageType.STEP, pack_step(SPEEDS.requests)))
+        name, message, _ = unpack_error(client.opened(refused).payload)
+        assert name == "FrameError" and f"while request {run.seq} was still running" in message
+    assert server.stats.pipelined == 3 and server.stats.steps == 1
+    server.completed(run.session, run.seq, b"", 0.1)
+    (after,) = client.feed(client.frame(MessageType.STEP, pack_step(SPEEDS.requests)), 0.2)
+    assert isinstance(after, Run)  # answered: the next one runs
+
+
+def test_a_goodbye_while_a_request_runs_stops_the_robot_and_the_run_is_no_longer_live(
+    controlled: tuple[Session, Client],
+) -> None:
+    server, client = controlled
+    (run,) = client.feed(client.frame(MessageType.STEP, pack_step(SPEEDS.requests)))
+    assert isinstance(run, Run) and server.live(run.session)
+    stop, _ = client.feed(client.frame(MessageType.BYE))
+    assert isinstance(stop, StopRobot)
+    assert not server.live(run.session)  # the adapter drops the Run if not yet started
+    assert server.completed(run.session, run.seq, b"", 0.1) == []
+
+
+def test_a_stranger_is_never_answered_with_more_than_it_sent() -> None:
+    server = session(secret=None)
+    controller = Client(server, UDP, secret=None)
+    controller.connect()
+    stranger = Peer(("udp", 0, ("127.0.0.1", 6000)), "udp 127.0.0.1:6000", "127.0.0.1", 16384)
+    for mtype in (MessageType.AUTH, MessageType.STEP, MessageType.PING, MessageType.BYE):
+        for session_id in (0, 77, controller.sid):
+            data = encode_frame(mtype, 1, b"", session_id)
+            for action in server.datagram(stranger, data, 0.0):
+                assert isinstance(action, Send) and len(action.data) <= len(data), mtype
+
+
+def test_the_deadman_tells_its_client_the_session_ended_and_why() -> None:
+    server = session()
+    client = Client(server, UDP)
+    client.connect()
+    *_, told, _ = server.tick(1.0)
+    frame = client.opened(told)
+    name, message, fields = unpack_error(frame.payload)
+    assert (frame.type, frame.seq, name) == (MessageType.ERROR, 0, "LinkLostError")
+    assert message.startswith("session ended: the server's deadman stopped the robot")
+    assert fields == {"session_ended": True}
+    client.key = None
+    late = encode_frame(MessageType.PING, 9, b"", client.sid)  # 20 bytes: from its own address
+    (reply,) = server.datagram(UDP, late, 1.1)
+    assert "deadman" in unpack_error(decode_frame(reply.data).payload)[1]  # type: ignore[union-attr]
+    stranger = Peer(("udp", 0, ("127.0.0.1", 6000)), "udp 127.0.0.1:6000", "127.0.0.1", 16384)
+    assert server.datagram(stranger, late, 1.1) == []  # elsewhere: too big an answer
+
+
+STRANGER = Peer(("udp", 0, ("127.0.0.1", 6000)), "udp 127.0.0.1:6000", "127.0.0.1", 16384)
+
+
+@st.composite
+def _any_frame(draw: st.DrawFn) -> tuple[int, int, bytes]:
+    """(type byte, which session, payload) of a frame with a good CRC."""
+    type_ = draw(st.sampled_from([*MessageType, 0x3F]) | st.integers(0, 255))
+    return int(type_), draw(st.integers(0, 3)), draw(st.binary(max_size=64))
+
+
+@settings(max_examples=300, deadline=None)
+@given(frames=st.lists(_any_frame(), min_size=1, max_size=10), cut=st.integers(0, 40))
+def test_no_datagram_of_a_stranger_gets_a_bigger_answer(
+    frames: list[tuple[int, int, bytes]], cut: int
+) -> None:
+    server = session(secret=None)
+    gone = Client(server, UDP, secret=None)
+    gone.connect()
+    gone.feed(gone.frame(MessageType.BYE))  # an ended session
+    controller = Client(server, UDP, secret=None)
+    controller.connect()
+    sessions = (0, controller.sid, gone.sid, 0x1234)
+    for type_, pick, payload in frames:
+        head = HEADER.pack(MAGIC, PROTOCOL_VERSION, type_, sessions[pick], 1, len(payload))
+        data = head + payload + struct.pack("<I", zlib.crc32(head + payload))
+        for sent in (data, data[: max(1, len(data) - cut)]):
+            for action in server.datagram(STRANGER, sent, 0.2):
+                assert isinstance(action, Send) and len(action.data) <= len(sent), (type_, pick)
+    assert server.controller == UDP  # and the controller kept the robot

@@ -117,6 +117,8 @@ class ServerStats:
     sessions: int = 0
     #: Times the robot was stopped because its client went silent or away.
     deadman_stops: int = 0
+    #: Requests refused because another of the same session was still running.
+    pipelined: int = 0
     #: Connections dropped unheard: over the half-open cap, never in control in time,
     #: or too slow to read what they asked for.
     dropped: int = 0
@@ -150,6 +152,8 @@ class ControllerState:
     #: The last reply too big for one datagram, for FETCH: (seq, type, payload).
     big: tuple[int, MessageType, bytes] | None = None
     camera_open: bool = False
+    #: Requests it sent while another ran, refused (logged once a session).
+    pipelined: int = 0
 
 
 def error_frame(stats: ServerStats, frame: Frame, exc: EgoError) -> bytes:

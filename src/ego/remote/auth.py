@@ -91,11 +91,14 @@ def load_secret(path: str) -> bytes:
     """The secret in file ``path``, without its trailing newline.
 
     As ssh does with its keys, a file other users may read or write is refused, and so
-    is anything but a regular file (a FIFO would hang the start-up): ValueError for an
-    empty file, InsecureSecretError for the rest.
+    is anything but a regular file (a FIFO would hang the start-up, a directory is a
+    slip of the path): ValueError for an empty file, InsecureSecretError for the rest.
     """
     # O_NONBLOCK: opening a FIFO must not wait for a writer before it can be refused.
     fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    if stat.S_ISDIR(os.fstat(fd).st_mode):
+        os.close(fd)  # fdopen would say "Is a directory: 3", naming the descriptor
+        raise InsecureSecretError(f"{path}: is a directory, not a secret file")
     with os.fdopen(fd, "rb") as f:
         info = os.fstat(f.fileno())
         if not stat.S_ISREG(info.st_mode):

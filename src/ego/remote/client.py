@@ -11,7 +11,10 @@ While the controller waits out a step (:meth:`RemoteChannel.waiting_until`, whic
 that a controller with a 1 s step is not taken for a dead one; once the controller
 stops stepping (it hangs, or loops without calling step), the pings stop too and the
 server's deadman stops the robot after ``deadline_s``. Before the first step nothing
-drives the robot, and the pings go on. ``close`` says goodbye.
+drives the robot, and the pings go on. A ping told that the server ended the session
+(its deadman stopped the robot, it shut down) ends the controller as a lost link does:
+the next step raises that LinkLostError (``Robot.step`` is -1), even a step that sends
+nothing. ``close`` says goodbye.
 
 >>> channel = RemoteChannel.from_url("udp://127.0.0.1:4242")   # doctest: +SKIP
 """
@@ -126,6 +129,8 @@ class RemoteChannel:
         #: limit until the controller's first step, then the end of each step's wait.
         self._alive_until = math.inf
         self._closed = False
+        #: The end of the session, as a heartbeat heard the server announce it.
+        self._ended: LinkLostError | None = None
         self._conn: Connection | None = None
         self._beat_stop = threading.Event()
         self._connect()
@@ -194,7 +199,15 @@ class RemoteChannel:
         return [line for line in reply.decode("ascii", "replace").split("\r\n") if line]
 
     def waiting_until(self, deadline_s: float) -> None:
+        self._raise_if_ended()
         self._alive_until = deadline_s
+
+    def _raise_if_ended(self) -> None:
+        """The server ended the session behind a controller that sends nothing (its
+        steps only wait): it ends, as on a lost link, rather than step on blind."""
+        ended = self._ended
+        if ended is not None:
+            raise LinkLostError(str(ended)) from ended
 
     def call(self, request: RobotCall, timeout_s: float | None = None) -> bytes:
         """One request to the server (the camera's, say); its reply payload."""
@@ -213,6 +226,7 @@ class RemoteChannel:
         """A request to the robot's link; a lost server is reconnected to (see the class)."""
         if self._closed:
             raise LinkLostError(f"{self.name}: the channel is closed")
+        self._raise_if_ended()
         try:
             return self.call(request)
         except RobotResetError:
@@ -274,6 +288,13 @@ class RemoteChannel:
                 self.net.heartbeats += 1
                 self._last_activity = now
                 self._conn.call(MessageType.PING, b"", self._conn.deadline_s)
+        except LinkLostError as exc:
+            if not getattr(exc, "session_ended", False):
+                log.debug("%s: heartbeat failed: %s", self.name, exc)
+                return
+            log.warning("%s", exc)
+            self._ended = exc
+            self._beat_stop.set()
         except (EgoError, OSError) as exc:
             log.debug("%s: heartbeat failed: %s", self.name, exc)
         finally:

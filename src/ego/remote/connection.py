@@ -249,8 +249,24 @@ class Connection:
         try:
             self._sock.sendall(data)
         except OSError as exc:
-            raise LinkLostError(f"{self.name}: send failed: {exc}") from exc
+            told = self._last_word()
+            raise told or LinkLostError(f"{self.name}: send failed: {exc}") from exc
         self.stats.bytes_sent += len(data)
+
+    def _last_word(self) -> EgoError | None:
+        """Why a server that hung up on a stream ended the session (its deadman...), if
+        it said so before: still readable once sending fails."""
+        if not self.stream:
+            return None
+        self._sock.setblocking(False)
+        try:
+            while chunk := self._sock.recv(1 << 16):
+                for frame in self._reader.feed(chunk):
+                    if frame.seq == 0 and frame.type is MessageType.ERROR:
+                        return error_from_reply(frame.payload, self.name)
+        except (OSError, FrameError):
+            pass  # nothing more to read: the plain send failure it is
+        return None
 
     def _receive(self, seq: int, until: float) -> Frame | None:
         """The reply to ``seq`` before ``until``, or None; other frames are discarded."""

@@ -125,17 +125,19 @@ class Gate:
         return small_reply(peer, data, size)
 
     def auth(
-        self, peer: Peer, frame: Frame, now: float, owner: ControllerState | None
+        self, peer: Peer, frame: Frame, now: float, owner: ControllerState | None, size: int = 0
     ) -> tuple[list[Action], ControllerState | None]:
-        """The actions answering an AUTH, and the new controller if the client proved itself."""
+        """The actions answering an AUTH (``size``: the datagram's, for UDP), and the new
+        controller if the client proved itself."""
         if owner is not None and owner.peer.key == peer.key and owner.id == frame.session:
             if owner.guard.check(frame.seq) is Verdict.REPEAT:
                 return [Send(peer, owner.guard.cached)], None  # the welcome was lost: again
             return [], None
         pending = self._pending.get(peer.key)
         if pending is None or pending.id != frame.session:
+            # Nothing proves this peer's address: no answer bigger than what it sent.
             error = AuthenticationError("no handshake in progress for this session: connect again")
-            return [Send(peer, error_frame(self.stats, frame, error))], None
+            return small_reply(peer, error_frame(self.stats, frame, error), size), None
         verdict = pending.guard.check(frame.seq)
         if verdict is Verdict.REPEAT:
             return [Send(peer, pending.guard.cached)], None

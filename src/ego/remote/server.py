@@ -15,6 +15,9 @@ only moves bytes and runs calls:
 * the deadman runs in a thread of its own, so that it fires on time even when the
   event loop is flooded: it asks the session every few milliseconds, and stops the
   robot itself;
+* a stop never waits behind calls: it runs in a thread of its own, and a call whose
+  session ended before its turn came is dropped, not run (the session lets a
+  controller have one request in flight, so at most one batch runs after it is gone);
 * running out of file descriptors is logged once in a while, quietly.
 
 Off loopback the server insists on a shared secret (:mod:`ego.remote.handshake`).
@@ -30,6 +33,7 @@ import asyncio
 import concurrent.futures
 import contextlib
 import errno
+import functools
 import logging
 import threading
 import time
@@ -49,6 +53,7 @@ from ego.remote.wire import (
     MAX_DATAGRAM,
     MAX_PREAUTH_PAYLOAD,
     SEALED_OVERHEAD,
+    Frame,
     FrameReader,
     parse_url,
 )
@@ -119,12 +124,7 @@ class Server:
         self.listen = [listen] if isinstance(listen, str) else list(listen)
         secret_bytes = coerce_secret(secret)
         self._endpoints = check_listen(self.listen, secret_bytes, require_secret)
-        if not 0 < deadline_s <= 60:
-            raise ValueError(f"deadline {deadline_s} s is outside 0..60 s")
-        if not SEALED_OVERHEAD + 1024 <= chunk_size <= MAX_DATAGRAM:
-            raise ValueError(
-                f"chunk size {chunk_size} is outside {SEALED_OVERHEAD + 1024}..{MAX_DATAGRAM}"
-            )
+        _check_limits(deadline_s, chunk_size)
         self.chunk_size = chunk_size
         self.handshake_timeout_s = handshake_timeout_s
         self.service = RobotService(channel, frame_source, frame_encoder)
@@ -150,6 +150,11 @@ class Server:
         self._last_fd_warning = 0.0
         self._channel_thread = concurrent.futures.ThreadPoolExecutor(1, "ego-serve-channel")
         self._camera_thread = concurrent.futures.ThreadPoolExecutor(1, "ego-serve-camera")
+        #: Stops never queue behind calls (the channel's lock orders them with a batch).
+        self._stop_thread = concurrent.futures.ThreadPoolExecutor(1, "ego-serve-stop")
+        #: The last stop handed to it: replies wait for it (a repeated BYE is told OK once
+        #: the robot stands still, as the first one is).
+        self._stop_running: asyncio.Future[None] | None = None
 
     @property
     def deadline_s(self) -> float:
@@ -194,7 +199,9 @@ class Server:
                 self._closers.append(transport.close)
             shown = f"[{sockname[0]}]" if ":" in sockname[0] else sockname[0]
             self.urls.append(f"{scheme}://{shown}:{sockname[1]}")
-        self._deadman = threading.Thread(target=self._watch, name="ego-serve-deadman", daemon=True)
+        self._deadman = threading.Thread(
+            target=_deadman, args=(self,), name="ego-serve-deadman", daemon=True
+        )
         self._deadman.start()
         log.info(
             "serving %s (%s firmware) on %s%s",
@@ -226,6 +233,7 @@ class Server:
             task.cancel()
         self._channel_thread.shutdown(wait=True)
         self._camera_thread.shutdown(wait=True)
+        self._stop_thread.shutdown(wait=True)
         self._closed.set()
 
     # -- input -------------------------------------------------------------------------------
@@ -250,6 +258,8 @@ class Server:
         for action in actions:
             try:
                 if isinstance(action, Send):
+                    if self._stop_running is not None:  # no reply while a stop runs
+                        await asyncio.shield(self._stop_running)
                     self._send_later(action.peer, action.data, action.delay_s)
                 elif isinstance(action, Hangup):
                     loop.call_later(action.delay_s, self.peers.hang_up, action.peer)
@@ -258,7 +268,9 @@ class Server:
                 elif isinstance(action, Run):
                     self.feed_run(action)
                 else:
-                    await loop.run_in_executor(self._channel_thread, self._stop_robot, action)
+                    stop = loop.run_in_executor(self._stop_thread, self._stop_robot, action)
+                    self._stop_running = stop
+                    await stop
             except Exception:  # one bad action must never take the server down
                 log.exception("internal error performing %s", type(action).__name__)
 
@@ -269,16 +281,23 @@ class Server:
 
     async def _run(self, run: Run) -> None:
         pool = self._camera_thread if self.service.uses_camera(run.call) else self._channel_thread
-        result: bytes | Exception
+        result: bytes | Exception | None
         try:
             result = await asyncio.get_running_loop().run_in_executor(
-                pool, self.service.run, run.call
+                pool, self.service.run, run.call, functools.partial(self._live, run.session)
             )
         except Exception as exc:
             if not isinstance(exc, FrameError):
                 log.warning("%s: %s failed: %s", run.peer.label, type(run.call).__name__, exc)
             result = exc
+        if result is None:
+            log.debug("%s: %s dropped, its session ended", run.peer.label, type(run.call).__name__)
+            return
         self.call_session(self.session.completed, run.session, run.seq, result, time.monotonic())
+
+    def _live(self, session: int) -> bool:
+        with self._lock:
+            return self.session.live(session)
 
     def _stop_robot(self, stop: StopRobot) -> None:
         try:
@@ -310,23 +329,6 @@ class Server:
 
     # -- the deadman and the loop's own errors ---------------------------------------------------
 
-    def _watch(self) -> None:
-        """The deadman, in its own thread: on time whatever the event loop is doing."""
-        tick = min(0.01, self.deadline_s / 50)
-        while not self._stopping.wait(tick):
-            with self._lock:
-                actions = self.session.tick(time.monotonic())
-            if not actions:
-                continue
-            for action in actions:
-                if isinstance(action, StopRobot):
-                    self._stop_robot(action)  # here, not behind the loop's backlog
-            rest: list[Action] = [a for a in actions if not isinstance(a, StopRobot)]
-            loop = self._loop
-            if rest and loop is not None and not loop.is_closed():
-                with contextlib.suppress(RuntimeError):  # the loop ended meanwhile
-                    loop.call_soon_threadsafe(self.feed, rest)
-
     def _loop_error(self, loop: asyncio.AbstractEventLoop, context: dict[str, Any]) -> None:
         exc = context.get("exception")
         if isinstance(exc, OSError) and exc.errno in (errno.EMFILE, errno.ENFILE):
@@ -337,6 +339,38 @@ class Server:
                 log.warning("out of file descriptors: new connections wait (%s)", exc)
             return
         loop.default_exception_handler(context)
+
+
+def _deadman(server: Server) -> None:
+    """The deadman, in its own thread: on time whatever the event loop is doing."""
+    tick = min(0.01, server.deadline_s / 50)
+    while not server._stopping.wait(tick):
+        with server._lock:
+            actions = server.session.tick(time.monotonic())
+        if not actions:
+            continue
+        for action in actions:
+            if isinstance(action, StopRobot):
+                server._stop_robot(action)  # here, not behind the loop's backlog
+        rest: list[Action] = [a for a in actions if not isinstance(a, StopRobot)]
+        loop = server._loop
+        if rest and loop is not None and not loop.is_closed():
+            with contextlib.suppress(RuntimeError):  # the loop ended meanwhile
+                loop.call_soon_threadsafe(server.feed, rest)
+
+
+def _receive_each(session: Session, peer: Peer, frames: list[Frame], now: float) -> list[Action]:
+    """What the session makes of the frames one read of a stream completed, in order."""
+    return [action for frame in frames for action in session.receive(peer, frame, now)]
+
+
+def _check_limits(deadline_s: float, chunk_size: int) -> None:
+    if not 0 < deadline_s <= 60:
+        raise ValueError(f"deadline {deadline_s} s is outside 0..60 s")
+    if not SEALED_OVERHEAD + 1024 <= chunk_size <= MAX_DATAGRAM:
+        raise ValueError(
+            f"chunk size {chunk_size} is outside {SEALED_OVERHEAD + 1024}..{MAX_DATAGRAM}"
+        )
 
 
 class _TcpProtocol(asyncio.Protocol):
@@ -364,9 +398,9 @@ class _TcpProtocol(asyncio.Protocol):
         except FrameError as exc:
             server.call_session(server.session.stream_error, peer, exc)
             return
-        now = time.monotonic()
-        for frame in frames:
-            server.call_session(server.session.receive, peer, frame, now)
+        # In one go: a pipelined burst costs one task, and the close behind it is read
+        # that much sooner.
+        server.call_session(_receive_each, server.session, peer, frames, time.monotonic())
 
     def connection_lost(self, exc: Exception | None) -> None:
         if self.peer is not None:

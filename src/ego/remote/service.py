@@ -90,11 +90,16 @@ class RobotService:
     def uses_camera(call: RobotCall) -> bool:
         return isinstance(call, CameraOpen | CameraFrame | CameraControl | CameraClose)
 
-    def run(self, call: RobotCall) -> bytes:
-        """Run one call (Ping and Bye do nothing); its reply payload."""
+    def run(self, call: RobotCall, live: Callable[[], bool] = lambda: True) -> bytes | None:
+        """Run one call (Ping and Bye do nothing); its reply payload. None, and nothing
+        run, when ``live()`` says its session ended before the call's turn came: asked
+        once the channel is ours, so that no stop can come between the check and the
+        batch (a session's stop always comes after its calls, never before one)."""
         if self.uses_camera(call):
-            return self._camera_call(call)
+            return self._camera_call(call) if live() else None
         with self.channel_lock:
+            if not live():
+                return None
             if isinstance(call, Step):
                 return self.channel.exchange(self._batch(call))
             if isinstance(call, Ascii):

@@ -16,17 +16,22 @@ Its parts:
   the cache and never runs twice; an older one is ignored;
 * the deadman: once the controller has been silent for ``deadline_s`` (nothing new, not
   even a heartbeat; repeats and stale frames do not count) the robot is stopped;
+* one request in flight: a controller's request that comes while another of its runs
+  is refused, never queued, so that nothing it stacked up outlives it; a Run of a
+  session that ended meanwhile is dropped by the adapter (:meth:`Session.live`);
+* no amplification: a peer that has not proven its address (a UDP stranger, a forged
+  source) is never answered with more bytes than it sent
+  (:func:`~ego.remote.actions.small_reply`);
 * the dispatch: a request is parsed once into a typed call (:mod:`ego.remote.messages`)
   and handed to the adapter to run, or answered here (FETCH of a big reply's slices).
 """
 
 from __future__ import annotations
 
-import collections
 import logging
 from collections.abc import Callable
 
-from ego.errors import EgoError, FrameError, LinkLostError, RemoteError, VersionMismatchError
+from ego.errors import EgoError, FrameError, RemoteError, VersionMismatchError
 from ego.remote.actions import (
     Action,
     ControllerState,
@@ -40,6 +45,7 @@ from ego.remote.actions import (
     small_reply,
 )
 from ego.remote.auth import FailureThrottle
+from ego.remote.ended import MAX_EXPIRED, EndedSessions, ended_payload
 from ego.remote.gate import Gate
 from ego.remote.messages import Bye, Fetch, parse_request
 from ego.remote.wire import (
@@ -59,12 +65,12 @@ from ego.remote.wire import (
     split_reply,
 )
 
-__all__ = ["MAX_EXPIRED", "Session"]
+__all__ = ["MAX_EXPIRED", "Session"]  # MAX_EXPIRED: from ego.remote.ended
 
 log = logging.getLogger(__name__)
 
-#: Ended sessions remembered, so that their late requests get a clear "expired".
-MAX_EXPIRED = 64
+#: What a controller may send while one of its requests runs: neither runs on the robot.
+_WHILE_BUSY = frozenset({MessageType.FETCH, MessageType.BYE})
 
 
 class Session:
@@ -90,7 +96,7 @@ class Session:
         self.chunk_size = chunk_size
         self.stats = ServerStats()
         self._controller: ControllerState | None = None
-        self._expired: collections.OrderedDict[int, str] = collections.OrderedDict()
+        self.ended = EndedSessions(self.stats)
         self.gate = Gate(
             self.stats,
             secret=secret,
@@ -110,6 +116,11 @@ class Session:
     def controls(self, peer: Peer) -> bool:
         return self._controller is not None and self._controller.peer.key == peer.key
 
+    def live(self, session: int) -> bool:
+        """Whether ``session`` still controls the robot: a Run of one that ended is dropped."""
+        owner = self._controller
+        return owner is not None and owner.id == session
+
     def key_for(self, session: int | None) -> FrameKey | None:
         """The key that frames of ``session`` must be sealed with (None: unsealed)."""
         owner = self._controller
@@ -123,11 +134,11 @@ class Session:
         try:
             frame = decode_frame(data, key)
         except VersionMismatchError as exc:
-            return small_reply(peer, self._malformed(exc), len(data))
+            return small_reply(peer, malformed(self.stats, exc), len(data))
         except FrameError as exc:
             # Garbage gets no answer over UDP: a corrupted datagram is sent again by its
             # sender, and answering forged ones would make the server an amplifier.
-            self._count_bad(peer, exc, sealed=key is not None)
+            count_bad(self.stats, peer, exc, sealed=key is not None)
             return []
         return self.receive(peer, frame, now, len(data))
 
@@ -135,8 +146,8 @@ class Session:
         """A TCP stream that cannot be read on: say why (unless forged), hang up."""
         owner = self._controller
         forged = owner is not None and owner.peer.key == peer.key and owner.key is not None
-        self._count_bad(peer, exc, sealed=forged)
-        actions: list[Action] = [] if forged else [Send(peer, self._malformed(exc))]
+        count_bad(self.stats, peer, exc, sealed=forged)
+        actions: list[Action] = [] if forged else [Send(peer, malformed(self.stats, exc))]
         return [*actions, Hangup(peer)]
 
     def receive(self, peer: Peer, frame: Frame, now: float, size: int = 0) -> list[Action]:
@@ -148,11 +159,11 @@ class Session:
         if frame.type is MessageType.HELLO:
             return self.gate.hello(peer, frame, now, size, self._controller)
         if frame.type is MessageType.AUTH:
-            actions, new = self.gate.auth(peer, frame, now, self._controller)
+            actions, new = self.gate.auth(peer, frame, now, self._controller, size)
             if new is not None:
                 self._controller = new
             return actions
-        return self._request(peer, frame, now)
+        return self._request(peer, frame, now, size)
 
     def completed(
         self, session: int, seq: int, result: bytes | Exception, now: float
@@ -164,12 +175,12 @@ class Session:
         owner.busy -= 1
         owner.last_heard = now
         if isinstance(result, Exception):
-            reply_type, payload = MessageType.ERROR, self._error_payload(result)
+            reply_type, payload = MessageType.ERROR, error_payload(self.stats, result)
         elif len(result) > MAX_PAYLOAD:
             too_big = RemoteError(
                 f"reply of {len(result)} bytes exceeds the {MAX_PAYLOAD}-byte frame limit"
             )
-            reply_type, payload = MessageType.ERROR, self._error_payload(too_big)
+            reply_type, payload = MessageType.ERROR, error_payload(self.stats, too_big)
         else:
             reply_type, payload = MessageType.OK, result
         data = self._reply(owner, seq, reply_type, payload)
@@ -192,17 +203,18 @@ class Session:
             return []
         self.stats.deadman_stops += 1
         why = f"silent for {silent_s * 1e3:.0f} ms (deadline {self.deadline_s * 1e3:.0f} ms)"
-        return self._end(why, notify=True)
+        told = f"session ended: the server's deadman stopped the robot: its controller was {why}"
+        return self._end(why, notify=True, told=told)
 
     def shutdown(self) -> list[Action]:
         return self._end("the server is shutting down", notify=True)
 
     # -- requests of the controller ----------------------------------------------------------
 
-    def _request(self, peer: Peer, frame: Frame, now: float) -> list[Action]:
+    def _request(self, peer: Peer, frame: Frame, now: float, size: int) -> list[Action]:
         owner = self._controller
         if owner is None or owner.peer.key != peer.key or owner.id != frame.session:
-            return self._not_in_control(peer, frame)
+            return self.ended.answer(peer, frame, size)
         verdict = owner.guard.check(frame.seq)
         if verdict is Verdict.REPEAT:
             self.stats.repeats += 1
@@ -212,11 +224,15 @@ class Session:
         if verdict is Verdict.STALE:
             self.stats.stale += 1
             return []
+        if owner.busy and frame.type not in _WHILE_BUSY:
+            return [self._pipelined(owner, frame.seq)]
         owner.last_heard = now  # only something new keeps the robot going
         try:
             call = parse_request(frame)
         except FrameError as exc:
-            return [self._answer(owner, frame.seq, MessageType.ERROR, self._error_payload(exc))]
+            return [
+                self._answer(owner, frame.seq, MessageType.ERROR, error_payload(self.stats, exc))
+            ]
         if isinstance(call, Fetch):
             return [self._fetch(owner, frame.seq, call)]
         if isinstance(call, Bye):
@@ -231,16 +247,23 @@ class Session:
             owner.camera_open = True
         return [Run(peer, owner.id, frame.seq, call)]
 
-    def _not_in_control(self, peer: Peer, frame: Frame) -> list[Action]:
-        if frame.type is MessageType.BYE:  # saying goodbye twice is fine
-            return [Send(peer, encode_frame(MessageType.OK, frame.seq, b"", frame.session))]
-        why = self._expired.get(frame.session)
-        message = (
-            f"session ended: {why}; the robot was stopped"
-            if why
-            else "no such session on this server: connect first"
+    def _pipelined(self, owner: ControllerState, seq: int) -> Send:
+        """A request sent while another of the session runs: refused, not queued, so that
+        a controller cannot stack up work that would drive the robot after it is gone."""
+        self.stats.pipelined += 1
+        owner.pipelined += 1
+        running = owner.guard.running
+        if owner.pipelined == 1:
+            log.warning(
+                "%s sends requests without waiting for replies: refused, one at a time",
+                owner.peer.label,
+            )
+        error = FrameError(
+            f"request {seq} came while request {running} was still running: "
+            "one request at a time, wait for each reply"
         )
-        return [Send(peer, error_frame(self.stats, frame, LinkLostError(message)))]
+        payload = error_payload(self.stats, error)
+        return Send(owner.peer, self._reply(owner, seq, MessageType.ERROR, payload))
 
     def _fetch(self, owner: ControllerState, seq: int, fetch: Fetch) -> Send:
         big = owner.big
@@ -250,7 +273,7 @@ class Session:
             limit = owner.peer.datagram or self.chunk_size
             part = split_reply(big[1], big[2], fetch.offset, limit)
         except FrameError as exc:
-            return self._answer(owner, seq, MessageType.ERROR, self._error_payload(exc))
+            return self._answer(owner, seq, MessageType.ERROR, error_payload(self.stats, exc))
         return self._answer(owner, seq, MessageType.PART, part)
 
     def _answer(
@@ -270,53 +293,63 @@ class Session:
         return encode_frame(reply_type, seq, payload, owner.id, owner.key)
 
     def _end(
-        self, reason: str, *, notify: bool = False, level: int = logging.WARNING
+        self,
+        reason: str,
+        *,
+        notify: bool = False,
+        level: int = logging.WARNING,
+        told: str | None = None,
     ) -> list[Action]:
-        """The controller is gone: stop the robot, remember why its session ended."""
+        """The controller is gone: stop the robot, remember why its session ended (what
+        its client is ``told``: by default that the session ended for ``reason``)."""
         owner, self._controller = self._controller, None
         if owner is None:
             return []
-        self._expired[owner.id] = reason
-        while len(self._expired) > MAX_EXPIRED:
-            self._expired.popitem(last=False)
+        message = told or f"session ended: {reason}; the robot was stopped"
+        self.ended.remember(owner.id, message, owner.peer)
         actions: list[Action] = [
             StopRobot(f"{owner.peer.label} {reason}", owner.camera_open, level)
         ]
         if notify:
-            message = f"session ended: {reason}; the robot was stopped"
-            payload = pack_error("LinkLostError", message)
-            data = encode_frame(MessageType.ERROR, 0, payload, owner.id, owner.key)
+            data = encode_frame(MessageType.ERROR, 0, ended_payload(message), owner.id, owner.key)
             actions += [Send(owner.peer, data), Hangup(owner.peer)]
         return actions
 
     def _taken(self, session: int) -> bool:
         owner = self._controller
-        return session in self._expired or (owner is not None and owner.id == session)
+        return session in self.ended or (owner is not None and owner.id == session)
 
-    # -- errors ------------------------------------------------------------------------------
 
-    def _error_payload(self, exc: Exception) -> bytes:
-        if isinstance(exc, EgoError):
-            self.stats.errors[type(exc).__name__] += 1
-            return pack_error(type(exc).__name__, str(exc), error_fields(exc))
-        self.stats.errors["internal"] += 1
-        return pack_error("RemoteError", f"internal server error: {exc!r}")
+# -- errors ------------------------------------------------------------------------------
 
-    def _malformed(self, exc: FrameError) -> bytes:
-        self.stats.malformed += 1
-        if isinstance(exc, VersionMismatchError):
-            message = (
-                f"ego remote protocol {PROTOCOL_VERSION} here, {exc.peer_version} there: "
-                "install the same ego version on both ends"
-            )
-            payload = pack_error("RemoteError", message)
-            return encode_frame(MessageType.ERROR, exc.seq, payload, exc.session)
-        return encode_frame(MessageType.ERROR, 0, pack_error("FrameError", str(exc)))
 
-    def _count_bad(self, peer: Peer, exc: FrameError, *, sealed: bool) -> None:
-        if sealed:
-            self.stats.forged += 1
-            log.info("%s: dropped a forged or altered frame: %s", peer.label, exc)
-        else:
-            self.stats.malformed += 1
-            log.debug("%s: dropped a malformed frame: %s", peer.label, exc)
+def error_payload(stats: ServerStats, exc: Exception) -> bytes:
+    """An ERROR payload naming ``exc`` (an ego error), or an internal error."""
+    if isinstance(exc, EgoError):
+        stats.errors[type(exc).__name__] += 1
+        return pack_error(type(exc).__name__, str(exc), error_fields(exc))
+    stats.errors["internal"] += 1
+    return pack_error("RemoteError", f"internal server error: {exc!r}")
+
+
+def malformed(stats: ServerStats, exc: FrameError) -> bytes:
+    """The unsealed ERROR answering a frame that could not be read."""
+    stats.malformed += 1
+    if isinstance(exc, VersionMismatchError):
+        message = (
+            f"ego remote protocol {PROTOCOL_VERSION} here, {exc.peer_version} there: "
+            "install the same ego version on both ends"
+        )
+        payload = pack_error("RemoteError", message)
+        return encode_frame(MessageType.ERROR, exc.seq, payload, exc.session)
+    return encode_frame(MessageType.ERROR, 0, pack_error("FrameError", str(exc)))
+
+
+def count_bad(stats: ServerStats, peer: Peer, exc: FrameError, *, sealed: bool) -> None:
+    """A frame dropped unanswered: forged (it failed a session's MAC) or malformed."""
+    if sealed:
+        stats.forged += 1
+        log.info("%s: dropped a forged or altered frame: %s", peer.label, exc)
+    else:
+        stats.malformed += 1
+        log.debug("%s: dropped a malformed frame: %s", peer.label, exc)

@@ -22,11 +22,12 @@ sequence numbers (:class:`SequenceGuard`) make a replayed frame stale. Without a
 
 The header layout is frozen across protocol versions, so that a peer speaking another
 version is told so in a frame it can still read. The client is stop-and-wait: it sends
-request ``n+1`` only once request ``n`` was answered, so over UDP a lost request or reply
-is retransmitted with the *same* sequence number, and the server's
-:class:`SequenceGuard` answers a duplicate from its cache instead of running the batch
-twice. A reply is matched to its request by session and sequence number alone: a late,
-duplicated or reordered datagram can never be taken for another step's reply.
+request ``n+1`` only once request ``n`` was answered (the server refuses one that comes
+while another runs), so over UDP a lost request or reply is retransmitted with the
+*same* sequence number, and the server's :class:`SequenceGuard` answers a duplicate
+from its cache instead of running the batch twice. A reply is matched to its request
+by session and sequence number alone: a late, duplicated or reordered datagram can never
+be taken for another step's reply.
 
 A reply too big for one datagram (a camera frame over UDP) comes as a first
 :data:`MessageType.PART`; the client fetches the rest with :data:`MessageType.FETCH`
@@ -159,14 +160,16 @@ class FrameKey:
     frame cannot be reflected back to its sender.
     """
 
-    __slots__ = ("_key", "opens", "seals")
+    __slots__ = ("_started", "opens", "seals")
 
     def __init__(self, key: bytes, *, server: bool) -> None:
-        self._key = key
         self.seals, self.opens = (b"S", b"C") if server else (b"C", b"S")
+        # HMAC(key, direction + frame), each started once and copied per frame: the key
+        # is not set up again for every frame (a burst of thousands stays cheap).
+        self._started = {d: hmac.new(key, d, hashlib.sha256) for d in (b"C", b"S")}
 
     def mac(self, direction: bytes, data: bytes | memoryview) -> bytes:
-        digest = hmac.new(self._key, direction, hashlib.sha256)
+        digest = self._started[direction].copy()
         digest.update(data)
         return digest.digest()[:MAC_SIZE]
 
@@ -285,21 +288,28 @@ class FrameReader:
             raise self._error
         self._buf += data
         frames: list[Frame] = []
+        buf, start = self._buf, 0
         try:
-            while len(self._buf) >= HEADER.size:
+            while len(buf) - start >= HEADER.size:
                 # Checked before the payload arrives: an oversized length is refused
                 # without buffering it.
-                _, type_, _, _, length = _check_header(self._buf, self.max_payload)
+                view = memoryview(buf)[start:]
+                try:
+                    _, type_, _, _, length = _check_header(view, self.max_payload)
+                finally:
+                    view.release()
                 total = _frame_size(type_, length)
-                if len(self._buf) < total:
+                if len(buf) - start < total:
                     break
-                chunk = bytes(self._buf[:total])
-                del self._buf[:total]
+                chunk = bytes(buf[start : start + total])
+                start += total
                 frames.append(decode_frame(chunk, self.key, self.max_payload))
         except FrameError as exc:
             self._error = exc
             self._buf.clear()
             raise
+        # Cut once, not after every frame: a burst of thousands stays linear.
+        del buf[:start]
         return frames
 
     @property
@@ -352,6 +362,11 @@ class SequenceGuard:
     def cached(self) -> bytes:
         """The encoded reply to the last request that completed."""
         return self._cached
+
+    @property
+    def running(self) -> int | None:
+        """The request being run now, if any."""
+        return self._running
 
     def check(self, seq: int) -> Verdict:
         if seq == self._running:
