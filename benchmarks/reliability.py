@@ -26,6 +26,7 @@ from benchmarks.common import THESIS_LINE_BAUD, Table, print_and_save, progress
 from ego.devices.encoders import wrap_int16
 from ego.errors import EgoError
 from ego.serial import Batch, Command, Link, LinkSettings, Request, SerialTransport, encode_batch
+from ego.serial.transport import MIN_BAUD
 from firmware_sim import FAULT_KINDS, Emulator, FaultSpec, FaultTimings
 
 __all__ = ["SoakResult", "run", "soak", "step_bound_s"]
@@ -77,7 +78,8 @@ class SoakResult:
 
 def step_bound_s(settings: LinkSettings, reply_timeout_s: float, restarts: int = 3) -> float:
     """The longest a step may block: every retry times out, every restart re-probes."""
-    attempt = reply_timeout_s + settings.trailing_guard_s + settings.resync_max_s
+    guard_s = settings.trailing_guard_at(MIN_BAUD)  # its longest: on the slowest line
+    attempt = reply_timeout_s + guard_s + settings.resync_max_s
     identify = settings.resync_max_s + 3 * settings.line_timeout_s
     per_exchange = (settings.retries + 1) * attempt + settings.reconnect_timeout_s + identify
     return restarts * per_exchange

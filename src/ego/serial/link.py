@@ -93,6 +93,12 @@ class LinkSettings:
     #: How long to wait for each line of an ASCII reply (V, C, S...).
     line_timeout_s: float = 0.3
 
+    def trailing_guard_at(self, baud: int) -> float:
+        """The trailing guard on a line that runs at ``baud``."""
+        if self.trailing_guard_s is not None:
+            return self.trailing_guard_s
+        return wire_time_s(TRAILING_GUARD_BYTES, baud)
+
 
 @dataclass(slots=True)
 class LinkStats:
@@ -301,10 +307,7 @@ class Link:
             self._check_banner(getattr(exc, "partial", b""))
             raise
         self.stats.bytes_received += len(reply)
-        guard = self.settings.trailing_guard_s
-        extra = self.transport.trailing(
-            wire_time_s(TRAILING_GUARD_BYTES, baud) if guard is None else guard
-        )
+        extra = self.transport.trailing(self.settings.trailing_guard_at(baud))
         self._check_banner(reply + extra)
         if extra:
             raise ExtraBytesError(
