@@ -12,11 +12,13 @@ from pathlib import Path
 
 import pytest
 from helpers import ego_command, wait_until
-from zenoh_support import client_session, free_endpoint, served_node
+from zenoh_support import Node, client_session, free_endpoint, served_node
 
 import ego
+from benchmarks.zenoh_floods import flood_result, start_ascii_flood
 from ego.errors import InsecureSecretError, RobotBusyError
 from ego.remote.connection import error_from_reply
+from ego.serial.link import LinkSettings
 from ego.serial.protocol import Command, Request, encode_batch
 from ego.zenoh_net.keys import check_name
 from ego.zenoh_net.sessions import ZenohSettings, open_session
@@ -202,3 +204,76 @@ def test_a_group_named_by_a_key_expression_steps_its_robots_in_lockstep() -> Non
             group.close()
             for robot in robots:
                 robot.close()
+
+
+def _steps_for(robot: ego.Robot, seconds: float, ms: int = 20) -> int:
+    """How many ``ms`` steps ``robot`` runs in ``seconds``."""
+    steps, end = 0, time.monotonic() + seconds
+    while time.monotonic() < end:
+        assert robot.step(ms) == 0
+        steps += 1
+    return steps
+
+
+def _stopped_after(served: Node, silent_since: float, timeout_s: float = 2.0) -> float:
+    """Seconds from ``silent_since`` until the emulated wheels are at 0 (polled each ms)."""
+    end = silent_since + timeout_s
+    while served.world.speeds != (0, 0) and time.monotonic() < end:
+        time.sleep(0.001)
+    assert served.world.speeds == (0, 0), "the deadman never stopped the robot"
+    return time.monotonic() - silent_since
+
+
+def test_an_ascii_flood_from_another_peer_starves_neither_the_controller_nor_the_deadman() -> None:
+    """Issue 22: V queries asking for 1000 lines, from a peer without the lease, held the
+    serial line 0.3 s each: the controller's steps fell from 100 to 29 in 4 s and the
+    deadman fired at 611 ms. They are refused as they arrive now, and the stop comes first."""
+    deadline_s = 0.5
+    # The emulator shares this process (and its GIL) with the flooded node: the link's
+    # own timeouts, not the tests' quick ones, as on a robot.
+    with served_node("f1", deadline_s, LinkSettings()) as served, ego.Robot(
+        "zenoh://f1", zenoh_connect=[served.endpoint]
+    ) as robot:
+        robot.motors.set_speed(300, 300)
+        robot.proximity.enable(20)  # every step sends a batch (no keepalive in between)
+        quiet = _steps_for(robot, 2.0)
+        flood = start_ascii_flood(served.endpoint, "f1", payload="V,1000", seconds=3.0,
+                                  threads=8)
+        try:
+            flooded = _steps_for(robot, 2.0)
+            robot.motors.set_speed(400, 400)  # the last batch: the wheels surely turn
+            silent_since = time.monotonic()  # before the last batch goes out: conservative
+            robot.step(20)
+            assert served.world.speeds == (400, 400)
+            stopped_s = _stopped_after(served, silent_since)
+        finally:
+            answered = flood_result(flood)
+        print(f"steps in 2 s: {quiet} quiet, {flooded} flooded; deadman after {stopped_s:.3f} s;"
+              f" the flood's replies: {answered}")  # fmt: skip
+        assert flooded >= quiet // 2, (quiet, flooded)
+        assert stopped_s <= deadline_s * 1.10, f"the deadman stopped after {stopped_s:.3f} s"
+        assert answered["err"] > 100 and answered["ok"] == 0  # a flood, and all refused
+
+
+def test_ascii_queries_need_the_lease_and_at_most_two_lines() -> None:
+    with served_node("f2") as served:
+        session = client_session(served.endpoint)
+
+        def ask(payload: bytes, who: bytes | None) -> str:
+            replies = list(session.get("ego/f2/ascii", payload=payload, attachment=who,
+                                       timeout=2))  # fmt: skip
+            assert len(replies) == 1
+            if replies[0].ok is not None:
+                return "ok " + replies[0].ok.payload.to_bytes().decode()
+            return str(error_from_reply(replies[0].err.payload.to_bytes(), "node"))
+
+        try:
+            assert "1..2 lines, not 1000" in ask(b"V,1000", b"a")
+            assert "1..2 lines, not 0" in ask(b"C,0", b"a")
+            assert "controller's id" in ask(b"V", None)
+            assert ask(b"V", b"a").startswith("ok v,")  # a takes the robot by asking
+            assert served.node.lease.holder == "a"
+            assert "driven by another controller" in ask(b"C", b"b")
+            assert served.node.refused.get("busy") == 1
+        finally:
+            session.close()
