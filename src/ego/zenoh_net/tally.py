@@ -47,12 +47,12 @@ class Tally:
         with self._lock:
             return self.counts.get(reason, default)
 
-    def add(self, reason: str, detail: str) -> None:
-        """Count one, and log it if none was logged for ``every_s`` seconds."""
+    def add(self, reason: str, detail: str, count: int = 1) -> None:
+        """Count ``count`` more, and log if nothing was logged for ``every_s`` seconds."""
         now = time.monotonic()
         with self._lock:
-            self.counts[reason] = self.counts.get(reason, 0) + 1
-            self._unlogged += 1
+            self.counts[reason] = self.counts.get(reason, 0) + count
+            self._unlogged += count
             if now - self._last_log < self.every_s:
                 return
             unlogged, self._unlogged, self._last_log = self._unlogged, 0, now
