@@ -190,4 +190,6 @@ def test_a_radio_flood_fills_the_queue_to_its_bound_and_no_further(tmp_path: Pat
           f"peak RSS +{growth_mb:.1f} MB")  # fmt: skip
     assert max(got["lengths"]) == got["lengths"][-1] == BUFFER_PACKETS
     assert got["dropped"] > 0
-    assert growth_mb < 12, f"the receiving process grew {growth_mb:.1f} MB"  # a generous budget
+    # A generous budget: about 10 MB measured after (most of it fixed: Zenoh, the allocator),
+    # 53..93 MB before (the queue without end), in the same 4 s.
+    assert growth_mb < 25, f"the receiving process grew {growth_mb:.1f} MB"

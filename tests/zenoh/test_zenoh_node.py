@@ -250,7 +250,10 @@ def test_an_ascii_flood_from_another_peer_starves_neither_the_controller_nor_the
             answered = flood_result(flood)
         print(f"steps in 2 s: {quiet} quiet, {flooded} flooded; deadman after {stopped_s:.3f} s;"
               f" the flood's replies: {answered}")  # fmt: skip
-        assert flooded >= quiet // 2, (quiet, flooded)
+        # Not starved: before, 6..8 of ~100 steps. The flooder's process shares this
+        # machine's CPUs with the node and the controller, so what they leave varies
+        # (22..101 measured): a generous floor.
+        assert flooded >= quiet // 4, (quiet, flooded)
         assert stopped_s <= deadline_s * 1.10, f"the deadman stopped after {stopped_s:.3f} s"
         assert answered["err"] > 100 and answered["ok"] == 0  # a flood, and all refused
 
