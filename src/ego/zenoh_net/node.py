@@ -78,8 +78,9 @@ class _Query:
     def cancel(self, why: str) -> None:
         try:
             self.query.reply_err(pack_error("RobotBusyError", why))
-        finally:
             self.query.drop()
+        except Exception as exc:  # the node is closing: its queryable may be gone
+            log.debug("cancelling a query: %s", exc)
 
 
 class RobotNode:
