@@ -100,7 +100,7 @@ class RobotNode:
         self.watched = WatchedChannel(channel, on_sample=self._publish, world=world)
         self.lease = ControlLease(deadline_s, robot=self.name)
         self.world = world
-        self._lock = threading.Lock()  # the lease: Zenoh's threads, the worker, the deadman
+        self._lock = threading.Lock()  # the lease: the intakes, the puts, the worker, the deadman
         self._closing = threading.Event()
         self._entities: list[Any] = []
         self._line = LineWorker(self.stop, name=f"ego-zenoh-line-{self.name}")
