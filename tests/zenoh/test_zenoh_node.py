@@ -22,6 +22,7 @@ from ego.serial.link import LinkSettings
 from ego.serial.protocol import Command, Request, encode_batch
 from ego.zenoh_net.keys import check_name
 from ego.zenoh_net.sessions import ZenohSettings, open_session
+from firmware_sim.world import stepping_rate
 
 
 def test_a_controller_drives_a_robot_served_as_a_zenoh_node() -> None:
@@ -215,13 +216,20 @@ def _steps_for(robot: ego.Robot, seconds: float, ms: int = 20) -> int:
     return steps
 
 
-def _stopped_after(served: Node, silent_since: float, timeout_s: float = 2.0) -> float:
-    """Seconds from ``silent_since`` until the emulated wheels are at 0 (polled each ms)."""
-    end = silent_since + timeout_s
-    while served.world.speeds != (0, 0) and time.monotonic() < end:
-        time.sleep(0.001)
-    assert served.world.speeds == (0, 0), "the deadman never stopped the robot"
-    return time.monotonic() - silent_since
+def _silence_to_stop_s(served: Node, robot: ego.Robot, speed: int = 1000) -> float:
+    """The controller's last step at ``speed``, then silence: seconds until the deadman's
+    stop, as the wheels tell it. The wheels' step counters stop with them, so how far they
+    turned after a known moment dates the stop, however late this thread sees it (this
+    machine's CPUs are shared: a poll may wake tens of milliseconds late)."""
+    robot.motors.set_speed(speed, speed)  # the last batch: the wheels surely turn
+    silent_since = time.monotonic()  # before the last batch goes out: conservative
+    robot.step(20)
+    assert served.world.speeds == (speed, speed)
+    counted = served.world.steps_int16()[0]
+    counted_by = time.monotonic()  # after the reading: conservative
+    assert wait_until(lambda: served.world.speeds == (0, 0), 2.0), "the deadman never stopped"
+    turned = served.world.steps_int16()[0] - counted + 1  # +1: both readings are floored
+    return counted_by + turned / stepping_rate(speed) - silent_since
 
 
 def test_an_ascii_flood_from_another_peer_starves_neither_the_controller_nor_the_deadman() -> None:
@@ -241,11 +249,7 @@ def test_an_ascii_flood_from_another_peer_starves_neither_the_controller_nor_the
                                   threads=8)
         try:
             flooded = _steps_for(robot, 2.0)
-            robot.motors.set_speed(400, 400)  # the last batch: the wheels surely turn
-            silent_since = time.monotonic()  # before the last batch goes out: conservative
-            robot.step(20)
-            assert served.world.speeds == (400, 400)
-            stopped_s = _stopped_after(served, silent_since)
+            stopped_s = _silence_to_stop_s(served, robot)
         finally:
             answered = flood_result(flood)
         print(f"steps in 2 s: {quiet} quiet, {flooded} flooded; deadman after {stopped_s:.3f} s;"
