@@ -10,7 +10,7 @@ from typing import Any
 
 from fakes import FAST_LINK
 
-from ego.serial.link import Link
+from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
 from ego.zenoh_net.node import RobotNode
 from ego.zenoh_net.sessions import ZenohSettings, open_session
@@ -36,11 +36,15 @@ class Node:
 
 
 @contextmanager
-def served_node(name: str = "epuck", deadline_s: float = 0.5, **emulator: Any) -> Iterator[Node]:
-    """An emulated robot served as the Zenoh node ``name``, listening on its own endpoint."""
+def served_node(
+    name: str = "epuck", deadline_s: float = 0.5, settings: LinkSettings = FAST_LINK,
+    **emulator: Any,
+) -> Iterator[Node]:  # fmt: skip
+    """An emulated robot served as the Zenoh node ``name``, listening on its own endpoint
+    (its serial link quick to recover, unless ``settings`` says otherwise)."""
     with ExitStack() as stack:
         emu = stack.enter_context(Emulator("webots", seed=1, **emulator))
-        link = Link(SerialTransport(emu.path), settings=FAST_LINK)
+        link = Link(SerialTransport(emu.path), settings=settings)
         stack.callback(link.close)
         endpoint = free_endpoint()
         session = open_session(ZenohSettings(listen=[endpoint], connect=[]))

@@ -9,7 +9,11 @@ they are absent, with Webots' warning.
 The robot's radio uses its Zenoh session when the robot is a Zenoh node
 (``zenoh://NAME``), else a session of its own on ``EGO_ZENOH_CONNECT`` /
 ``EGO_ZENOH_LISTEN`` (ego.zenoh_net.sessions). As in Webots, a packet sent during a step
-is received at the next one; the queue keeps every packet until ``nextPacket``.
+is received at the next one; the queue keeps a packet until ``nextPacket``, up to a
+bound (1024 packets, 1 MiB of data: ego.zenoh_net.radio's BUFFER_PACKETS and
+BUFFER_BYTES), beyond which arriving packets are dropped and counted
+(``Receiver.dropped_packets``), as Webots' Receiver drops what its ``bufferSize`` cannot
+hold.
 Signal strength and direction come from the emulated world's true poses (on the
 emulator, or a swarm), where the emitter's range is honoured too; on real robots they
 are NaN.
@@ -145,6 +149,7 @@ class Receiver(_RadioDevice):
         super().__init__(core, name, strict=strict)
         self._period = 0
         self._queue: deque[Packet] = deque()
+        self._queued_bytes = 0
 
     def enable(self, samplingPeriod: int) -> None:
         period = check_int("sampling period", samplingPeriod, 1, MAX_PERIOD_MS, " ms")
@@ -163,7 +168,21 @@ class Receiver(_RadioDevice):
         return self._period
 
     def _step(self, core: CoreRobot) -> None:
-        self._queue.extend(_radio(core).take())
+        radio = _radio(core)
+        packets = radio.take()
+        for index, packet in enumerate(packets):
+            if not radio.fits(len(self._queue), self._queued_bytes, len(packet.data)):
+                radio.dropped.add("full", "the receiver's queue is full: read it with "
+                                  "getData() and nextPacket()", len(packets) - index)  # fmt: skip
+                break
+            self._queue.append(packet)
+            self._queued_bytes += len(packet.data)
+
+    @property
+    def dropped_packets(self) -> int:
+        """Packets lost (ego's, not Webots'): the buffer full, or malformed; logged too."""
+        radio = _RADIOS.get(self._core)
+        return radio.dropped.total if radio is not None else 0
 
     def getQueueLength(self) -> int:
         return len(self._queue)
@@ -172,7 +191,7 @@ class Receiver(_RadioDevice):
         """Drop the head packet (Webots: an error when the queue is empty)."""
         if not self._queue:
             raise DeviceError("Receiver.nextPacket: the queue is empty")
-        self._queue.popleft()
+        self._queued_bytes -= len(self._queue.popleft().data)
 
     def _head(self) -> Packet:
         if not self._queue:

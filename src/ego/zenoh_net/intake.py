@@ -1,0 +1,69 @@
+"""A queryable served by a thread of ours: Zenoh's own threads never run Python.
+
+A query waits in a bounded ring inside Zenoh (:data:`RING_CAPACITY`; when it is full,
+Zenoh drops the oldest, and its querier's ``get`` times out) until the intake's thread
+takes it and hands it to ``handle``. So a flood on one key neither holds Zenoh's
+network threads on Python's GIL (where they would delay every other message, the
+controller's batches included) nor queues without end.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import zenoh
+
+__all__ = ["RING_CAPACITY", "Intake"]
+
+log = logging.getLogger(__name__)
+
+#: How many queries a key keeps waiting for its thread.
+RING_CAPACITY = 256
+
+
+class Intake:
+    """Declares a queryable on ``key`` and runs ``handle(query)`` for each, in one thread."""
+
+    def __init__(
+        self,
+        session: zenoh.Session,
+        key: str,
+        handle: Callable[[Any], None],
+        *,
+        capacity: int = RING_CAPACITY,
+    ) -> None:
+        import zenoh
+
+        self.key = key
+        self.handle = handle
+        self.queryable = session.declare_queryable(key, zenoh.handlers.RingChannel(capacity))
+        # The handler, not the queryable: undeclaring the queryable while its own recv()
+        # waits would fail ("Already borrowed"); the handler's recv ends when it closes.
+        self._queries = self.queryable.handler
+        self._thread = threading.Thread(target=self._run, name=f"ego-zenoh {key}", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while True:
+            try:
+                query = self._queries.recv()
+            except Exception as exc:  # zenoh.ZError: the queryable is undeclared
+                log.debug("%s: no more queries (%s)", self.key, exc)
+                return
+            try:
+                self.handle(query)
+            except Exception:  # a bug: logged with its traceback; the key stays served
+                log.exception("%s: a query failed", self.key)
+            # Zenoh ends a query (its querier gets the replies, consolidated) when the query
+            # is dropped: let go of it now, not when the next one arrives. A queued query is
+            # held, and dropped, by its job.
+            del query
+
+    def undeclare(self) -> None:
+        """Stop taking queries; the thread ends once the one in hand is handled."""
+        self.queryable.undeclare()
+        self._thread.join(2)
