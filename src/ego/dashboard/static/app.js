@@ -650,6 +650,7 @@ function drawPlot() {
     ctx.stroke();
   }
   canvas.dataset.yTicks = JSON.stringify(yt.values.map((v) => tickText(v, yt.step)));
+  canvas.dataset.units = webots ? `${series.unit} | ${webots.unit}` : series.unit;
 }
 
 function drawAxes(ctx, a) {
