@@ -631,7 +631,7 @@ function drawPlot() {
   if (!isFinite(lo)) { ctx.fillText(`${series.title}: off (not sampled)`, 10, 20); return; }
   if (hi - lo < 1e-6) { hi += 1; lo -= 1; }
   const webots = series.webots && view.webots ? series.webots : null;
-  const box = { left: 56, right: webots ? 56 : 14, top: 20, bottom: 34 };
+  const box = { left: 56, right: webots ? 56 : 14, top: 28, bottom: 34 };
   const pw = w - box.left - box.right, ph = h - box.top - box.bottom;
   const yt = ticks(lo, hi, Math.max(2, Math.floor(ph / 40)));  // the axis spans whole ticks
   lo = Math.floor(lo / yt.step + 1e-9) * yt.step; hi = Math.ceil(hi / yt.step - 1e-9) * yt.step;
