@@ -389,7 +389,7 @@ function drawMap() {
   drawTrace(ctx, view.truth, TRUTH, 5, 0.75);
   drawTrace(ctx, view.odometry, ODOMETRY, 2, 1);
   const pose = view.truth.length ? view.truth[view.truth.length - 1] : view.odometry[view.odometry.length - 1];
-  if (pose) drawBody(ctx, pose, "rgba(233,237,243,.9)", "#1d2330");
+  if (pose && !view.swarm) drawBody(ctx, pose, "rgba(233,237,243,.9)", "#1d2330");  // a swarm's: drawn above
 }
 
 function drawWorld(ctx, world) {
@@ -443,20 +443,27 @@ function drawBody(ctx, [x, y, theta], fill, stroke) {
   ctx.lineTo(rx + Math.cos(theta) * 0.05 * scale, ry - Math.sin(theta) * 0.05 * scale); ctx.stroke();
 }
 
-// Every robot of a swarm where it truly is, each named, the names placed not to overlap.
+// Every robot of a swarm where it truly is, each named, the names placed clear of the
+// robots and of each other, with a leader line to a name that had to go further out.
 function drawSwarm(ctx, canvas) {
   ctx.font = `${LABEL_PX}px system-ui`;
-  const placed = [];
   const radius = Math.max(4, 0.037 * view.geometry.scale);
+  const discs = view.swarm.map(([, x, y]) => { const [rx, ry] = mapPoint(x, y); return [rx - radius, ry - radius, 2 * radius, 2 * radius]; });
   for (const [name, x, y, theta] of view.swarm) {
     const picked = name === view.pick;
-    drawBody(ctx, [x, y, theta], picked ? "rgba(47,111,223,.35)" : "rgba(123,92,214,.3)", picked ? ODOMETRY : SWARM);
+    drawBody(ctx, [x, y, theta], picked ? "rgba(47,111,223,.45)" : "rgba(123,92,214,.3)", picked ? ODOMETRY : SWARM);
   }
+  const placed = [];
   for (const [name, x, y] of view.swarm) {
     const [rx, ry] = mapPoint(x, y);
-    const box = placeLabel(ctx, name, rx, ry, radius, placed, canvas.clientWidth, canvas.clientHeight);
+    const box = placeLabel(ctx, name, rx, ry, radius, [...discs, ...placed], canvas.clientWidth, canvas.clientHeight);
     placed.push(box);
-    ctx.fillStyle = "rgba(255,255,255,.85)"; ctx.fillRect(box[0], box[1], box[2], box[3]);
+    const [nx, ny] = [Math.min(Math.max(rx, box[0]), box[0] + box[2]), Math.min(Math.max(ry, box[1]), box[1] + box[3])];
+    if (Math.hypot(nx - rx, ny - ry) > radius + 6) {
+      ctx.strokeStyle = "#6b7385"; ctx.lineWidth = 1;
+      ctx.beginPath(); ctx.moveTo(rx, ry); ctx.lineTo(nx, ny); ctx.stroke();
+    }
+    ctx.fillStyle = "rgba(255,255,255,.9)"; ctx.fillRect(box[0], box[1], box[2], box[3]);
     ctx.fillStyle = name === view.pick ? ODOMETRY : "#1d2330";
     ctx.fillText(name, box[0] + 2, box[1] + box[3] - 4);
   }
@@ -465,19 +472,21 @@ function drawSwarm(ctx, canvas) {
   canvas.classList.add("pickable");
 }
 
-function placeLabel(ctx, name, rx, ry, radius, placed, w, h) {
+function placeLabel(ctx, name, rx, ry, radius, taken, w, h) {
   const bw = ctx.measureText(name).width + 4, bh = LABEL_PX + 5;
-  const overlaps = (a) => placed.some((b) => a[0] < b[0] + b[2] && b[0] < a[0] + a[2] && a[1] < b[1] + b[3] && b[1] < a[1] + a[3]);
-  let first = null;
-  for (const reach of [1, 1.8, 2.6, 3.6, 5]) {
+  const overlaps = (a) => taken.some((b) => a[0] < b[0] + b[2] && b[0] < a[0] + a[2] && a[1] < b[1] + b[3] && b[1] < a[1] + a[3]);
+  const labels = taken.slice(view.swarm.length);  // the names placed so far
+  const clearOfNames = (a) => !labels.some((b) => a[0] < b[0] + b[2] && b[0] < a[0] + a[2] && a[1] < b[1] + b[3] && b[1] < a[1] + a[3]);
+  let fallback = null;
+  for (const reach of [1, 1.6, 2.4, 3.4, 4.6, 6]) {
     const d = radius * reach + 2;
-    for (const [ox, oy] of [[d, -d - bh], [d, d], [-d - bw, -d - bh], [-d - bw, d], [-bw / 2, -d - bh - 2], [-bw / 2, d + 2]]) {
+    for (const [ox, oy] of [[d, -bh / 2], [-d - bw, -bh / 2], [-bw / 2, -d - bh], [-bw / 2, d], [d, -d - bh], [d, d], [-d - bw, -d - bh], [-d - bw, d]]) {
       const box = [Math.min(Math.max(rx + ox, 0), w - bw), Math.min(Math.max(ry + oy, 0), h - bh), bw, bh];
-      first = first || box;
       if (!overlaps(box)) return box;
+      if (!fallback && clearOfNames(box)) fallback = box;  // over a robot, at worst
     }
   }
-  return first;
+  return fallback || [Math.min(Math.max(rx + radius, 0), w - bw), Math.min(Math.max(ry, 0), h - bh), bw, bh];
 }
 
 function drawTrace(ctx, trace, colour, width, alpha) {
