@@ -1,6 +1,7 @@
 """A small world for the emulated e-puck: a walled arena, a lamp, a sound source, a floor pattern.
 
-Values move the way a real robot's do: the step counters integrate the wheel speeds,
+Values move the way a real robot's do: the step counters integrate the wheel speeds (the
+wheels slip a little, and the counters are a little noisy: firmware_sim.wheels),
 proximity follows the e-puck IR response to the nearest surface, light falls (lower is
 brighter) as the lamp gets nearer, the accelerometer sees gravity and motion, and the
 microphones hear the source. Time is the host's monotonic clock, so a controller that
@@ -23,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from firmware_sim.floor import ImageFloor, LineTrack, Marks, Plain
+from firmware_sim.wheels import WheelModel, Wheels
 
 Floor = Marks | LineTrack | Plain | ImageFloor
 
@@ -193,6 +195,7 @@ class World:
         devices: frozenset[str] = frozenset(),
         camera_size: tuple[int, int] | None = None,
         starts: list[Pose] | None = None,
+        wheels: WheelModel | None = None,
     ) -> None:
         self.arena = arena or Arena()
         self.floor_pattern = floor or Marks()
@@ -207,6 +210,8 @@ class World:
         self.sound = sound or SoundSource()
         self.noise = noise
         self._rng = np.random.default_rng(seed)
+        #: The wheels' slip and counter noise (firmware_sim.wheels; small by default).
+        self.wheels = Wheels(wheels, seed)
         self._lock = threading.RLock()
         self._start = start or Pose(0.0, 0.0, 0.0)
         #: Every robot's start pose the world file gives (a swarm's), this one's first.
@@ -325,12 +330,13 @@ class World:
             self._t = now
             b = self._body
             left, right = (stepping_rate(v) for v in b.speed_steps)
-            vl = left * METRES_PER_STEP
-            vr = right * METRES_PER_STEP
+            ground_left, ground_right = self.wheels.ground(left, right)  # less the slip
+            vl = ground_left * METRES_PER_STEP
+            vr = ground_right * METRES_PER_STEP
             v = (vl + vr) / 2
             w = (vr - vl) / AXLE_M
-            b.steps[0] += left * dt
-            b.steps[1] += right * dt
+            b.steps[0] += self.wheels.counted(left * dt, self.noise)
+            b.steps[1] += self.wheels.counted(right * dt, self.noise)
             if abs(w) < 1e-9:
                 nx = b.x_m + v * dt * math.cos(b.theta_rad)
                 ny = b.y_m + v * dt * math.sin(b.theta_rad)

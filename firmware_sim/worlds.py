@@ -32,6 +32,10 @@ A world file describes what the emulated e-puck lives in::
     y_m = 0.3
     frequency_hz = 1000.0
 
+    [wheels]                          # how the wheels slip, how noisy their counters are
+    slip = 0.01                       # mean fraction of the turning lost (0..0.5)
+    encoder_noise_steps = 1.0         # counter error after one wheel turn (0..100 steps)
+
     devices = ["gps", "compass", "touch sensor"]   # ground truth, emulator only (top level)
 
     [robot] camera_width = 52, camera_height = 39  # the size Webots controllers get
@@ -65,6 +69,7 @@ import tomllib
 from firmware_sim.files import read_regular
 from firmware_sim.floor import LineTrack, Marks
 from firmware_sim.wbt import MAX_BOXES, MAX_ROBOTS, world_from_wbt
+from firmware_sim.wheels import MAX_ENCODER_NOISE_STEPS, MAX_SLIP, WheelModel
 from firmware_sim.world import Arena, Block, Lamp, Pose, SoundSource, World
 
 __all__ = [
@@ -102,6 +107,7 @@ _TABLES = {
     "box": {"x_m", "y_m", "size_m", "rgb", "name"},
     "lamp": {"x_m", "y_m", "height_m"},
     "sound": {"x_m", "y_m", "frequency_hz", "amplitude"},
+    "wheels": {"slip", "encoder_noise_steps"},
 }
 
 
@@ -164,7 +170,8 @@ def _build(data: dict[str, Any], where: str, seed: int | None) -> World:
     if unknown:
         raise ValueError(f"{where}: unknown key {sorted(unknown)[0]!r}")
     tables = {
-        name: _table(data, name, where) for name in ("arena", "robot", "floor", "lamp", "sound")
+        name: _table(data, name, where)
+        for name in ("arena", "robot", "floor", "lamp", "sound", "wheels")
     }
     boxes = data.get("box", [])
     if not isinstance(boxes, list):
@@ -216,7 +223,16 @@ def _build(data: dict[str, Any], where: str, seed: int | None) -> World:
         devices=frozenset(devices),
         camera_size=_camera_size(robot, where),
         starts=starts,
+        wheels=_wheels(tables["wheels"], where),
     )
+
+
+def _wheels(table: dict[str, Any], where: str) -> WheelModel:
+    default = WheelModel()
+    slip = _number(table, "slip", where, default.slip, 0.0, MAX_SLIP)
+    noise = _number(table, "encoder_noise_steps", where, default.encoder_noise_steps, 0.0,
+                    MAX_ENCODER_NOISE_STEPS)  # fmt: skip
+    return WheelModel(slip, noise)
 
 
 def _camera_size(robot: dict[str, Any], where: str) -> tuple[int, int] | None:

@@ -289,6 +289,12 @@ class FaceKeys:
         keyboard = getattr(robot, "keyboard", None)  # the controller may have replaced it
         return keyboard if isinstance(keyboard, Keyboard) else None
 
+    @property
+    def webots_face(self) -> bool:
+        """Whether a Webots controller (its Python face's Robot) runs: the dashboard then
+        shows Webots' units (rad/s) beside the robot's own (steps/s)."""
+        return getattr(self._context, "webots_robot", None) is not None
+
     def listening(self) -> bool:
         """Whether the controller has enabled its Keyboard."""
         keyboard = self._keyboard()

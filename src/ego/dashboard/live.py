@@ -55,7 +55,8 @@ class RobotFeed:
         self.server: DashboardServer | None = None
         self._frames = -1
         self._hello = {"mode": "live", "robot": describe_robot(robot),
-                       "world": describe_world(getattr(robot.emulator, "world", None))}  # fmt: skip
+                       "world": describe_world(getattr(robot.emulator, "world", None)),
+                       "webots": bool(getattr(key_sink, "webots_face", False))}  # fmt: skip
 
     def hello(self) -> dict[str, Any]:
         return self._hello

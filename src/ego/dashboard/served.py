@@ -232,13 +232,36 @@ class ServedFeed(_StopFeed):
 
 class SwarmFeed(_StopFeed):
     """``ego swarm --dashboard``: every robot of a swarm on the map (``swarm``: each one's
-    name and true pose), the first one's sensors in detail, and one stop for all."""
+    name and true pose), the first one's sensors in detail, and one stop for all. A page
+    may pick another robot to detail (``{"type": "pick", "robot": "epuck2"}``): while it
+    is picked, its samples come too, under ``details`` by name."""
 
     def __init__(self, names: list[str], channels: list[WatchedChannel]) -> None:
         super().__init__(channels, {**_hello("swarm", channels[0], names[0]), "robots": names})
         self.names = names
+        self._picks: dict[object, str] = {}
         self._closing = threading.Event()
         self._thread = threading.Thread(target=self._publish, name="ego-swarm-feed", daemon=True)
+
+    def handle(self, client: object, message: object) -> Reply:
+        if not (isinstance(message, dict) and message.get("type") == "pick"):
+            return super().handle(client, message)
+        name = message.get("robot")
+        if name not in self.names:
+            return Reply({"type": "error", "error": f"robot {name!r} is not one of the "
+                          f"swarm's: {', '.join(self.names)}"})  # fmt: skip
+        self._picks = {**self._picks, client: str(name)}  # replaced whole: read by _publish
+        return Reply()
+
+    def leave(self, client: object) -> None:
+        self._picks = {c: n for c, n in self._picks.items() if c != client}
+        super().leave(client)
+
+    def _details(self) -> dict[str, Any]:
+        """The samples of the robots some page picked (the first one's is the sample)."""
+        picked = set(self._picks.values()) - {self.names[0]}
+        return {name: channel.last_sample for name, channel in zip(self.names, self.channels,
+                strict=True) if name in picked and channel.last_sample is not None}  # fmt: skip
 
     def start(self) -> SwarmFeed:
         self._thread.start()
@@ -255,4 +278,4 @@ class SwarmFeed(_StopFeed):
                 continue
             swarm = [[name, *(world_pose(c.world) or [0.0, 0.0, 0.0])]
                      for name, c in zip(self.names, self.channels, strict=True)]  # fmt: skip
-            self.server.publish({**sample, "swarm": swarm})
+            self.server.publish({**sample, "swarm": swarm, "details": self._details()})

@@ -26,6 +26,7 @@ from aiohttp import WSMsgType, web
 
 from ego.dashboard.access import Gate, url_host
 from ego.dashboard.control import Reply
+from ego.dashboard.history import History
 from ego.dashboard.pages import make_app, refuse
 
 __all__ = ["IMAGE_HZ", "JPEG_QUALITY", "MAX_MESSAGE_BYTES", "MAX_PAGES", "SAMPLE_HZ",
@@ -87,6 +88,8 @@ class DashboardServer:
         self._failure: BaseException | None = None
         self._wake: asyncio.Event | None = None
         self._stopping = False
+        #: The last minute of samples, sent to each page as it connects.
+        self.history = History()
 
     # -- life --------------------------------------------------------------------------------
 
@@ -167,11 +170,13 @@ class DashboardServer:
 
     def wants_sample(self) -> bool:
         """Whether a sample now would be sent (so that it is only made then)."""
-        return bool(self._clients) and time.monotonic() - self._sent_sample >= 1.0 / SAMPLE_HZ
+        due = time.monotonic() - self._sent_sample >= 1.0 / SAMPLE_HZ
+        return self.history.due() or (bool(self._clients) and due)
 
     def publish(self, sample: dict[str, Any], force: bool = False) -> None:
         """The newest sample; sent to the pages at most SAMPLE_HZ times a second (unless
         ``force``: a replay's seek must show where it landed)."""
+        self.history.add(sample)
         now = time.monotonic()
         if not self._clients or (not force and now - self._sent_sample < 1.0 / SAMPLE_HZ):
             return
@@ -250,6 +255,7 @@ class DashboardServer:
         self._clients[client] = ws
         try:
             await ws.send_json({"type": "hello", **self.feed.hello()})
+            await ws.send_str(self.history.message())
             await ws.send_json(self.feed.state(client))
             async for msg in ws:
                 if msg.type != WSMsgType.TEXT:

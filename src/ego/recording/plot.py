@@ -1,26 +1,33 @@
 """``ego plot run.mcap --out DIR``: PNG plots of a recorded run, with matplotlib.
 
 Three figures: ``sensors.png`` (every family the run sampled, against controller
-time), ``path.png`` (the odometry and, on the emulator, the true path), and
-``timing.png`` (each step's wall time against the step asked, and the overruns).
+time, each panel with a legend of its lines and its unit), ``path.png`` (the odometry
+and, on the emulator, the true path), and ``timing.png`` (each step's wall time against
+the step asked, and the overruns).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from ego.recording.reader import Recording
 
-__all__ = ["plot_recording"]
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
-_FAMILIES = (
-    ("proximity", "proximity (raw)"),
-    ("light", "light (raw, lower is brighter)"),
-    ("floor", "floor (raw)"),
-    ("accelerometer", "accelerometer (m/s²)"),
-    ("encoders", "encoders (steps)"),
-    ("microphones", "microphones (amplitude)"),
-    ("speed", "wheel speeds asked (steps/s)"),
+__all__ = ["plot_recording", "sensors_figure"]
+
+#: Each family the sensors figure shows: its key, title, unit, and its lines' names.
+_FAMILIES: tuple[tuple[str, str, str, Callable[[int], str]], ...] = (
+    ("proximity", "proximity", "raw counts", lambda i: f"ps{i}" if i < 8 else f"IR{i}"),
+    ("light", "light (lower is brighter)", "raw counts", lambda i: f"ls{i}"),
+    ("floor", "floor", "raw counts", lambda i: f"gs{i}"),
+    ("accelerometer", "accelerometer", "m/s²", lambda i: "xyz"[i]),
+    ("encoders", "encoders", "steps", lambda i: ("left", "right")[i]),
+    ("microphones", "microphones", "amplitude", lambda i: f"mic{i}"),
+    ("speed", "wheel speeds asked", "steps/s", lambda i: ("left", "right")[i]),
 )
 
 
@@ -40,18 +47,7 @@ def plot_recording(path: str | Path, out: str | Path = ".") -> list[Path]:
     t = [s["t"] for s in samples]
     written = []
 
-    sampled = [(key, title) for key, title in _FAMILIES if any(s[key] for s in samples)]
-    fig, axes = plt.subplots(len(sampled), 1, figsize=(9, 2.2 * len(sampled)), sharex=True,
-                             squeeze=False)  # fmt: skip
-    for ax, (key, title) in zip(axes[:, 0], sampled, strict=True):
-        width = max(len(s[key] or ()) for s in samples)
-        for k in range(width):
-            ax.plot(t, [s[key][k] if s[key] else float("nan") for s in samples], lw=0.9,
-                    label=f"{k}")  # fmt: skip
-        ax.set_title(title, fontsize=9, loc="left")
-        ax.grid(alpha=0.3)
-    axes[-1, 0].set_xlabel("controller time (s)")
-    fig.tight_layout()
+    fig = sensors_figure(samples)
     written.append(_save(fig, folder / "sensors.png"))
 
     fig, ax = plt.subplots(figsize=(6, 6))
@@ -86,6 +82,33 @@ def plot_recording(path: str | Path, out: str | Path = ".") -> list[Path]:
     fig.tight_layout()
     written.append(_save(fig, folder / "timing.png"))
     return written
+
+
+def sensors_figure(samples: list[dict[str, Any]]) -> Figure:
+    """Every family the samples hold, one panel each against controller time, with a
+    legend naming its lines (ps0..ps7, left/right...) and its unit on the y axis."""
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only: no display on a robot or a CI machine
+    import matplotlib.pyplot as plt
+
+    t = [s["t"] for s in samples]
+    sampled = [family for family in _FAMILIES if any(s[family[0]] for s in samples)]
+    fig, axes = plt.subplots(max(1, len(sampled)), 1, figsize=(9, 2.2 * max(1, len(sampled))),
+                             sharex=True, squeeze=False)  # fmt: skip
+    for ax, (key, title, unit, name) in zip(axes[:, 0], sampled, strict=False):
+        width = max(len(s[key] or ()) for s in samples)
+        for k in range(width):
+            ax.plot(t, [s[key][k] if s[key] else float("nan") for s in samples], lw=0.9,
+                    label=name(k))  # fmt: skip
+        ax.set_title(title, fontsize=9, loc="left")
+        ax.set_ylabel(unit, fontsize=8)
+        ax.grid(alpha=0.3)
+        ax.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=7, frameon=False,
+                  ncol=2 if width > 5 else 1)  # fmt: skip
+    axes[-1, 0].set_xlabel("controller time (s)")
+    fig.tight_layout()
+    return fig
 
 
 def _box_patch(box: dict[str, float]):  # type: ignore[no-untyped-def]

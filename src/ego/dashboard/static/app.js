@@ -1,5 +1,6 @@
 // ego's dashboard: one WebSocket in (samples, camera JPEGs, state), commands out.
-// Plain JS, no build step. The robot is drawn 1 unit = 1 mm, its front up.
+// Plain JS, no build step, no inline script or style (the page's CSP forbids them).
+// The robot is drawn 1 unit = 1 mm, its front up; canvases are drawn in CSS pixels.
 "use strict";
 
 const $ = (id) => document.getElementById(id);
@@ -10,16 +11,30 @@ const BODY_MM = 37;
 const PS_BEARINGS = [-0.30, -0.80, -1.57, -2.64, 2.64, 1.57, 0.80, 0.30, 0.5, -0.5];
 const DRIVE = { ArrowUp: [1, 1], ArrowDown: [-1, -1], ArrowLeft: [-0.6, 0.6], ArrowRight: [0.6, -0.6] };
 const DRIVE_SPEED = 500;   // steps/s at full key
-const HISTORY_S = 10;
+const HISTORY_S = 60;      // what the page keeps (the server sends its last minute on connect)
+const RAD_PER_STEP = 2 * Math.PI / 1000;  // 1000 steps a wheel turn: Webots' rad and rad/s
+const SIDES = ["left", "right"];
+// What the plot can show: its title, its unit, each line's name, and Webots' unit (if any).
 const SERIES = {
-  proximity: "proximity ps0-ps7", light: "light ls0-ls7", floor: "floor gs0-gs2",
-  accelerometer: "accelerometer (m/s²)", speed: "wheel speeds (steps/s)",
-  microphones: "microphones", step: "step time (ms)",
+  proximity: { title: "proximity", unit: "raw counts", names: (i) => (i < 8 ? `ps${i}` : `IR${i}`) },
+  light: { title: "light", unit: "raw counts, lower is brighter", names: (i) => `ls${i}` },
+  floor: { title: "floor", unit: "raw counts", names: (i) => `gs${i}` },
+  accelerometer: { title: "accelerometer", unit: "m/s²", names: (i) => "xyz"[i] },
+  speed: { title: "wheel speeds", unit: "steps/s", names: (i) => SIDES[i],
+    webots: { unit: "rad/s", per: RAD_PER_STEP } },
+  encoders: { title: "encoders", unit: "steps", names: (i) => SIDES[i],
+    webots: { unit: "rad", per: RAD_PER_STEP } },
+  microphones: { title: "microphones", unit: "amplitude, ADC counts", names: (i) => `mic${i}` },
+  step: { title: "step time", unit: "ms", names: (i) => ["wall time", "asked"][i] },
 };
 const COLOURS = ["#2f6fdf", "#e8871e", "#1f9d55", "#d62f2f", "#7b5cd6", "#12a4b4", "#b5651d", "#6b7385", "#c2185b", "#455a64"];
+const TRUTH = "#e8871e", ODOMETRY = "#2f6fdf", WALL = "#4a3c28", SWARM = "#7b5cd6";
+const LABEL_PX = 12;       // the swarm's names on the map, in CSS pixels
 
-const view = { hello: null, sample: null, state: { role: "view", held: false, halted: false, keyboard: false },
-  history: [], odometry: [], truth: [], floorImage: null, dirty: true, imageUrl: null };
+const view = { hello: null, sample: null, swarm: null, pick: null, webots: false,
+  state: { role: "view", held: false, halted: false, keyboard: false },
+  history: [], odometry: [], truth: [], floorImage: null, dirty: true, mapDirty: true, imageUrl: null,
+  legendKey: "", geometry: null };
 const held = new Set();
 let socket = null;
 let drivingSent = false;
@@ -32,13 +47,14 @@ function connect() {
   const url = `${scheme}://${location.host}/ws${token ? "?token=" + encodeURIComponent(token) : ""}`;
   socket = new WebSocket(url);
   socket.binaryType = "blob";
-  socket.onopen = () => setStatus("live", "ok");
+  socket.onopen = () => setStatus("connected", "ok");
   socket.onclose = () => { setStatus("disconnected", "bad"); held.clear(); setTimeout(connect, 1000); };
   socket.onmessage = (event) => {
     if (typeof event.data !== "string") { showImage(event.data); return; }
     const message = JSON.parse(event.data);
     if (message.type === "sample") onSample(message);
     else if (message.type === "state") onState(message);
+    else if (message.type === "history") onHistory(message);
     else if (message.type === "hello") onHello(message);
     else if (message.type === "error") toast(message.error);
   };
@@ -62,53 +78,108 @@ function toast(text) {
   toast.timer = setTimeout(() => { el.hidden = true; }, 3000);
 }
 
+function mode() { return view.hello ? view.hello.mode : "live"; }
+
 // -- messages ---------------------------------------------------------------------------
 
 function onHello(message) {
   view.hello = message;
-  view.history = []; view.odometry = []; view.truth = [];
+  view.webots = !!message.webots;
+  view.swarm = null;
+  clearHistory();
   const robot = message.robot || {};
+  const replay = message.mode === "replay";
+  setStatus(replay ? "replay" : "live", replay ? "replay" : "ok");
   $("robot-id").textContent = message.robots
-    ? `swarm of ${message.robots.length}: ${message.robots.join(", ")} · details of ${message.robots[0]}`
-    : `${robot.port || ""} · ${robot.firmware || ""} firmware`;
+    ? `swarm of ${message.robots.length} robots`
+    : `${robot.port || ""} · ${robot.firmware || ""} firmware${replay ? " · recorded" : ""}`;
   $("h-firmware").textContent = robot.profile || robot.firmware || "–";
-  $("replay-bar").hidden = message.mode !== "replay";
-  $("map-legend").textContent = message.world ? "odometry (blue) · true pose (orange)" : "odometry from the encoders";
+  $("replay-bar").hidden = !replay;
+  $("controls").hidden = message.mode !== "live";  // served, swarm: their controllers own the devices
+  for (const el of document.querySelectorAll(".rad")) el.hidden = !view.webots;
+  $("speed-unit").textContent = view.webots ? "steps/s (rad/s)" : "steps/s";
+  $("encoder-unit").textContent = view.webots ? "left right, steps (rad)" : "left right, steps";
+  buildPicker(message.robots);
+  buildMapLegend(message);
   view.floorImage = null;
   if (message.world && message.world.floor_png) {
     const img = new Image();
-    img.onload = () => { view.floorImage = img; view.dirty = true; };
+    img.onload = () => { view.floorImage = img; view.mapDirty = true; };
     img.src = message.world.floor_png;
   }
   buildRobot(robot.proximity_count || 8, robot.led_count || 10);
   buildToggles(robot);
-  view.dirty = true;
+  buildSeries();
+  view.dirty = view.mapDirty = true;
 }
 
-function onSample(sample) {
+function clearHistory() {
+  view.history = []; view.odometry = []; view.truth = []; view.sample = null;
+  view.dirty = view.mapDirty = true;
+}
+
+// The sample of the robot this page details: a swarm's other robots come under "details".
+function detailOf(message) {
+  const robots = view.hello && view.hello.robots;
+  if (!robots || !view.pick || view.pick === robots[0]) return message;
+  return (message.details && message.details[view.pick]) || null;
+}
+
+function onSample(message) {
+  if (message.swarm) { view.swarm = message.swarm; view.mapDirty = true; }
+  const sample = detailOf(message);
+  if (sample) addSample(sample);
+}
+
+function addSample(sample) {
   const previous = view.sample;
-  if (previous && sample.t < previous.t) { view.history = []; view.odometry = []; view.truth = []; }
+  if (previous && sample.t < previous.t) clearHistory();
   view.sample = sample;
   view.history.push(sample);
   while (view.history.length && sample.t - view.history[0].t > HISTORY_S) view.history.shift();
   if (sample.odometry) view.odometry.push(sample.odometry);
   if (sample.truth) view.truth.push(sample.truth);
   for (const trace of [view.odometry, view.truth]) if (trace.length > 5000) trace.splice(0, trace.length - 5000);
-  view.dirty = true;
+  view.dirty = view.mapDirty = true;
+}
+
+// The server's last minute, sent as the page connects: what came before the live samples.
+function onHistory(message) {
+  const first = view.history.length ? view.history[0].t : Infinity;
+  const older = [];
+  for (const entry of message.samples) {
+    const sample = detailOf(entry);
+    if (sample && sample.t < first) older.push(sample);
+  }
+  const last = message.samples[message.samples.length - 1];
+  if (last && last.swarm && !view.swarm) view.swarm = last.swarm;
+  if (!older.length) return;
+  view.history = older.concat(view.history);
+  view.odometry = older.filter((s) => s.odometry).map((s) => s.odometry).concat(view.odometry);
+  view.truth = older.filter((s) => s.truth).map((s) => s.truth).concat(view.truth);
+  if (!view.sample) view.sample = older[older.length - 1];
+  view.dirty = view.mapDirty = true;
 }
 
 function onState(state) {
   view.state = state;
+  const replay = mode() === "replay";
   const control = state.role === "control";
   const role = $("role");
   role.textContent = control ? "in control" : (state.held ? "viewer (another page drives)" : "viewer");
   role.className = "pill " + (control ? "control" : "");
-  $("take").hidden = control;
+  role.hidden = replay;
+  $("take").hidden = control || replay;
   $("take").disabled = state.held && !control;
-  $("release").hidden = !control;
+  $("release").hidden = !control || replay;
+  $("stop").hidden = replay;  // a recording has no robot to stop
   $("stop").disabled = !control;
   $("stop").classList.toggle("latched", !!state.halted);
-  $("resume").hidden = !(control && state.halted);
+  $("resume").hidden = !(control && state.halted) || replay;
+  $("stopped-banner").hidden = !state.halted || replay;
+  $("stopped-detail").textContent = control
+    ? "the wheels are held at 0 whatever the controller asks: Resume lets it drive again"
+    : "the wheels are held at 0 whatever the controller asks, until the page in control resumes";
   $("keyboard-note").hidden = !state.keyboard;
   for (const el of document.querySelectorAll(".pad button, .toggles input")) el.disabled = !control;
   if (state.replay) onReplay(state.replay);
@@ -125,6 +196,31 @@ function showImage(blob) {
   img.src = view.imageUrl;
   img.hidden = false;
   $("camera-off").hidden = true;
+}
+
+// -- a swarm: which robot the page details ------------------------------------------------
+
+function buildPicker(robots) {
+  const select = $("robot-pick");
+  $("pick-label").hidden = !robots;
+  select.replaceChildren();
+  if (!robots) { view.pick = null; $("robot-name").textContent = ""; return; }
+  for (const name of robots) {
+    const option = document.createElement("option");
+    option.value = option.textContent = name;
+    select.appendChild(option);
+  }
+  if (!robots.includes(view.pick)) view.pick = robots[0];
+  pick(view.pick);
+}
+
+function pick(name) {
+  const changed = view.pick !== name;
+  view.pick = name;
+  $("robot-pick").value = name;
+  $("robot-name").textContent = name;
+  send({ type: "pick", robot: name });
+  if (changed) clearHistory();
 }
 
 // -- the robot from above ---------------------------------------------------------------
@@ -148,8 +244,8 @@ function buildRobot(proximityCount, ledCount) {
     const [dx, dy] = direction(PS_BEARINGS[i]);
     el("line", { id: `ray-${i}`, class: "ray", x1: dx * BODY_MM, y1: dy * BODY_MM, x2: dx * BODY_MM, y2: dy * BODY_MM,
       stroke: i >= 8 ? "#7b5cd6" : "#2f6fdf", "stroke-width": 5, "stroke-linecap": "round", "data-value": 0 }, svg);
-    const t = el("text", { id: `ray-label-${i}`, x: dx * 100, y: dy * 100 + 3, "text-anchor": "middle", "font-size": 8, fill: "#6b7385" }, svg);
-    t.textContent = `ps${i}`;
+    const t = el("text", { id: `ray-label-${i}`, x: dx * 100, y: dy * 100 + 3, "text-anchor": "middle", "font-size": 9, fill: "#6b7385" }, svg);
+    t.textContent = SERIES.proximity.names(i);
   }
   for (let i = 0; i < 8; i++) {
     const [dx, dy] = direction(PS_BEARINGS[i]);
@@ -210,9 +306,14 @@ function drawRobot(sample) {
     arrow.setAttribute("x2", -acc[1] * 4);
     arrow.setAttribute("y2", 4 - acc[0] * 4);
   }
-  const [left, right] = sample.speed || [0, 0];
+  drawWheels(sample.speed || [0, 0]);
+}
+
+function drawWheels([left, right]) {
   $("speed-left").textContent = left;
   $("speed-right").textContent = right;
+  $("speed-left-rad").textContent = (left * RAD_PER_STEP).toFixed(2);
+  $("speed-right-rad").textContent = (right * RAD_PER_STEP).toFixed(2);
   for (const [id, v] of [["bar-left", left], ["bar-right", right]]) {
     const bar = $(id);
     const frac = Math.max(-1, Math.min(1, v / 1000)) / 2;
@@ -221,79 +322,197 @@ function drawRobot(sample) {
   }
 }
 
+// -- canvases ---------------------------------------------------------------------------
+
+// Size a canvas's pixels to its box on screen (sharp on any screen); its context, drawing
+// in CSS pixels, and the box's width and height.
+function fitCanvas(canvas) {
+  const dpr = window.devicePixelRatio || 1;
+  const w = Math.max(1, canvas.clientWidth), h = Math.max(1, canvas.clientHeight);
+  const pw = Math.round(w * dpr), ph = Math.round(h * dpr);
+  if (canvas.width !== pw || canvas.height !== ph) { canvas.width = pw; canvas.height = ph; }
+  const ctx = canvas.getContext("2d");
+  ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+  ctx.clearRect(0, 0, w, h);
+  return [ctx, w, h];
+}
+
 // -- the map ----------------------------------------------------------------------------
 
-function drawMap() {
-  const canvas = $("map");
-  const ctx = canvas.getContext("2d");
+function buildMapLegend(hello) {
+  const items = [["k-odometry", "odometry (from the encoders)"]];
+  if (hello.world) {
+    items.push(["k-truth", "true pose"], ["wall", "walls"], ["area k-box", "boxes"],
+      ["area k-floor", "floor marks (on the floor)"], ["dot k-lamp", "lamp"]);
+  }
+  if (hello.robots) items.push(["dot k-robot", "robots (click one to detail it)"]);
+  legend($("map-legend"), items);
+}
+
+function legend(list, items) {
+  list.replaceChildren(...items.map(([kind, text]) => {
+    const li = document.createElement("li");
+    li.className = kind;
+    const span = document.createElement("span");
+    span.textContent = text;
+    li.appendChild(span);
+    return li;
+  }));
+}
+
+// Where the map draws the world's point (x, y) m, in CSS pixels of its canvas.
+function mapPoint(x, y) {
+  const g = view.geometry;
+  return g ? [g.cx + x * g.scale, g.cy - y * g.scale] : null;
+}
+
+function mapGeometry(w, h) {
   const world = view.hello && view.hello.world;
   let hx = 0.5, hy = 0.5;
   if (world) { hx = world.half_x; hy = world.half_y; }
   else for (const [x, y] of view.odometry) { hx = Math.max(hx, Math.abs(x) + 0.1); hy = Math.max(hy, Math.abs(y) + 0.1); }
-  const scale = Math.min(canvas.width / (2 * hx), canvas.height / (2 * hy)) * 0.96;
-  const cx = canvas.width / 2, cy = canvas.height / 2;
-  const px = (x, y) => [cx + x * scale, cy - y * scale];
-  ctx.clearRect(0, 0, canvas.width, canvas.height);
-  if (world) {
-    const [x0, y0] = px(-hx, hy);
-    if (view.floorImage) {
-      ctx.imageSmoothingEnabled = false;
-      ctx.drawImage(view.floorImage, x0, y0, 2 * hx * scale, 2 * hy * scale);
-    }
-    ctx.strokeStyle = "#8a7f6a"; ctx.lineWidth = 4;
-    ctx.strokeRect(x0, y0, 2 * hx * scale, 2 * hy * scale);
-    for (const box of world.boxes) {
-      ctx.save();
-      const [bx, by] = px(box.x, box.y);
-      ctx.translate(bx, by); ctx.rotate(-box.yaw);
-      ctx.fillStyle = `rgb(${box.rgb.join(",")})`;
-      ctx.fillRect(-box.hx * scale, -box.hy * scale, 2 * box.hx * scale, 2 * box.hy * scale);
-      ctx.restore();
-    }
-    const [lx, ly] = px(world.lamp[0], world.lamp[1]);
-    ctx.fillStyle = "#ffd54a"; ctx.strokeStyle = "#b38f00"; ctx.lineWidth = 1.5;
-    ctx.beginPath(); ctx.arc(lx, ly, 7, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
-  } else {
-    ctx.strokeStyle = "#e3e6ec"; ctx.lineWidth = 1;
-    for (let g = -Math.ceil(hx * 10); g <= Math.ceil(hx * 10); g++) {
-      const [gx] = px(g / 10, 0); ctx.beginPath(); ctx.moveTo(gx, 0); ctx.lineTo(gx, canvas.height); ctx.stroke();
-    }
-    for (let g = -Math.ceil(hy * 10); g <= Math.ceil(hy * 10); g++) {
-      const [, gy] = px(0, g / 10); ctx.beginPath(); ctx.moveTo(0, gy); ctx.lineTo(canvas.width, gy); ctx.stroke();
-    }
-  }
-  const swarm = view.sample && view.sample.swarm;
-  if (swarm) {  // every robot of a swarm, where it truly is
-    ctx.font = "11px system-ui";
-    for (const [name, x, y, theta] of swarm) {
-      const [rx, ry] = px(x, y);
-      ctx.fillStyle = "rgba(123,92,214,.35)"; ctx.strokeStyle = "#7b5cd6"; ctx.lineWidth = 1.5;
-      ctx.beginPath(); ctx.arc(rx, ry, Math.max(4, 0.037 * scale), 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
-      ctx.beginPath(); ctx.moveTo(rx, ry);
-      ctx.lineTo(rx + Math.cos(theta) * 0.05 * scale, ry - Math.sin(theta) * 0.05 * scale); ctx.stroke();
-      ctx.fillStyle = "#1d2330"; ctx.fillText(name, rx + 8, ry - 8);
-    }
-  }
-  drawTrace(ctx, view.truth, px, "#e8871e");
-  drawTrace(ctx, view.odometry, px, "#2f6fdf");
+  const scale = Math.min(w / (2 * hx), h / (2 * hy)) * 0.94;
+  return { hx, hy, scale, cx: w / 2, cy: h / 2 };
+}
+
+function drawMap() {
+  const canvas = $("map");
+  const sized = canvas.width === Math.round(canvas.clientWidth * (window.devicePixelRatio || 1));
+  if (!view.mapDirty && sized) return;
+  view.mapDirty = false;
+  const [ctx, w, h] = fitCanvas(canvas);
+  view.geometry = mapGeometry(w, h);
+  const world = view.hello && view.hello.world;
+  if (world) drawWorld(ctx, world);
+  else drawGrid(ctx, w, h);
+  if (view.swarm) drawSwarm(ctx, canvas);
+  drawTrace(ctx, view.truth, TRUTH, 5, 0.75);
+  drawTrace(ctx, view.odometry, ODOMETRY, 2, 1);
   const pose = view.truth.length ? view.truth[view.truth.length - 1] : view.odometry[view.odometry.length - 1];
-  if (pose) {
-    const [rx, ry] = px(pose[0], pose[1]);
-    ctx.fillStyle = "rgba(233,237,243,.9)"; ctx.strokeStyle = "#1d2330"; ctx.lineWidth = 1.5;
-    ctx.beginPath(); ctx.arc(rx, ry, Math.max(4, 0.037 * scale), 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
-    ctx.beginPath(); ctx.moveTo(rx, ry);
-    ctx.lineTo(rx + Math.cos(pose[2]) * 0.05 * scale, ry - Math.sin(pose[2]) * 0.05 * scale); ctx.stroke();
+  if (pose && !view.swarm) drawBody(ctx, pose, "rgba(233,237,243,.9)", "#1d2330");  // a swarm's: drawn above
+}
+
+function drawWorld(ctx, world) {
+  const { hx, hy, scale } = view.geometry;
+  const [x0, y0] = mapPoint(-hx, hy);
+  const w = 2 * hx * scale, h = 2 * hy * scale;
+  ctx.fillStyle = "#fff";
+  ctx.fillRect(x0, y0, w, h);
+  if (view.floorImage) {  // faint: marks on the floor, not obstacles
+    ctx.save();
+    ctx.globalAlpha = 0.3;
+    ctx.imageSmoothingEnabled = false;
+    ctx.drawImage(view.floorImage, x0, y0, w, h);
+    ctx.restore();
   }
+  ctx.strokeStyle = WALL; ctx.lineWidth = 6;  // the walls, just outside the floor
+  ctx.strokeRect(x0 - 3, y0 - 3, w + 6, h + 6);
+  for (const box of world.boxes) {
+    ctx.save();
+    const [bx, by] = mapPoint(box.x, box.y);
+    ctx.translate(bx, by); ctx.rotate(-box.yaw);
+    ctx.fillStyle = `rgb(${box.rgb.join(",")})`; ctx.strokeStyle = "#1d2330"; ctx.lineWidth = 1.5;
+    ctx.fillRect(-box.hx * scale, -box.hy * scale, 2 * box.hx * scale, 2 * box.hy * scale);
+    ctx.strokeRect(-box.hx * scale, -box.hy * scale, 2 * box.hx * scale, 2 * box.hy * scale);
+    ctx.restore();
+  }
+  const [lx, ly] = mapPoint(world.lamp[0], world.lamp[1]);
+  ctx.fillStyle = "#ffd54a"; ctx.strokeStyle = "#b38f00"; ctx.lineWidth = 1.5;
+  ctx.beginPath(); ctx.arc(lx, ly, 7, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
 }
 
-function drawTrace(ctx, trace, px, colour) {
+function drawGrid(ctx, w, h) {
+  const { hx, hy } = view.geometry;
+  ctx.strokeStyle = "#e3e6ec"; ctx.lineWidth = 1;
+  for (let g = -Math.ceil(hx * 10); g <= Math.ceil(hx * 10); g++) {
+    const [gx] = mapPoint(g / 10, 0); ctx.beginPath(); ctx.moveTo(gx, 0); ctx.lineTo(gx, h); ctx.stroke();
+  }
+  for (let g = -Math.ceil(hy * 10); g <= Math.ceil(hy * 10); g++) {
+    const [, gy] = mapPoint(0, g / 10); ctx.beginPath(); ctx.moveTo(0, gy); ctx.lineTo(w, gy); ctx.stroke();
+  }
+  ctx.fillStyle = "#6b7385"; ctx.font = "11px system-ui";
+  ctx.fillText("grid: 10 cm", 6, h - 6);
+}
+
+function drawBody(ctx, [x, y, theta], fill, stroke) {
+  const [rx, ry] = mapPoint(x, y);
+  const scale = view.geometry.scale;
+  ctx.fillStyle = fill; ctx.strokeStyle = stroke; ctx.lineWidth = 1.5;
+  ctx.beginPath(); ctx.arc(rx, ry, Math.max(4, 0.037 * scale), 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+  ctx.beginPath(); ctx.moveTo(rx, ry);
+  ctx.lineTo(rx + Math.cos(theta) * 0.05 * scale, ry - Math.sin(theta) * 0.05 * scale); ctx.stroke();
+}
+
+// Every robot of a swarm where it truly is, each named, the names placed clear of the
+// robots and of each other, with a leader line to a name that had to go further out.
+function drawSwarm(ctx, canvas) {
+  ctx.font = `${LABEL_PX}px system-ui`;
+  const radius = Math.max(4, 0.037 * view.geometry.scale);
+  const discs = view.swarm.map(([, x, y]) => { const [rx, ry] = mapPoint(x, y); return [rx - radius, ry - radius, 2 * radius, 2 * radius]; });
+  for (const [name, x, y, theta] of view.swarm) {
+    const picked = name === view.pick;
+    drawBody(ctx, [x, y, theta], picked ? "rgba(47,111,223,.45)" : "rgba(123,92,214,.3)", picked ? ODOMETRY : SWARM);
+  }
+  const placed = [];
+  for (const [name, x, y] of view.swarm) {
+    const [rx, ry] = mapPoint(x, y);
+    const box = placeLabel(ctx, name, rx, ry, radius, [...discs, ...placed], canvas.clientWidth, canvas.clientHeight);
+    placed.push(box);
+    const [nx, ny] = [Math.min(Math.max(rx, box[0]), box[0] + box[2]), Math.min(Math.max(ry, box[1]), box[1] + box[3])];
+    if (Math.hypot(nx - rx, ny - ry) > radius + 6) {
+      ctx.strokeStyle = "#6b7385"; ctx.lineWidth = 1;
+      ctx.beginPath(); ctx.moveTo(rx, ry); ctx.lineTo(nx, ny); ctx.stroke();
+    }
+    ctx.fillStyle = "rgba(255,255,255,.9)"; ctx.fillRect(box[0], box[1], box[2], box[3]);
+    ctx.fillStyle = name === view.pick ? ODOMETRY : "#1d2330";
+    ctx.fillText(name, box[0] + 2, box[1] + box[3] - 4);
+  }
+  canvas.dataset.labels = JSON.stringify(placed.map((b) => b.map((v) => Math.round(v * 10) / 10)));
+  canvas.dataset.labelPx = String(LABEL_PX);
+  canvas.classList.add("pickable");
+}
+
+function placeLabel(ctx, name, rx, ry, radius, taken, w, h) {
+  const bw = ctx.measureText(name).width + 4, bh = LABEL_PX + 5;
+  const overlaps = (a) => taken.some((b) => a[0] < b[0] + b[2] && b[0] < a[0] + a[2] && a[1] < b[1] + b[3] && b[1] < a[1] + a[3]);
+  const labels = taken.slice(view.swarm.length);  // the names placed so far
+  const clearOfNames = (a) => !labels.some((b) => a[0] < b[0] + b[2] && b[0] < a[0] + a[2] && a[1] < b[1] + b[3] && b[1] < a[1] + a[3]);
+  let fallback = null;
+  for (const reach of [1, 1.6, 2.4, 3.4, 4.6, 6]) {
+    const d = radius * reach + 2;
+    for (const [ox, oy] of [[d, -bh / 2], [-d - bw, -bh / 2], [-bw / 2, -d - bh], [-bw / 2, d], [d, -d - bh], [d, d], [-d - bw, -d - bh], [-d - bw, d]]) {
+      const box = [Math.min(Math.max(rx + ox, 0), w - bw), Math.min(Math.max(ry + oy, 0), h - bh), bw, bh];
+      if (!overlaps(box)) return box;
+      if (!fallback && clearOfNames(box)) fallback = box;  // over a robot, at worst
+    }
+  }
+  return fallback || [Math.min(Math.max(rx + radius, 0), w - bw), Math.min(Math.max(ry, 0), h - bh), bw, bh];
+}
+
+function drawTrace(ctx, trace, colour, width, alpha) {
   if (trace.length < 2) return;
-  ctx.strokeStyle = colour; ctx.lineWidth = 2; ctx.beginPath();
-  trace.forEach(([x, y], i) => { const [a, b] = px(x, y); if (i) ctx.lineTo(a, b); else ctx.moveTo(a, b); });
+  ctx.save();
+  ctx.globalAlpha = alpha; ctx.strokeStyle = colour; ctx.lineWidth = width; ctx.lineJoin = "round";
+  ctx.beginPath();
+  trace.forEach(([x, y], i) => { const [a, b] = mapPoint(x, y); if (i) ctx.lineTo(a, b); else ctx.moveTo(a, b); });
   ctx.stroke();
+  ctx.restore();
 }
 
-// -- panels and plots -------------------------------------------------------------------
+$("map").addEventListener("click", (event) => {  // a swarm: the robot nearest the click
+  if (!view.swarm || !view.geometry) return;
+  const rect = $("map").getBoundingClientRect();
+  const cx = event.clientX - rect.left, cy = event.clientY - rect.top;
+  let best = null, bestD = 24;
+  for (const [name, x, y] of view.swarm) {
+    const [rx, ry] = mapPoint(x, y);
+    const d = Math.hypot(rx - cx, ry - cy);
+    if (d < bestD) { best = name; bestD = d; }
+  }
+  if (best) pick(best);
+});
+
+// -- panels -----------------------------------------------------------------------------
 
 function drawPanels(sample) {
   const hello = view.hello || { robot: {} };
@@ -305,22 +524,8 @@ function drawPanels(sample) {
   $("h-battery").textContent = sample.battery === null ? "not served" : sample.battery;
   $("h-firmware").textContent = hello.robot.profile || hello.robot.firmware || "–";
   $("accel").textContent = sample.accelerometer ? sample.accelerometer.map((v) => v.toFixed(2)).join("  ") : "off";
-  $("encoders").textContent = sample.encoders ? sample.encoders.join("  ") : "off";
-  const mics = $("mics");
-  const values = sample.microphones || [];
-  if (mics.querySelectorAll("div").length !== values.length || !mics.firstChild) {
-    mics.replaceChildren(...values.map((_, i) => {
-      const row = document.createElement("div");
-      row.innerHTML = `<span>mic${i}</span><span class="bar"><i></i></span><span class="mono"></span>`;
-      return row;
-    }));
-    if (!values.length) mics.textContent = "off";
-  }
-  values.forEach((v, i) => {
-    const row = mics.children[i];
-    row.querySelector("i").style.width = `${Math.min(100, v / 40.95)}%`;
-    row.querySelector(".mono").textContent = v;
-  });
+  $("encoders").textContent = encoderText(sample.encoders);
+  drawMics(sample.microphones || []);
   for (const input of document.querySelectorAll("#sensor-toggles input")) {
     if (document.activeElement === input) continue;
     input.checked = sample[input.dataset.family] !== null && sample[input.dataset.family] !== undefined;
@@ -331,48 +536,170 @@ function drawPanels(sample) {
   }
 }
 
+function encoderText(encoders) {
+  if (!encoders) return "off";
+  const steps = encoders.map((v) => Math.round(v)).join("  ");
+  return view.webots ? `${steps}  (${encoders.map((v) => (v * RAD_PER_STEP).toFixed(2)).join("  ")} rad)` : steps;
+}
+
+function drawMics(values) {
+  const mics = $("mics");
+  if (mics.querySelectorAll("div").length !== values.length || !mics.firstChild) {
+    mics.replaceChildren(...values.map((_, i) => {
+      const row = document.createElement("div");
+      for (const [tag, cls, text] of [["span", "", `mic${i}`], ["span", "bar", ""], ["span", "mono", ""]]) {
+        const part = document.createElement(tag);
+        if (cls) part.className = cls;
+        part.textContent = text;
+        row.appendChild(part);
+      }
+      row.querySelector(".bar").appendChild(document.createElement("i"));
+      return row;
+    }));
+    if (!values.length) mics.textContent = "off";
+  }
+  values.forEach((v, i) => {
+    const row = mics.children[i];
+    row.querySelector("i").style.width = `${Math.min(100, v / 40.95)}%`;
+    row.querySelector(".mono").textContent = Math.round(v);
+  });
+}
+
+// -- the plot ---------------------------------------------------------------------------
+
+function buildSeries() {
+  const select = $("plot-series");
+  const chosen = select.value || "proximity";
+  select.replaceChildren();
+  for (const [value, series] of Object.entries(SERIES)) {
+    const option = document.createElement("option");
+    option.value = value;
+    const webots = series.webots && view.webots ? ` · ${series.webots.unit}` : "";
+    option.textContent = `${series.title} (${series.unit}${webots})`;
+    select.appendChild(option);
+  }
+  select.value = chosen;
+  view.legendKey = "";
+}
+
 function seriesOf(sample, name) {
-  if (name === "step") return [sample.wall_ms];
+  if (name === "step") return [sample.wall_ms, sample.step_ms];
   return sample[name] || [];
+}
+
+// Round tick values spanning lo..hi, about `count` of them, and their step.
+function ticks(lo, hi, count) {
+  const raw = (hi - lo) / Math.max(1, count);
+  const power = Math.pow(10, Math.floor(Math.log10(raw)));
+  const step = [1, 2, 2.5, 5, 10].map((m) => m * power).find((s) => s >= raw) || 10 * power;
+  const values = [];
+  for (let v = Math.ceil(lo / step) * step; v <= hi + step * 1e-9; v += step) values.push(v);
+  return { step, values };
+}
+
+function rangeOf(lo, hi, step) {
+  const values = [];
+  for (let k = Math.round(lo / step); k <= Math.round(hi / step); k++) values.push(k * step);
+  return values;
+}
+
+// A tick's label: whole numbers as whole numbers, decimals only as many as the step needs.
+function tickText(value, step) {
+  const decimals = step >= 1 ? 0 : Math.min(6, Math.ceil(-Math.log10(step) - 1e-9));
+  const text = (Math.abs(value) < step * 1e-6 ? 0 : value).toFixed(decimals);
+  return text === "-0" ? "0" : text;
+}
+
+function plotLegend(name, count) {
+  const key = `${name}:${count}`;
+  if (view.legendKey === key) return;
+  view.legendKey = key;
+  const items = [];
+  for (let k = 0; k < count; k++) items.push([`c${k % COLOURS.length}`, SERIES[name].names(k)]);
+  legend($("plot-legend"), items);
 }
 
 function drawPlot() {
   const canvas = $("plot");
-  const ctx = canvas.getContext("2d");
+  const [ctx, w, h] = fitCanvas(canvas);
   const name = $("plot-series").value;
-  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  const series = SERIES[name];
+  const window_s = Number($("plot-window").value);
   const history = view.history;
-  if (history.length < 2) return;
-  const t1 = history[history.length - 1].t, t0 = t1 - HISTORY_S;
-  let lo = Infinity, hi = -Infinity;
-  for (const s of history) for (const v of seriesOf(s, name)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
-  if (!isFinite(lo)) { ctx.fillStyle = "#6b7385"; ctx.fillText(`${SERIES[name]}: off`, 10, 20); return; }
+  ctx.font = "11px system-ui"; ctx.fillStyle = "#6b7385";
+  if (history.length < 2) { plotLegend(name, 0); ctx.fillText("waiting for samples…", 10, 20); return; }
+  const t1 = history[history.length - 1].t, t0 = t1 - window_s;
+  const shown = history.filter((s) => s.t >= t0);
+  let lo = Infinity, hi = -Infinity, count = 0;
+  for (const s of shown) {
+    const values = seriesOf(s, name);
+    count = Math.max(count, values.length);
+    for (const v of values) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  }
+  plotLegend(name, count);
+  if (!isFinite(lo)) { ctx.fillText(`${series.title}: off (not sampled)`, 10, 20); return; }
   if (hi - lo < 1e-6) { hi += 1; lo -= 1; }
-  const pad = 24, w = canvas.width - pad - 8, h = canvas.height - 20;
-  const x = (t) => pad + (t - t0) / HISTORY_S * w;
-  const y = (v) => 8 + (1 - (v - lo) / (hi - lo)) * (h - 8);
-  ctx.fillStyle = "#6b7385"; ctx.font = "11px system-ui";
-  ctx.fillText(hi.toFixed(hi > 100 ? 0 : 2), 2, 12); ctx.fillText(lo.toFixed(lo > 100 ? 0 : 2), 2, h);
-  const count = Math.max(...history.map((s) => seriesOf(s, name).length));
+  const webots = series.webots && view.webots ? series.webots : null;
+  const box = { left: 56, right: webots ? 56 : 14, top: 28, bottom: 34 };
+  const pw = w - box.left - box.right, ph = h - box.top - box.bottom;
+  const yt = ticks(lo, hi, Math.max(2, Math.floor(ph / 40)));  // the axis spans whole ticks
+  lo = Math.floor(lo / yt.step + 1e-9) * yt.step; hi = Math.ceil(hi / yt.step - 1e-9) * yt.step;
+  yt.values = rangeOf(lo, hi, yt.step);
+  const x = (t) => box.left + (t - t0) / window_s * pw;
+  const y = (v) => box.top + (1 - (v - lo) / (hi - lo)) * ph;
+  drawAxes(ctx, { box, w, h, pw, ph, x, y, yt, t0, t1, series, webots, first: shown[0].t });
   for (let k = 0; k < count; k++) {
     ctx.strokeStyle = COLOURS[k % COLOURS.length]; ctx.lineWidth = 1.5; ctx.beginPath();
     let started = false;
-    for (const s of history) {
+    for (const s of shown) {
       const values = seriesOf(s, name);
       if (k >= values.length) { started = false; continue; }
       if (started) ctx.lineTo(x(s.t), y(values[k])); else { ctx.moveTo(x(s.t), y(values[k])); started = true; }
     }
     ctx.stroke();
   }
+  canvas.dataset.yTicks = JSON.stringify(yt.values.map((v) => tickText(v, yt.step)));
+  canvas.dataset.units = webots ? `${series.unit} | ${webots.unit}` : series.unit;
+}
+
+function drawAxes(ctx, a) {
+  const { box, pw, ph, x, y, yt, t0, t1, series, webots } = a;
+  ctx.strokeStyle = "#e3e6ec"; ctx.lineWidth = 1; ctx.fillStyle = "#6b7385"; ctx.font = "11px system-ui";
+  ctx.textAlign = "right"; ctx.textBaseline = "middle";
+  for (const v of yt.values) {
+    const yy = Math.round(y(v)) + 0.5;
+    ctx.beginPath(); ctx.moveTo(box.left, yy); ctx.lineTo(box.left + pw, yy); ctx.stroke();
+    ctx.fillText(tickText(v, yt.step), box.left - 6, yy);
+  }
+  if (webots) {
+    ctx.textAlign = "left";
+    for (const v of yt.values) ctx.fillText(tickText(v * webots.per, yt.step * webots.per), box.left + pw + 6, y(v));
+  }
+  const xt = ticks(Math.max(t0, a.first), t1, Math.max(2, Math.floor(pw / 80)));
+  ctx.textAlign = "center"; ctx.textBaseline = "top";
+  for (const t of xt.values) {
+    const xx = Math.round(x(t)) + 0.5;
+    ctx.beginPath(); ctx.moveTo(xx, box.top); ctx.lineTo(xx, box.top + ph); ctx.stroke();
+    ctx.fillText(tickText(t, xt.step), xx, box.top + ph + 5);
+  }
+  ctx.strokeStyle = "#9aa3b3";
+  ctx.beginPath(); ctx.moveTo(box.left, box.top); ctx.lineTo(box.left, box.top + ph); ctx.lineTo(box.left + pw, box.top + ph); ctx.stroke();
+  ctx.fillStyle = "#1d2330"; ctx.textBaseline = "alphabetic";
+  ctx.textAlign = "left"; ctx.fillText(series.unit, 4, 12);
+  if (webots) { ctx.textAlign = "right"; ctx.fillText(webots.unit, box.left + pw + box.right - 4, 12); }
+  ctx.textAlign = "right"; ctx.fillText("controller time (s)", box.left + pw, box.top + ph + 30);
+  ctx.textAlign = "left";
 }
 
 function render() {
   if (view.dirty && view.sample) {
     drawRobot(view.sample);
     drawPanels(view.sample);
-    drawPlot();
-    view.dirty = false;
   }
+  if (view.dirty || $("plot").width !== Math.round($("plot").clientWidth * (window.devicePixelRatio || 1))) {
+    drawPlot();
+  }
+  view.dirty = false;
   if (view.hello) drawMap();
   requestAnimationFrame(render);
 }
@@ -383,20 +710,25 @@ function buildToggles(robot) {
   const leds = $("led-toggles");
   leds.replaceChildren();
   for (let i = 0; i < (robot.led_count || 10); i++) {
-    const label = document.createElement("label");
-    label.innerHTML = `<input type="checkbox" data-index="${i}"> led${i}`;
-    label.querySelector("input").addEventListener("change", (e) => send({ type: "led", index: i, on: e.target.checked }));
-    leds.appendChild(label);
+    leds.appendChild(toggle({ "data-index": i }, `led${i}`, (on) => send({ type: "led", index: i, on })));
   }
   const sensors = $("sensor-toggles");
   sensors.replaceChildren();
   for (const family of [...(robot.families || []), "camera"]) {
-    const label = document.createElement("label");
-    label.innerHTML = `<input type="checkbox" id="sensor-${family}" data-family="${family}"> ${family}`;
-    label.querySelector("input").addEventListener("change", (e) => send({ type: "sensor", family, on: e.target.checked }));
-    sensors.appendChild(label);
+    sensors.appendChild(toggle({ id: `sensor-${family}`, "data-family": family }, family,
+      (on) => send({ type: "sensor", family, on })));
   }
   onState(view.state);
+}
+
+function toggle(attrs, text, changed) {
+  const label = document.createElement("label");
+  const input = document.createElement("input");
+  input.type = "checkbox";
+  for (const [k, v] of Object.entries(attrs)) input.setAttribute(k, v);
+  input.addEventListener("change", (e) => changed(e.target.checked));
+  label.append(input, ` ${text}`);
+  return label;
 }
 
 function driveFromHeld() {
@@ -430,6 +762,9 @@ $("take").addEventListener("click", () => send({ type: "take" }));
 $("release").addEventListener("click", () => send({ type: "release" }));
 $("stop").addEventListener("click", () => send({ type: "stop" }));
 $("resume").addEventListener("click", () => send({ type: "resume" }));
+$("robot-pick").addEventListener("change", (e) => pick(e.target.value));
+$("plot-series").addEventListener("change", () => { view.dirty = true; });
+$("plot-window").addEventListener("change", () => { view.dirty = true; });
 
 // -- replay -----------------------------------------------------------------------------
 
@@ -443,12 +778,6 @@ $("play").addEventListener("click", () => send({ type: "replay", action: $("play
 $("seek").addEventListener("change", (e) => send({ type: "replay", action: "seek", position: Number(e.target.value) / 1000 }));
 $("replay-speed").addEventListener("change", (e) => send({ type: "replay", action: "speed", speed: Number(e.target.value) }));
 
-for (const [value, label] of Object.entries(SERIES)) {
-  const option = document.createElement("option");
-  option.value = value; option.textContent = label;
-  $("plot-series").appendChild(option);
-}
-$("plot-series").addEventListener("change", () => { view.dirty = true; });
-
+buildSeries();
 connect();
 requestAnimationFrame(render);
