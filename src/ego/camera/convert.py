@@ -363,8 +363,16 @@ def yuyv_to_rgb888(
     oh, ow = _rotated_shape(height, width, rotation)
     dst = _check_out(out, (oh, ow, 3))
 
-    luma_t, cu_t, cv_t, shift = _yuv_tables(formula)
     bufs = _buffers(("yuyv", width, height, stride, rotation, formula, backend))
+    if formula is YuvFormula.ITU_R_INTEGER and backend != "numpy" and cv2 is not None:
+        if rotation in (0, 180):
+            _yuyv_separable(quads, dst, bufs, rotation == 180)
+            return dst
+        upright = bufs.get("upright", (height, width, 3), np.uint8)
+        _yuyv_separable(quads, upright, bufs, False)
+        cv2.rotate(upright, _CV_ROTATE[rotation], dst=dst)
+        return dst
+    luma_t, cu_t, cv_t, shift = _yuv_tables(formula)
     upright = dst if rotation == 0 else bufs.get("upright", (height, width, 3), np.uint8)
     if backend != "numpy" and cv2 is not None:
         _yuyv_opencv(quads, upright, bufs, luma_t, cu_t, cv_t, shift)
@@ -376,6 +384,84 @@ def yuyv_to_rgb888(
         else:  # pragma: no cover
             np.copyto(dst, np.rot90(upright, rotation // 90))
     return dst
+
+
+def _yuyv_separable(quads: np.ndarray, dst: Image, bufs: _Buffers, turn: bool) -> None:
+    """ITU-R integer YUYV -> RGB888 (upright, or turned 180 degrees), shifts in int16 numpy.
+
+    That formula is ``clamp(Y + c(U, V))`` with each chroma term a sum of arithmetic
+    shifts of ``U - 128`` or ``V - 128``: the terms are computed once per pixel pair in
+    int16 (a shifted plane shifted further gives the next term, as ``(d >> 2) >> 1 ==
+    d >> 3``), added to each pair's two lumas, clamped, narrowed to uint8, and
+    interleaved by two OpenCV merges (pairs into rows, then channels into pixels). Every
+    step is a whole-plane SIMD pass; cv2.LUT on a byte plane costs some twenty times a
+    saturating add here, so none is used. Turning by 180 degrees is done on the 4-byte
+    pairs first (two thirds of the output's bytes), each pair's two pixels then swapping.
+    """
+    assert cv2 is not None
+    height, half = quads.shape[:2]
+    if turn:
+        quads = cv2.rotate(quads, cv2.ROTATE_180, dst=bufs.get("turned", quads.shape, np.uint8))
+    planes = [bufs.get(f"in{i}", (height, half), np.uint8) for i in range(4)]
+    cv2.split(quads, planes)
+    lumas = []
+    for j, plane in enumerate((planes[2], planes[0]) if turn else (planes[0], planes[2])):
+        lumas.append(bufs.get(f"luma{j}", (height, half), np.int16))
+        np.copyto(lumas[j], plane)  # widened once: mixed-type sums are buffered and slow
+    red, green, blue = _itu_r_integer_chroma(planes[1], planes[3], bufs)
+    acc = bufs.get("acc", (height, half), np.int16)
+    rows = []
+    for c, chroma in enumerate((red, green, blue)):
+        pair = [bufs.get(f"out{c}{j}", (height, half), np.uint8) for j in (0, 1)]
+        for j, luma in enumerate(lumas):
+            np.add(luma, chroma, out=acc)
+            # Clamp to 0..255: x if x > -1 else 0, then min(x, 255) (int16 SIMD passes;
+            # numpy's maximum with a scalar is ten times slower here).
+            cv2.threshold(acc, -1, 0, cv2.THRESH_TOZERO, dst=acc)
+            cv2.threshold(acc, 255, 0, cv2.THRESH_TRUNC, dst=acc)
+            np.copyto(pair[j], acc, casting="unsafe")
+        rows.append(cv2.merge(pair, dst=bufs.get(f"row{c}", (height, half, 2), np.uint8)))
+    cv2.merge([row.reshape(height, 2 * half) for row in rows], dst=dst)
+
+
+def _itu_r_integer_chroma(
+    u: np.ndarray, v: np.ndarray, bufs: _Buffers
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per pair, the thesis' shift-and-add chroma terms of R, G and B (int16 planes)."""
+    shape = u.shape
+    du = np.subtract(u, 128, out=bufs.get("du", shape, np.int16), dtype=np.int16)
+    dv = np.subtract(v, 128, out=bufs.get("dv", shape, np.int16), dtype=np.int16)
+    t = bufs.get("shifted", shape, np.int16)
+    red = bufs.get("red", shape, np.int16)
+    np.copyto(red, dv)
+    neg_green = bufs.get("neg_green", shape, np.int16)
+    # R = Y + V' + (V'>>2) + (V'>>3) + (V'>>5); G's V part (V'>>1) + (V'>>3) + (V'>>5).
+    np.right_shift(dv, 1, out=t)
+    np.copyto(neg_green, t)
+    t >>= 1
+    red += t
+    t >>= 1
+    red += t
+    neg_green += t
+    t >>= 2
+    red += t
+    neg_green += t
+    # B = Y + U' + (U'>>1) + (U'>>2) + (U'>>6); G's U part (U'>>2) + (U'>>4) + (U'>>5).
+    blue = bufs.get("blue", shape, np.int16)
+    np.copyto(blue, du)
+    np.right_shift(du, 1, out=t)
+    blue += t
+    t >>= 1
+    blue += t
+    neg_green += t
+    t >>= 2
+    neg_green += t
+    t >>= 1
+    neg_green += t
+    t >>= 1
+    blue += t
+    green = np.negative(neg_green, out=neg_green)
+    return red, green, blue
 
 
 def _finish(acc: np.ndarray, shift: int, dst: np.ndarray) -> None:
