@@ -308,3 +308,10 @@ def test_yuyv_itu_r_integer_every_rotation_is_np_rot90_of_the_reference(
     rgb = yuyv_to_rgb888(buffer, width, height, rotation, stride_bytes=stride, backend=backend)
     expected = np.rot90(itu_r_integer_reference(y, u, v), rotation // 90)
     assert np.array_equal(rgb, expected)
+
+
+@pytest.mark.parametrize(("width", "height"), [(True, 1), (1, True)])
+def test_a_cached_geometry_still_refuses_a_bool_that_equals_it(width, height):
+    rgb565_to_rgb888(bytes(2), 1, 1, 0)  # the plan for (1, 1, 0) is now cached
+    with pytest.raises(OutOfRangeError):
+        rgb565_to_rgb888(bytes(2), width, height, 0)

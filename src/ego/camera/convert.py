@@ -268,38 +268,91 @@ def rgb565_to_rgb888(
         ``(h', w', 3)`` uint8 RGB, ``(height, width)`` for 0/180 and ``(width, height)``
         for 90/270; ``out`` if given.
     """
-    rotation = check_rotation(rotation)
-    if byteorder not in ("little", "big"):
-        raise ValueError(f"byteorder {byteorder!r} is not 'little' or 'big'")
-    stride = _check_geometry(width, height, 2, stride_bytes)
-    flat = _byte_view(raw, stride * (height - 1) + 2 * width, f"a {width}x{height} RGB565 frame")
-    code_dtype = np.dtype("<u2" if byteorder == "little" else ">u2")
-    codes = np.ndarray((height, width), code_dtype, flat, 0, (stride, 2))
-    oh, ow = _rotated_shape(height, width, rotation)
-    dst = _check_out(out, (oh, ow, 3))
-    k = rotation // 90
-    chosen = _pick_backend(backend)
+    plan = _rgb565_plan(width, height, rotation, byteorder, stride_bytes, backend)
+    flat = _byte_view(raw, plan.needed, plan.what)
+    codes = np.ndarray(plan.in_shape, plan.code_dtype, flat, 0, plan.strides)
+    if (
+        out is None
+        or out.shape != plan.out_shape
+        or out.dtype != np.uint8
+        or not out.flags.c_contiguous
+        or not out.flags.writeable
+    ):
+        out = _check_out(out, plan.out_shape)
+    plan.run(codes, out)
+    return out
 
-    if chosen == "numpy":
-        # One gather: the rotation is a view of the codes, the table holds whole pixels.
-        np.take(_TABLE_V3, np.rot90(codes, k), out=dst.view("V3").reshape(oh, ow), mode="clip")
-        return dst
 
-    assert cv2 is not None
-    bufs = _buffers(("rgb565", width, height, stride, rotation, byteorder))
-    tmp = bufs.get("widened", (oh, ow, 3), np.uint8)
-    if byteorder == "big" or not codes.flags.aligned:
-        # One numpy pass swaps (or aligns) the codes and rotates them at the same time.
-        native = bufs.get("codes", (oh, ow), "<u2")
-        np.copyto(native, np.rot90(codes, k))
-        _opencv_convert(native, dst, tmp)
-    elif rotation:
-        rotated = bufs.get("codes", (oh, ow), "<u2")
-        cv2.rotate(codes, _CV_ROTATE[rotation], dst=rotated)
-        _opencv_convert(rotated, dst, tmp)
-    else:
-        _opencv_convert(codes, dst, tmp)
-    return dst
+class _Rgb565Plan:
+    """One validated (geometry, rotation, byte order, backend) with its working buffers.
+
+    Made once per thread and key, so a call on a small frame (Webots' 52x39) costs little
+    more than its three OpenCV passes.
+    """
+
+    def __init__(
+        self, width: int, height: int, rotation: int, byteorder: ByteOrder, stride: int, chosen: str
+    ) -> None:
+        self.in_shape = (height, width)
+        self.strides = (stride, 2)
+        self.needed = stride * (height - 1) + 2 * width
+        self.what = f"a {width}x{height} RGB565 frame"
+        self.code_dtype = np.dtype("<u2" if byteorder == "little" else ">u2")
+        oh, ow = _rotated_shape(height, width, rotation)
+        self.out_shape = (oh, ow, 3)
+        self.k = rotation // 90
+        self.cv_rotation = _CV_ROTATE.get(rotation)
+        self.numpy = chosen == "numpy"
+        self.swap = byteorder == "big"
+        if not self.numpy:
+            self.widened = np.empty(self.out_shape, np.uint8)
+            self.native = np.empty((oh, ow), "<u2")
+            self.native_pairs = self.native.view(np.uint8).reshape(oh, ow, 2)
+
+    def run(self, codes: np.ndarray, dst: Image) -> None:
+        if self.numpy:
+            # One gather: the rotation is a view of the codes, the table holds whole pixels.
+            view = dst.view("V3").reshape(dst.shape[:2])
+            np.take(_TABLE_V3, np.rot90(codes, self.k), out=view, mode="clip")
+            return
+        assert cv2 is not None
+        if self.swap or not codes.flags.aligned:
+            # One numpy pass swaps (or aligns) the codes and rotates them at the same time.
+            np.copyto(self.native, np.rot90(codes, self.k))
+        elif self.cv_rotation is not None:
+            cv2.rotate(codes, self.cv_rotation, dst=self.native)
+        else:
+            _opencv_convert(codes, dst, self.widened)
+            return
+        cv2.cvtColor(self.native_pairs, cv2.COLOR_BGR5652RGB, dst=self.widened)
+        cv2.transform(self.widened, _WIDENED_TO_TABLE, dst=dst)
+
+
+def _rgb565_plan(
+    width: int,
+    height: int,
+    rotation: int,
+    byteorder: ByteOrder,
+    stride_bytes: int | None,
+    backend: Backend,
+) -> _Rgb565Plan:
+    """The plan for these arguments in this thread (validated on first use)."""
+    key = (width, height, rotation, byteorder, stride_bytes, backend)
+    plans: dict[tuple[object, ...], _Rgb565Plan] | None = getattr(_local, "rgb565", None)
+    if plans is None:
+        plans = _local.rgb565 = {}
+    # Keyed by plain ints only: True == 1 and 90.0 == 90 must still meet validation.
+    plan = plans.get(key) if type(width) is type(height) is type(rotation) is int else None
+    if plan is None:
+        rotation = check_rotation(rotation)
+        if byteorder not in ("little", "big"):
+            raise ValueError(f"byteorder {byteorder!r} is not 'little' or 'big'")
+        stride = _check_geometry(width, height, 2, stride_bytes)
+        plan = _Rgb565Plan(width, height, rotation, byteorder, stride, _pick_backend(backend))
+        if len(plans) >= _CACHE_SIZE:
+            plans.pop(next(iter(plans)))
+        plans[key] = plan
+    return plan
 
 
 # -- YUYV ---------------------------------------------------------------------------------
