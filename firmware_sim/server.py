@@ -60,6 +60,7 @@ class Emulator:
         selector: int | None = None,
         ground_module: bool = True,
         latency_s: float = 0.0,
+        dspic_work: bool = True,
     ) -> None:
         if isinstance(world, str):
             from firmware_sim.worlds import load_world
@@ -73,6 +74,7 @@ class Emulator:
             rev13=rev13,
             selector=selector,
             ground_module=ground_module,
+            work=dspic_work,
         )
         baud = self.dspic.line_baud if baud is None else baud
         if baud <= 0:
