@@ -90,6 +90,8 @@ def main(argv: list[str] | None = None) -> int:
             table.print()
             table.write_csv(out)
         done.append((name, tables, time.perf_counter() - t0))
+        # One line a section on stderr (progress bars show only on a terminal).
+        print(f"section {name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
     from benchmarks.report import write_report
 
     path = write_report(
