@@ -193,7 +193,7 @@ def bare_client(path: str, tx: bytes, reply_size: int, steps: int, label: str) -
     fd = os.open(path, os.O_RDWR | os.O_NOCTTY | os.O_NONBLOCK)
     try:
         tty.setraw(fd)
-        while select.select([fd], [], [], 0.3)[0]:  # the power-on banner, if still there
+        while select.select([fd], [], [], 0.1)[0]:  # the power-on banner, if still there
             os.read(fd, 4096)
         times = []
         cpu0 = time.process_time()
@@ -247,7 +247,7 @@ def modelled_s(batch: Batch, setting: Setting) -> float:
 
 def run(quick: bool = False) -> list[Table]:
     tables = overhead_tables()
-    steps, rounds = (100, 1) if quick else (2000, 3)
+    steps, rounds = (30, 1) if quick else (2000, 3)
     batch = encode_batch(worst_case_requests(), PROFILES[Firmware.WEBOTS])
     per_step = len(batch.tx) + batch.reply_size
     results: dict[tuple[str, str], list[LinkRun]] = {}

@@ -86,7 +86,7 @@ def measure(condition: str, lo_ms: int, hi_ms: int, samples: int, seed: int = 1)
 
 def run(quick: bool = False) -> list[Table]:
     counts = (
-        {(1, 10): 20, (10, 100): 10, (100, 500): 3}
+        {(1, 10): 20, (10, 100): 5, (100, 500): 1}
         if quick
         else {(1, 10): 400, (10, 100): 200, (100, 500): 200}
     )
