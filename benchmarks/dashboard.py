@@ -121,7 +121,7 @@ def run(quick: bool = False) -> list[Table]:
     blocks, steps = (1, 10) if quick else (4, 150)
     with tempfile.TemporaryDirectory() as tmp:
         results = measure(blocks, steps, Path(tmp))
-        mem = memory(20 if quick else 100)
+        mem = memory(5 if quick else 100)
     base = results["nothing watching"]
     base_cpu_us = base["cpu_s"] / base["steps"] * 1e6
     table = Table(

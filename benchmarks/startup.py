@@ -88,7 +88,7 @@ def _compile_ego() -> None:
 
 
 def run(quick: bool = False) -> list[Table]:
-    runs = 3 if quick else 21
+    runs = 2 if quick else 21
     _compile_ego()
     table = Table(
         key="startup_imports",

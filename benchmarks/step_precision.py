@@ -23,7 +23,14 @@ import numpy as np
 
 from benchmarks.common import Table, progress, thesis_csv
 
-__all__ = ["attribution_table", "fixed_steps", "machine_figures", "measure", "run"]
+__all__ = [
+    "attribution_table",
+    "fixed_steps",
+    "machine_figures",
+    "measure",
+    "measure_ranges",
+    "run",
+]
 
 RANGES_MS = ((1, 10), (10, 100), (100, 500))
 BANDS = (0.01, 0.05, 0.10, 0.20)
@@ -67,25 +74,34 @@ def _background(work: Callable[[threading.Event], None] | None) -> Iterator[None
 
 def measure(condition: str, lo_ms: int, hi_ms: int, samples: int, seed: int = 1) -> list[float]:
     """Relative errors |measured - asked| / asked of ``samples`` steps drawn from lo..hi ms."""
+    return measure_ranges(condition, {(lo_ms, hi_ms): samples}, seed)[(lo_ms, hi_ms)]
+
+
+def measure_ranges(
+    condition: str, samples: dict[tuple[int, int], int], seed: int = 1
+) -> dict[tuple[int, int], list[float]]:
+    """:func:`measure` for each range, on one robot and one background load."""
     import ego
     from ego.scheduler import tune_for_stepping
 
     tune_for_stepping()  # as ego run does for a controller
-    rng = random.Random(seed)
-    errors: list[float] = []
+    results: dict[tuple[int, int], list[float]] = {}
     with (
         ego.Robot("sim", seed=seed, handle_signals=False) as robot,
         _background(CONDITIONS[condition]),
     ):
-        robot.step(lo_ms)  # anchors the clock
-        last = time.perf_counter()
-        for _ in range(samples):
-            ms = rng.randint(lo_ms, hi_ms)
-            robot.step(ms)
-            now = time.perf_counter()
-            errors.append(abs((now - last) * 1000.0 - ms) / ms)
-            last = now
-    return errors
+        for (lo_ms, hi_ms), count in samples.items():
+            rng = random.Random(seed)
+            errors = results[(lo_ms, hi_ms)] = []
+            robot.step(lo_ms)  # anchors the clock
+            last = time.perf_counter()
+            for _ in range(count):
+                ms = rng.randint(lo_ms, hi_ms)
+                robot.step(ms)
+                now = time.perf_counter()
+                errors.append(abs((now - last) * 1000.0 - ms) / ms)
+                last = now
+    return results
 
 
 def run(quick: bool = False) -> list[Table]:
@@ -99,10 +115,10 @@ def run(quick: bool = False) -> list[Table]:
         "busy": thesis_csv("table_4_7_step_precision_multi_thread.csv"),
     }
     tables = []
-    jobs = [(c, r) for c in CONDITIONS for r in RANGES_MS]
     results: dict[tuple[str, tuple[int, int]], list[float]] = {}
-    for condition, rng in progress(jobs, "step precision", total=len(jobs)):
-        results[(condition, rng)] = measure(condition, rng[0], rng[1], counts[rng])
+    for condition in progress(CONDITIONS, "step precision", total=len(CONDITIONS)):
+        for rng, errors in measure_ranges(condition, counts).items():
+            results[(condition, rng)] = errors
     for condition in CONDITIONS:
         ref = thesis["single thread" if condition == "single thread" else "busy"]
         ref_by_range = {row["time_range_ms"]: row for row in ref}
