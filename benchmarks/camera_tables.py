@@ -840,7 +840,7 @@ def tables(r: Results) -> list[Table]:
 
 
 def run(quick: bool = False) -> list[Table]:
-    by_size = sizes_table(((52, 39), (640, 480)), 3, 1) if quick else sizes_table(SIZE_STEPS, 15, 3)
+    by_size = sizes_table(((52, 39), (640, 480)), 3, 0) if quick else sizes_table(SIZE_STEPS, 15, 3)
     return [*tables(measure(QUICK if quick else FULL)), by_size]
 
 

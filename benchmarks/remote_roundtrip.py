@@ -297,7 +297,7 @@ def cpu_table(iterations: int) -> Table:
 
 def run(quick: bool = False) -> list[Table]:
     return [
-        roundtrip_table(40 if quick else 2000),
+        roundtrip_table(20 if quick else 2000),
         cpu_table(2000 if quick else 20000),
     ]
 

@@ -106,7 +106,7 @@ def measure_ranges(
 
 def run(quick: bool = False) -> list[Table]:
     counts = (
-        {(1, 10): 20, (10, 100): 5, (100, 500): 1}
+        {(1, 10): 10, (10, 100): 3, (100, 500): 1}
         if quick
         else {(1, 10): 400, (10, 100): 200, (100, 500): 200}
     )
