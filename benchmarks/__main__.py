@@ -14,6 +14,7 @@ from benchmarks.common import RESULTS, Table
 
 #: Sections in report order: module name under benchmarks/, and what it reproduces.
 SECTIONS = {
+    "startup": "Startup: import ego and a controller's first import",
     "serial_link": "Command overhead and serial link rate (Tables 4.1-4.2, sections 4.1.1, 5.2)",
     "step_precision": "Time-step precision (Tables 4.6-4.7)",
     "camera_tables": "Camera: acquisition, rotation, encoding (Tables 5.1-5.8) and peers",
@@ -90,6 +91,8 @@ def main(argv: list[str] | None = None) -> int:
             table.print()
             table.write_csv(out)
         done.append((name, tables, time.perf_counter() - t0))
+        # One line a section on stderr (progress bars show only on a terminal).
+        print(f"section {name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
     from benchmarks.report import write_report
 
     path = write_report(

@@ -1,6 +1,6 @@
-"""``python -m benchmarks._dashboard_memory PORT``: a controller's resident memory (VmRSS,
-kB) after 100 steps without a dashboard, then after 100 more with a dashboard serving one
-page; one JSON line."""
+"""``python -m benchmarks._dashboard_memory PORT [STEPS]``: a controller's resident memory
+(VmRSS, kB) after STEPS steps (default 100) without a dashboard, then after as many more
+with a dashboard serving one page; one JSON line."""
 
 from __future__ import annotations
 
@@ -11,13 +11,13 @@ import sys
 from benchmarks.common import rss_kb
 
 
-def main(port: str) -> int:
+def main(port: str, steps: int = 100) -> int:
     import ego
 
     with ego.Robot(port, handle_signals=False) as robot:
         for family in (robot.proximity, robot.light, robot.accelerometer, robot.encoders):
             family.enable(32)
-        for _ in range(100):
+        for _ in range(steps):
             robot.step(32)
         before = rss_kb()
         from ego.dashboard.live import RobotDashboard
@@ -29,7 +29,7 @@ def main(port: str) -> int:
                                  board.server.url], stdout=subprocess.PIPE, text=True)  # fmt: skip
         try:
             assert page.stdout is not None and page.stdout.readline().strip() == "connected"
-            for _ in range(100):
+            for _ in range(steps):
                 robot.step(32)
             after = rss_kb()
         finally:
@@ -41,4 +41,4 @@ def main(port: str) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1]))
+    sys.exit(main(sys.argv[1], *(int(a) for a in sys.argv[2:3])))

@@ -38,7 +38,14 @@ from PIL import Image
 from benchmarks.common import REPO, Stats, Table, fmt, interleaved
 from ego.camera import LUT5, LUT6, RGB565_TABLE, YuvFormula, rgb565_to_rgb888, yuyv_to_rgb888
 
-__all__ = ["Timing", "measure_conversion", "measure_yuyv", "run", "thesis_c_anchor"]
+__all__ = [
+    "Timing",
+    "measure_conversion",
+    "measure_yuyv",
+    "run",
+    "sizes_table",
+    "thesis_c_anchor",
+]
 
 ANCHOR = REPO.parent / "shared" / "anchors" / "thesis_fused.c"
 _CV_ROTATE = {90: cv2.ROTATE_90_COUNTERCLOCKWISE, 180: cv2.ROTATE_180, 270: cv2.ROTATE_90_CLOCKWISE}
@@ -198,6 +205,7 @@ def _anchor_style_ms(fn: Callable[[], object], frames: int = 200, tries: int = 1
     return best * 1e3
 
 
+_YUYV_DEFAULT = f"YUYV {YuvFormula.ITU_R_INTEGER.value}"
 _NAMES = (
     "ego fused",
     "ego numpy gather",
@@ -221,6 +229,7 @@ def measure_yuyv(
     threads: int = 1,
     rotation: int = 180,
     inner: int = 3,
+    opencv: bool = False,
 ) -> dict[str, Stats]:
     """YUYV with each thesis formula against RGB565, ms per frame (Table 5.1's comparison).
 
@@ -237,6 +246,16 @@ def measure_yuyv(
         contenders[f"YUYV {formula.value}"] = functools.partial(
             yuyv_to_rgb888, raw, width, height, rotation, formula=formula, out=out
         )
+    if opencv:
+        pairs = np.frombuffer(raw, np.uint8).reshape(height, width, 2)
+        upright = np.empty((height, width, 3), dtype=np.uint8)
+
+        def opencv_yuyv() -> None:
+            cv2.cvtColor(pairs, cv2.COLOR_YUV2RGB_YUYV, dst=upright if rotation else out)
+            if rotation:
+                cv2.rotate(upright, _CV_ROTATE[rotation], dst=out)
+
+        contenders["OpenCV YUYV (inexact)"] = opencv_yuyv
     previous = cv2.getNumThreads()
     if threads:
         cv2.setNumThreads(threads)
@@ -270,6 +289,54 @@ def conversion_table(timings: dict[str, Timing], width: int, height: int, rotati
     table.notes.append(
         "x ego fused: the contender's median over ego's (above 1: ego is faster). "
         "Python contenders interleaved A B A B; the C anchor run between rounds."
+    )
+    return table
+
+
+#: Webots' e-puck camera, the thesis' sizes between, the Overo's VGA.
+SIZE_STEPS: tuple[tuple[int, int], ...] = ((52, 39), (160, 120), (320, 240), (640, 480))
+
+
+def sizes_table(sizes: tuple[tuple[int, int], ...], repeats: int, c_runs: int) -> Table:
+    """Issue 27's targets per size: ego against the C loop and OpenCV, and YUYV vs RGB565."""
+    table = Table(
+        key="camera_sizes",
+        title="RGB565 -> RGB888 + rotation 180 by size: ego against the thesis' C loop and "
+        "OpenCV; YUYV (ITU-R integer) against RGB565",
+        columns=[
+            "size",
+            "ego fused [ms]",
+            "x C loop",
+            "x OpenCV cvtColor+rotate",
+            "YUYV [ms]",
+            "YUYV x RGB565",
+            "YUYV x OpenCV YUYV",
+        ],
+    )
+    for width, height in sizes:
+        t = measure_conversion(width, height, repeats, c_runs=c_runs)
+        ours = t["ego fused"].ms.median
+        c_loop = t.get("thesis C fused (gcc -O2)")
+        like = t.get("ego fused, the C anchor's way")
+        x_c = like.ms.median / c_loop.ms.median if c_loop and like else float("nan")
+        yuyv = measure_yuyv(width, height, max(3, repeats), rotation=180, inner=5, opencv=True)
+        table.rows.append(
+            [
+                f"{width}x{height}",
+                fmt(ours, 4),
+                x_c,
+                ours / t["OpenCV cvtColor+rotate"].ms.median,
+                fmt(yuyv[_YUYV_DEFAULT].median, 4),
+                yuyv[_YUYV_DEFAULT].median / yuyv["RGB565"].median,
+                yuyv[_YUYV_DEFAULT].median / yuyv["OpenCV YUYV (inexact)"].median,
+            ]
+        )
+    table.notes.append(
+        "x C loop: ego timed as thesis_fused.c times itself (best mean of 200 frames in a "
+        "row, of 15 tries) over the C loop's own figure; x OpenCV: interleaved medians, "
+        "OpenCV being inexact (shifts for RGB565, its own BT.601 for YUYV). Targets "
+        "(issue 27): at most 1x the C loop at every size, within 1.2x of OpenCV at 640x480, "
+        "YUYV at most 1.5x RGB565."
     )
     return table
 

@@ -36,7 +36,14 @@ from typing import Any
 import cv2
 import numpy as np
 
-from benchmarks.camera_convert import ANCHOR, Timing, measure_conversion, measure_yuyv
+from benchmarks.camera_convert import (
+    ANCHOR,
+    SIZE_STEPS,
+    Timing,
+    measure_conversion,
+    measure_yuyv,
+    sizes_table,
+)
 from benchmarks.common import Interrupted, Stats, Table, fmt, progress, thesis_csv
 from ego.camera import YuvFormula, encode_jpeg, encode_png, rgb565_to_rgb888
 
@@ -833,7 +840,8 @@ def tables(r: Results) -> list[Table]:
 
 
 def run(quick: bool = False) -> list[Table]:
-    return tables(measure(QUICK if quick else FULL))
+    by_size = sizes_table(((52, 39), (640, 480)), 3, 0) if quick else sizes_table(SIZE_STEPS, 15, 3)
+    return [*tables(measure(QUICK if quick else FULL)), by_size]
 
 
 if __name__ == "__main__":

@@ -157,18 +157,26 @@ def _cell(value: Any) -> str:
 
 
 def progress(items: Iterable[Any], desc: str, total: int | None = None) -> Iterator[Any]:
-    """A progress bar on stderr (tqdm when installed, a plain counter otherwise)."""
+    """A progress bar on stderr when it is a terminal (tqdm when installed, else a counter).
+
+    Not on a terminal (a log file, CI), nothing: ``python -m benchmarks`` prints one line
+    per section there instead of thousands of carriage-return fragments.
+    """
     try:
         from tqdm import tqdm
     except ImportError:
         yield from _plain_progress(items, desc, total)
         return
-    yield from tqdm(items, desc=desc, total=total, leave=False, dynamic_ncols=True)
+    # disable=None: tqdm turns itself off when stderr is not a terminal.
+    yield from tqdm(items, desc=desc, total=total, leave=False, dynamic_ncols=True, disable=None)
 
 
 def _plain_progress(items: Iterable[Any], desc: str, total: int | None) -> Iterator[Any]:
     import sys
 
+    if not sys.stderr.isatty():
+        yield from items
+        return
     for i, item in enumerate(items, 1):
         if total:
             sys.stderr.write(f"\r{desc}: {i}/{total}")
@@ -176,6 +184,7 @@ def _plain_progress(items: Iterable[Any], desc: str, total: int | None) -> Itera
         yield item
     if total:
         sys.stderr.write("\r" + " " * (len(desc) + 20) + "\r")
+
 
 #: The thesis measured the Overo line at 230400 baud with the command set of Table 4.1
 #: (the one Webots' firmware serves, M included); the emulator carries it at that rate.

@@ -69,9 +69,12 @@ def measure(blocks: int, steps: int, folder: Path) -> dict[str, dict[str, Any]]:
     tune_for_stepping()
     frames = _raw_frames(folder, 160, 120)
     results = {c: {"cpu_s": 0.0, "steps": 0, "lengths": []} for c in CONDITIONS}
-    with _emulator() as (_, port), ego.Robot(
-        port, camera_source=FileReplaySource(frames, 160, 120), handle_signals=False
-    ) as robot:
+    with (
+        _emulator() as (_, port),
+        ego.Robot(
+            port, camera_source=FileReplaySource(frames, 160, 120), handle_signals=False
+        ) as robot,
+    ):
         for family in (robot.proximity, robot.light, robot.accelerometer, robot.encoders):
             family.enable(STEP_MS)
         robot.camera.set_size(160, 120)
@@ -106,18 +109,19 @@ def measure(blocks: int, steps: int, folder: Path) -> dict[str, dict[str, Any]]:
     return results
 
 
-def memory() -> dict[str, int]:
+def memory(steps: int = 100) -> dict[str, int]:
     with _emulator() as (_, port):
-        out = subprocess.run([sys.executable, "-m", "benchmarks._dashboard_memory", port],
+        out = subprocess.run([sys.executable, "-m", "benchmarks._dashboard_memory", port,
+                              str(steps)],
                              capture_output=True, text=True, timeout=120, check=True)  # fmt: skip
     return dict(json.loads(out.stdout.strip().splitlines()[-1]))
 
 
 def run(quick: bool = False) -> list[Table]:
-    blocks, steps = (1, 30) if quick else (4, 150)
+    blocks, steps = (1, 10) if quick else (4, 150)
     with tempfile.TemporaryDirectory() as tmp:
         results = measure(blocks, steps, Path(tmp))
-        mem = memory()
+        mem = memory(5 if quick else 100)
     base = results["nothing watching"]
     base_cpu_us = base["cpu_s"] / base["steps"] * 1e6
     table = Table(

@@ -96,8 +96,11 @@ class _ServeProcess:
             text=True,
             env={**os.environ, "EGO_CAMERA": "none"},
         )
-        assert self.process.stderr is not None
         self.url = ""
+
+    def wait_ready(self) -> _ServeProcess:
+        """Read its log until it says where it listens (all start at once, then this)."""
+        assert self.process.stderr is not None
         for line in self.process.stderr:
             match = re.search(r"ego serve: .* on (\S+)$", line)
             if match:
@@ -107,6 +110,7 @@ class _ServeProcess:
             raise RuntimeError(f"ego serve exited with {self.process.wait()} before serving")
         # Keep its log flowing so that the pipe never fills and stalls it.
         threading.Thread(target=self.process.stderr.read, daemon=True).start()
+        return self
 
     def stop(self) -> None:
         self.process.terminate()
@@ -125,6 +129,8 @@ def roundtrip_table(steps: int) -> Table:
     emu = Emulator("webots", baud=THESIS_LINE_BAUD, seed=1).start()
     links: dict[str, Channel] = {}
     try:
+        for server in servers:
+            server.wait_ready()
         links["pty (direct)"] = Link(SerialTransport(emu.path), Firmware.WEBOTS)
         for server in servers:
             name = server.url.split(":")[0].upper() + (" sealed" if server.secret else "")
@@ -291,7 +297,7 @@ def cpu_table(iterations: int) -> Table:
 
 def run(quick: bool = False) -> list[Table]:
     return [
-        roundtrip_table(100 if quick else 2000),
+        roundtrip_table(20 if quick else 2000),
         cpu_table(2000 if quick else 20000),
     ]
 

@@ -68,6 +68,11 @@ def _hello() -> bytes:
     )
 
 
+#: How long a flood builds up before the measurement (shorter in a --quick run).
+BUILD_UP_S = {"full": 0.3, "quick": 0.15}
+_build_up = [BUILD_UP_S["full"]]
+
+
 def _flood_for(kind: str, url: str, seconds: float) -> object:
     if kind == "quiet":
         return contextlib.nullcontext()
@@ -82,10 +87,12 @@ def _flood_for(kind: str, url: str, seconds: float) -> object:
     @contextlib.contextmanager
     def running() -> Iterator[None]:
         try:
-            time.sleep(0.3)  # let it build up
+            time.sleep(_build_up[0])  # let it build up
             yield
         finally:
-            process.wait(timeout=seconds + 10)
+            # ``seconds`` is the most it may take: once measured, it is stopped.
+            process.terminate()
+            process.wait(timeout=10)
 
     return running()
 
@@ -142,7 +149,7 @@ def deadman_table(trials: int) -> Table:
 def client_table(seconds: float) -> Table:
     table = Table(
         key="security_client",
-        title=f"The legitimate client under load: step round trip over {seconds:.0f} s",
+        title=f"The legitimate client under load: step round trip over {seconds:g} s",
         columns=["load", "steps", "median [ms]", "p99 [ms]", "max [ms]", "errors", "dropped"],
     )
     for flood in ("quiet", *FLOOD_KINDS):
@@ -175,10 +182,11 @@ def client_table(seconds: float) -> Table:
     return table
 
 
-def guessing_table(seconds: float) -> Table:
+def guessing_table(seconds: float, connections: int = 8) -> Table:
     table = Table(
         key="security_guessing",
-        title=f"Online guessing: 8 parallel connections sending wrong proofs for {seconds:.0f} s",
+        title=f"Online guessing: {connections} parallel connections sending wrong proofs "
+        f"for {seconds:g} s",
         columns=["wrong proofs answered", "per second", "right secret after it [ms]"],
     )
     with _served("tcp") as (_, _server, url):
@@ -196,7 +204,7 @@ def guessing_table(seconds: float) -> Table:
                         answered[0] += 1
                 raw.close()
 
-        threads = [threading.Thread(target=guess) for _ in range(8)]
+        threads = [threading.Thread(target=guess) for _ in range(connections)]
         for thread in threads:
             thread.start()
         for thread in threads:
@@ -390,10 +398,11 @@ def amplification_table() -> Table:
 
 def run(quick: bool = False) -> list[Table]:
     logging.getLogger("ego").setLevel(logging.ERROR)  # the attacks are logged, expectedly
+    _build_up[0] = BUILD_UP_S["quick" if quick else "full"]
     return [
-        deadman_table(3 if quick else 10),
-        client_table(2.0 if quick else 10.0),
-        guessing_table(2.0 if quick else 5.0),
+        deadman_table(1 if quick else 10),
+        client_table(0.3 if quick else 10.0),
+        guessing_table(0.3, 1) if quick else guessing_table(5.0),
         attacks_table(),
         pipelining_table(1 if quick else 3),
         amplification_table(),

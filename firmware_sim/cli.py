@@ -113,6 +113,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "anyway, and nothing answers at 0x60 on the Overo's I2C bus)",
     )
     parser.add_argument(
+        "--no-dspic-work",
+        dest="dspic_work",
+        action="store_false",
+        help="answer as soon as the line allows: no modelled firmware time (M's 3 ms I2C "
+        "read of the floor sensors, A's 2 ms of floating point, K's calibration)",
+    )
+    parser.add_argument(
         "--latency-ms",
         type=_bounded(0, 10000, " ms"),
         default=0.0,
@@ -163,6 +170,7 @@ def run(args: argparse.Namespace) -> int:
             selector=args.selector,
             ground_module=args.ground_module,
             latency_s=args.latency_ms / 1000,
+            dspic_work=args.dspic_work,
             world=args.world,
         )
     except ValueError as exc:

@@ -142,6 +142,7 @@ class Dspic:
         rev13: bool = False,
         selector: int | None = None,
         ground_module: bool = True,
+        work: bool = True,
     ) -> None:
         self.world = world
         self.firmware = firmware_name(firmware)
@@ -154,6 +155,10 @@ class Dspic:
         if not 0 <= self.selector <= 15:
             raise ValueError(f"selector {self.selector} is not one of 0..15")
         self.ground_module = ground_module
+        #: Whether the firmware's modelled time is spent: WORK_S before a reply, and K's
+        #: calibration (CALIBRATION_S). Off, the emulator answers as soon as the line lets
+        #: it, and a benchmark sees the client's own cost.
+        self.work = work
         self.batches = 0
         self.last_record: BatchRecord | None = None
         #: The speeds E echoes: what D last asked, unclamped (Asercom.c: speedl, speedr).
@@ -250,7 +255,9 @@ class Dspic:
             self.batches,
             letters,
             bytes(self._prefix + self._reply),
-            work_s=sum(WORK_S.get(c, 0.0) for c in letters if self._does_work(c)),
+            work_s=sum(WORK_S.get(c, 0.0) for c in letters if self._does_work(c))
+            if self.work
+            else 0.0,
         )
         out.append(Emission(bytes(self._reply), "reply", self.last_record))
         self._reply.clear()
@@ -372,7 +379,7 @@ class Dspic:
         elif letter == "K":
             # Both firmwares: a first line, the calibration (deaf to the line), a last line.
             out.append(Emission(K_STARTED, "ascii"))
-            delay = CALIBRATION_S[self.firmware]
+            delay = CALIBRATION_S[self.firmware] if self.work else 0.0
             out.append(Emission(K_FINISHED, "ascii", after_s=delay, deaf_s=delay))
             return
         elif letter == "R":

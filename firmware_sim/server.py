@@ -64,6 +64,7 @@ class Emulator:
         selector: int | None = None,
         ground_module: bool = True,
         latency_s: float = 0.0,
+        dspic_work: bool = True,
     ) -> None:
         if isinstance(world, str):
             from firmware_sim.worlds import load_world
@@ -77,6 +78,7 @@ class Emulator:
             rev13=rev13,
             selector=selector,
             ground_module=ground_module,
+            work=dspic_work,
         )
         #: The I2C bus the firmware leaves to the Overo (firmware_sim.i2c), else None.
         self.i2c = (

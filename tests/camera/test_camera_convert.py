@@ -260,3 +260,58 @@ def test_any_geometry_converts_like_the_table_then_np_rot90(
     raw = frame_bytes(codes, byteorder, stride)
     rgb = rgb565_to_rgb888(raw, width, height, rotation, byteorder, stride_bytes=stride)
     assert np.array_equal(rgb, np.rot90(thesis_table[codes], rotation // 90))
+
+
+# -- YUYV, ITU-R integer: every chroma pair, every rotation (the int16 shift path) ------------
+
+
+def itu_r_integer_reference(y: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The thesis' shifts on whole int64 arrays (numpy's >> is arithmetic, as on the Overo)."""
+    u, v = u - 128, v - 128
+    r = y + v + (v >> 2) + (v >> 3) + (v >> 5)
+    g = y - ((u >> 2) + (u >> 4) + (u >> 5)) - ((v >> 1) + (v >> 3) + (v >> 5))
+    b = y + u + (u >> 1) + (u >> 2) + (u >> 6)
+    return np.clip(np.stack([r, g, b], axis=-1), 0, 255).astype(np.uint8)
+
+
+def test_scalar_and_array_itu_r_integer_references_agree():
+    y, u, v = (rng.integers(0, 256, 500) for _ in range(3))
+    expected = [
+        thesis_itu_r_integer(int(a), int(b), int(c)) for a, b, c in zip(y, u, v, strict=True)
+    ]
+    assert itu_r_integer_reference(y, u, v).tolist() == [list(p) for p in expected]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("luma", [(0, 255), (255, 0), (16, 235), (128, 127)])
+def test_yuyv_itu_r_integer_is_exact_for_all_65536_chroma_pairs(backend, luma):
+    """Each (U, V) once, with lumas at the clamps and in the middle: all saturations hit."""
+    u, v = (a.reshape(256, 256) for a in np.meshgrid(np.arange(256), np.arange(256)))
+    quads = np.stack([np.full_like(u, luma[0]), u, np.full_like(u, luma[1]), v], axis=-1)
+    raw = quads.astype(np.uint8).tobytes()
+    rgb = yuyv_to_rgb888(raw, 512, 256, 0, "itu-r-integer", backend=backend)
+    y = np.tile(np.array(luma), (256, 256))
+    assert np.array_equal(rgb, itu_r_integer_reference(y, np.repeat(u, 2, 1), np.repeat(v, 2, 1)))
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("rotation", ROTATIONS)
+@pytest.mark.parametrize(
+    ("width", "height", "stride"), [(18, 11, 44), (52, 39, 104), (640, 48, 1282)]
+)
+def test_yuyv_itu_r_integer_every_rotation_is_np_rot90_of_the_reference(
+    backend, rotation, width, height, stride
+):
+    raw, y, u, v = yuyv_frame(height, width, stride)
+    # One byte in front: the frame starts at an odd address, as in a packet buffer.
+    buffer = np.frombuffer(b"\0" + raw, np.uint8)[1:]
+    rgb = yuyv_to_rgb888(buffer, width, height, rotation, stride_bytes=stride, backend=backend)
+    expected = np.rot90(itu_r_integer_reference(y, u, v), rotation // 90)
+    assert np.array_equal(rgb, expected)
+
+
+@pytest.mark.parametrize(("width", "height"), [(True, 1), (1, True)])
+def test_a_cached_geometry_still_refuses_a_bool_that_equals_it(width, height):
+    rgb565_to_rgb888(bytes(2), 1, 1, 0)  # the plan for (1, 1, 0) is now cached
+    with pytest.raises(OutOfRangeError):
+        rgb565_to_rgb888(bytes(2), width, height, 0)

@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import ClassVar
-
-import numpy as np
-import numpy.typing as npt
+from typing import TYPE_CHECKING, ClassVar
 
 from ego.devices.base import MAX_PERIOD_MS, ArraySensor, Verdict, check_int, out_of_range
 from ego.errors import DeviceError
 from ego.serial.protocol import Command, Profile, Request
+
+if TYPE_CHECKING:  # numpy is imported when a buffer first arrives (import ego stays light)
+    import numpy as np
+    import numpy.typing as npt
 
 __all__ = ["MIC_RATE_HZ", "MIC_SAMPLES", "Microphones"]
 
@@ -70,6 +71,8 @@ class Microphones(ArraySensor):
 
     def apply(self, request: Request, values: Sequence[float], now_ms: int, now_s: float) -> None:
         if request.command is Command.MIC_BUFFER:
+            import numpy as np
+
             self._buffer_fetch_ms = now_ms
             # Unsigned ADC counts around mid-scale (docs/protocol.md, "U"); the wire
             # format is signed, the values never reach 0x8000.
