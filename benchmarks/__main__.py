@@ -17,6 +17,7 @@ SECTIONS = {
     "startup": "Startup: import ego and a controller's first import",
     "serial_link": "Command overhead and serial link rate (Tables 4.1-4.2, sections 4.1.1, 5.2)",
     "step_precision": "Time-step precision (Tables 4.6-4.7)",
+    "step_cost": "CPU of one avoidance step: a bare client, ego's core and the Webots face",
     "camera_tables": "Camera: acquisition, rotation, encoding (Tables 5.1-5.8) and peers",
     "memory": "Memory: peak resident set of a controller and of the emulator",
     "remote_roundtrip": "Remote control: step round trip over TCP/UDP vs the pty link",
