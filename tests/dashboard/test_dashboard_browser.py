@@ -182,7 +182,10 @@ def test_a_teleop_controller_runs_unchanged_from_the_browsers_keys(
         assert proc.stderr is not None
         url = ""
         while not url and select.select([proc.stderr], [], [], 20)[0]:
-            match = re.search(r"dashboard at (\S+)", proc.stderr.readline())
+            line = proc.stderr.readline()
+            if not line:  # the command ended: say why rather than wait on its end
+                break
+            match = re.search(r"dashboard at (\S+)", line)
             url = match.group(1) if match else ""
         assert url, "no dashboard URL"
         _open(page, url)

@@ -87,7 +87,7 @@ def test_under_a_webots_controller_rad_per_s_shows_beside_steps_per_s(
         "    pass\n"
     )
     proc = subprocess.Popen(
-        [*ego_command(), "run", "--port", "sim", "--duration", "30", "--dashboard",
+        [*ego_command(), "run", "--port", "sim", "--duration", "30", "--dashboard-address",
          "127.0.0.1:0", str(controller)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
     )  # fmt: skip
@@ -95,7 +95,10 @@ def test_under_a_webots_controller_rad_per_s_shows_beside_steps_per_s(
         assert proc.stderr is not None
         url = ""
         while not url and select.select([proc.stderr], [], [], 20)[0]:
-            match = re.search(r"dashboard at (\S+)", proc.stderr.readline())
+            line = proc.stderr.readline()
+            if not line:  # the command ended: say why rather than wait on its end
+                break
+            match = re.search(r"dashboard at (\S+)", line)
             url = match.group(1) if match else ""
         assert url, "no dashboard URL"
         _open(page, url)
