@@ -163,7 +163,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         args.supervised = wants_supervision(args.port)
     if args.supervised:
         return _run_supervised(args, secret)
-    tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
+    tune_for_stepping(args.realtime)  # the CLI owns the process: precise steps (its doc)
     # The secret goes to the robot's backend when it takes one (a served robot's), and to
     # the dashboard; an emulator or a serial port takes none.
     wanted = takes_option(resolve_port(args.port), "secret")
@@ -190,6 +190,7 @@ def _run_supervised(args: argparse.Namespace, secret: bytes | None) -> int:
         *(["-" + "v" * args.verbose] if args.verbose > 0 else []),
         *(["-q"] if args.verbose < 0 else []),
         *(["--strict"] if args.strict else []),
+        *(["--realtime"] if args.realtime else []),
         *(["--camera", "{}x{}".format(*args.camera)] if args.camera else []),
         *(["--dashboard-address", args.dashboard] if args.dashboard else []),
         *(["--secret-file", args.secret_file] if args.secret_file else []),
@@ -303,6 +304,10 @@ def _add_run(sub: Any) -> None:
                      "e-puck's)")  # fmt: skip
     run.add_argument("--strict", action="store_true", help="where Webots warns and carries "
                      "on (a device the e-puck has not), raise ego's error instead")  # fmt: skip
+    run.add_argument("--realtime", action="store_true", help="step on SCHED_FIFO: other "
+                     "processes cannot hold the core through a step's deadline (needs root "
+                     "or CAP_SYS_NICE; a controller stuck in a loop then starves the "
+                     "machine)")  # fmt: skip
     run.add_argument("--fast", action="store_true", help="port sim: run in virtual time, as "
                      "fast as the CPU allows (Webots' fast mode); the same world, sensors "
                      "and batches, but the world moves only as the controller steps")  # fmt: skip
