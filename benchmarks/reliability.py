@@ -113,7 +113,16 @@ def _delivered(robot: ego.Robot) -> dict[str, tuple[int, ...]]:
 
 def soak(kinds: list[str], rate: float, steps: int, seed: int = 1, label: str = "") -> SoakResult:
     """Run ``steps`` steps with ``kinds`` injected at ``rate`` per batch; check every value."""
-    logging.getLogger("ego").setLevel(logging.CRITICAL)  # faults are counted, not logged
+    logger = logging.getLogger("ego")
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)  # faults are counted, not logged
+    try:
+        return _soak(kinds, rate, steps, seed, label)
+    finally:
+        logger.setLevel(level)  # the process's logging as it was (a test suite goes on)
+
+
+def _soak(kinds: list[str], rate: float, steps: int, seed: int, label: str) -> SoakResult:
     result = SoakResult(label or "+".join(kinds), rate)
     rng = random.Random(seed)
     faults = [FaultSpec(kind, rate=rate) for kind in kinds]

@@ -15,6 +15,7 @@ from dashboard_support import served_robot
 from helpers import run_async, wait_until
 
 import ego
+from ego.dashboard.access import socket_url
 from ego.dashboard.history import History
 
 
@@ -71,7 +72,7 @@ def _drive(robot: ego.Robot) -> None:
 
 async def _first_messages(url: str) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
     """The hello, the history and the first sample a page gets."""
-    ws_url = url.split("?")[0].replace("http://", "ws://") + "ws"
+    ws_url = socket_url(url)  # the socket's URL, with the page's token
     async with aiohttp.ClientSession() as session, session.ws_connect(ws_url) as ws:
         hello = await ws.receive_json()
         history = await ws.receive_json()

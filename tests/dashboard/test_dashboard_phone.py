@@ -21,7 +21,11 @@ PHONES = [(360, 740), (412, 915)]
 
 @contextmanager
 def phone(browser: Any, width: int, height: int) -> Iterator[Any]:
-    context = browser.new_context(viewport={"width": width, "height": height}, has_touch=True)
+    # bypass_csp: Playwright's wait_for_function evaluates strings, which the page's CSP
+    # forbids (the CSP itself is checked by test_dashboard_login.py).
+    context = browser.new_context(
+        viewport={"width": width, "height": height}, has_touch=True, bypass_csp=True
+    )
     page = context.new_page()
     errors: list[str] = []
     page.on("pageerror", lambda exc: errors.append(str(exc)))

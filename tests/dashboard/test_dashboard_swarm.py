@@ -15,6 +15,7 @@ from ego.backends import find_backend
 from ego.dashboard.served import SwarmFeed, WatchedChannel
 from ego.dashboard.server import DashboardServer
 from ego.serial.protocol import Command, Firmware, Request, encode_batch
+from ego.swarm import robot_seed
 
 #: Four robots 8 cm apart, a square in the middle of the arena.
 SQUARE = """
@@ -52,7 +53,7 @@ def swarm_dashboard(tmp_path: Path) -> Iterator[tuple[str, list[Any]]]:
     path = tmp_path / "square.toml"
     path.write_text(SQUARE)
     backend: Any = find_backend("sim")
-    worlds = backend.swarm_worlds(str(path), 4, 1)
+    worlds = backend.swarm_worlds(str(path), [robot_seed(1, k) for k in range(4)])
     stop = threading.Event()
     with ExitStack() as stack:
         channels = []

@@ -180,7 +180,10 @@ def test_a_swarm_of_three_hear_each_other_through_emitter_and_receiver(tmp_path:
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     heard: dict[str, dict[str, int]] = {}
-    for me, sender, count in re.findall(r"^(\w+) heard (\w+) (\d+) times", done.stdout, re.M):
+    # Each line comes headed by the robot that printed it: "[epuck1] epuck1 heard ...".
+    pattern = r"^\[(\w+)\] (\w+) heard (\w+) (\d+) times"
+    for head, me, sender, count in re.findall(pattern, done.stdout, re.M):
+        assert head == me  # the heading is the robot's own name
         heard.setdefault(me, {})[sender] = int(count)
     robots = {"epuck0", "epuck1", "epuck2"}
     assert set(heard) == robots, done.stdout
