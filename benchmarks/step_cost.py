@@ -151,7 +151,7 @@ def table(steps: int, rounds: int) -> Table:
 
 
 def run(quick: bool = False) -> list[Table]:
-    return [table(40 if quick else 300, 2 if quick else 5)]
+    return [table(20 if quick else 300, 1 if quick else 5)]
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -67,7 +67,7 @@ def table(sim_s: float, rounds: int) -> Table:
 
 
 def run(quick: bool = False) -> list[Table]:
-    return [table(1.0 if quick else 5.0, 2 if quick else 3)]
+    return [table(0.5 if quick else 5.0, 1 if quick else 3)]
 
 
 def main(argv: list[str] | None = None) -> int:
