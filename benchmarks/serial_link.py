@@ -28,7 +28,7 @@ from benchmarks.common import (
     progress,
     thesis_csv,
 )
-from ego.serial import Command, Firmware, Link, Request, SerialTransport, encode_batch
+from ego.serial import Command, Firmware, Link, LinkSettings, Request, SerialTransport, encode_batch
 from ego.serial.protocol import PROFILES, Batch, wire_time_s
 from firmware_sim.dspic import WORK_S
 
@@ -172,9 +172,11 @@ class LinkRun:
     cpu_s: float
 
 
-def ego_client(path: str, batch: Batch, steps: int, label: str) -> LinkRun:
+def ego_client(
+    path: str, batch: Batch, steps: int, label: str, settings: LinkSettings | None = None
+) -> LinkRun:
     """ego's Link doing ``steps`` exchanges of ``batch``."""
-    link = Link(SerialTransport(path), firmware="webots")
+    link = Link(SerialTransport(path), firmware="webots", settings=settings or LinkSettings())
     try:
         times = []
         cpu0 = time.process_time()
@@ -258,6 +260,15 @@ def run(quick: bool = False) -> list[Table]:
                 results.setdefault((setting.label, "ego"), []).append(
                     ego_client(path, batch, steps, f"link ego {i + 1}/{rounds}")
                 )
+                results.setdefault((setting.label, "ego-noguard"), []).append(
+                    ego_client(
+                        path,
+                        batch,
+                        steps,
+                        f"link ego, no guard {i + 1}/{rounds}",
+                        LinkSettings(trailing_guard_s=0.0),
+                    )
+                )
                 results.setdefault((setting.label, "bare"), []).append(
                     bare_client(
                         path, batch.tx, batch.reply_size, steps, f"link bare {i + 1}/{rounds}"
@@ -265,6 +276,13 @@ def run(quick: bool = False) -> list[Table]:
                 )
     tables.append(_rate_table(results, batch, per_step, steps * rounds))
     return tables
+
+
+CLIENT_LABELS = {
+    "ego": "ego Link",
+    "ego-noguard": "ego Link, trailing guard off",
+    "bare": "bare os.write/os.read",
+}
 
 
 def _rate_table(
@@ -290,12 +308,14 @@ def _rate_table(
             "modelled us/byte",
             "own us/byte",
             "CPU us/step",
+            "x wire",
             "thesis us/byte",
         ],
     )
     for setting in SETTINGS:
         model = modelled_s(batch, setting)
-        for client in ("ego", "bare"):
+        wire = wire_time_s(per_step)
+        for client in ("ego", "ego-noguard", "bare"):
             runs = results[(setting.label, client)]
             times = [t for r in runs for t in r.times]
             stats = Stats.of(times)
@@ -303,7 +323,7 @@ def _rate_table(
             table.rows.append(
                 [
                     setting.label,
-                    "ego Link" if client == "ego" else "bare os.write/os.read",
+                    CLIENT_LABELS[client],
                     stats.median * 1e3,
                     stats.low * 1e3,
                     stats.high * 1e3,
@@ -311,6 +331,7 @@ def _rate_table(
                     model / per_step * 1e6,
                     (stats.median - model) / per_step * 1e6,
                     statistics.median(r.cpu_s for r in runs) * 1e6,
+                    "-" if setting.work else stats.median / wire,
                     thesis_us if setting.work and not setting.delay_us else "-",
                 ]
             )
@@ -325,6 +346,9 @@ def _rate_table(
         "a Python program can do on the same pty (os.write the batch, select and os.read "
         "until the reply's bytes are in); ego's own cost is best read against it. CPU "
         "us/step is the client process's time.process_time per step (the emulator runs in "
-        "its own process)."
+        "its own process). 'x wire' (rows without modelled dsPIC time) is the median step "
+        "over the wire time of its bytes. ego's default Link watches 6 byte times after "
+        "each reply for a byte that should not be there (LinkSettings.trailing_guard_s); "
+        "'trailing guard off' shows what that watch costs."
     )
     return table
