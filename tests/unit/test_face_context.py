@@ -140,7 +140,7 @@ def test_the_ego_run_command_passes_the_options_it_parsed(
 ) -> None:
     calls: list[tuple[object, RunOptions]] = []
     monkeypatch.setattr(runner, "run_controller", lambda path, o, argv=(): calls.append((path, o)))
-    monkeypatch.setattr("ego.scheduler.tune_for_stepping", lambda: None)
+    monkeypatch.setattr("ego.scheduler.tune_for_stepping", lambda realtime=False: None)
     outer_options = fresh.options
     args = ["run", "--port", "sim", "--duration", "1.5", "--time-step", "16", "c.py"]
     assert cli.main(args) == 0
