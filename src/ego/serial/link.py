@@ -296,18 +296,21 @@ class Link:
         if not batch.expects_reply:
             # docs/protocol.md: a batch that asks for nothing gets no reply: never wait.
             return b""
-        baud = self._line_baud()
+        # The reply cannot come sooner than its bytes take at the faster of the two rates
+        # (a pty, an emulator, may run a firmware faster than the real one): sleep through
+        # that much. Trailing bytes come no faster than the slower: watch for that long.
+        fastest = max(self.transport.baudrate or DEFAULT_BAUD, self.info.profile.line_baud)
         try:
             reply = self.transport.read_exactly(
                 batch.reply_size,
                 self.timeout_for(batch),
-                expected_s=wire_time_s(len(batch.tx) + batch.reply_size, baud),
+                expected_s=wire_time_s(len(batch.tx) + batch.reply_size, fastest),
             )
         except LinkTimeoutError as exc:
             self._check_banner(getattr(exc, "partial", b""))
             raise
         self.stats.bytes_received += len(reply)
-        extra = self.transport.trailing(self.settings.trailing_guard_at(baud))
+        extra = self.transport.trailing(self.settings.trailing_guard_at(self._line_baud()))
         self._check_banner(reply + extra)
         if extra:
             raise ExtraBytesError(

@@ -50,13 +50,18 @@ class ZenohChannel:
         self.session = session
         self._owns_session = owns_session
         self.id = f"{name}:{secrets.token_hex(8)}"
+        self._who = self.id.encode()
         self._stats = LinkStats()
         self._last_sent = 0.0
         self._alive_until = 0.0
         self._keeper: threading.Thread | None = None
         self._closed = False
         #: The emulated world's true pose the node sent with the last reply, if any.
-        self.truth: list[float] | None = None
+        #: The node's attachment to the last reply (its world's true pose, JSON), parsed
+        #: only when read: most controllers never ask.
+        self._truth_raw: bytes | None = None
+        self._truth: list[float] | None = None
+        self._keys: dict[str, str] = {}
         fields = self._query("info", b"", timeout_s=QUERY_TIMEOUT_S, what="info")
         self._info = info_from(json.loads(fields))
 
@@ -79,21 +84,29 @@ class ZenohChannel:
     def _query(self, leaf: str, payload: bytes, *, timeout_s: float, what: str) -> bytes:
         if self._closed:
             raise LinkLostError(f"{self.name}: closed")
-        replies = self.session.get(
-            robot_key(self.robot, leaf), payload=payload, attachment=self.id.encode(),
-            timeout=timeout_s,
-        )  # fmt: skip
+        key = self._keys.get(leaf)
+        if key is None:
+            key = self._keys[leaf] = robot_key(self.robot, leaf)
+        replies = self.session.get(key, payload=payload, attachment=self._who, timeout=timeout_s)
         self._last_sent = time.monotonic()
         for reply in replies:
             if reply.ok is not None:
                 attachment = reply.ok.attachment
                 if attachment is not None:
-                    self.truth = json.loads(attachment.to_bytes())
-                return bytes(reply.ok.payload.to_bytes())
+                    self._truth_raw = attachment.to_bytes()
+                return reply.ok.payload.to_bytes()
             if reply.err is not None:
                 raise error_from_reply(reply.err.payload.to_bytes(), self.name)
         raise LinkLostError(f"{self.name}: no robot node answered {what} within {timeout_s} s "
                             "(is ego serve --zenoh running, and reachable?)")  # fmt: skip
+
+    @property
+    def truth(self) -> list[float] | None:
+        """The emulated world's true pose the node sent with the last reply, if any."""
+        raw, self._truth_raw = self._truth_raw, None
+        if raw is not None:
+            self._truth = json.loads(raw)
+        return self._truth
 
     def exchange(self, batch: Batch) -> bytes:
         reply = self._query("exchange", batch.tx, timeout_s=QUERY_TIMEOUT_S, what="a batch")
