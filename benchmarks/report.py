@@ -34,16 +34,35 @@ def write_report(
         "ARM Cortex-A8, so absolute times are for the record and ratios are what compare.",
         "",
     ]
-    for name, tables, seconds in sections:
-        lines += [f"## {SECTIONS[name]}", "", f"_{seconds:.0f} s_", ""]
-        for table in tables:
-            lines.append(table.markdown())
-            lines.append(f"CSV: [{table.key}.csv]({table.key}.csv)\n")
-            for plot, title in _plots(folder, table):
-                lines.append(f"![{title}]({plot.name})\n")
     path = folder / "report.md"
+    # A run of some sections (--only) keeps the others' earlier figures, each section
+    # saying when it was measured.
+    earlier = _sections(path.read_text()) if path.exists() else {}
+    fresh = {name: (tables, seconds) for name, tables, seconds in sections}
+    for name, title in SECTIONS.items():
+        if name in fresh:
+            tables, seconds = fresh[name]
+            measured = f"_{seconds:.0f} s, measured {when:%Y-%m-%d %H:%M} UTC_"
+            lines += [f"## {title}", "", measured, ""]
+            for table in tables:
+                lines.append(table.markdown())
+                lines.append(f"CSV: [{table.key}.csv]({table.key}.csv)\n")
+                for plot, plot_title in _plots(folder, table):
+                    lines.append(f"![{plot_title}]({plot.name})\n")
+        elif title in earlier:
+            lines.append(earlier[title])
     path.write_text("\n".join(lines))
     return path
+
+
+def _sections(text: str) -> dict[str, str]:
+    """An earlier report's sections by title, each with its heading and body."""
+    found: dict[str, str] = {}
+    parts = text.split("\n## ")
+    for part in parts[1:]:
+        title = part.split("\n", 1)[0].strip()
+        found[title] = "## " + part.rstrip("\n") + "\n"
+    return found
 
 
 def _plots(folder: Path, table: Table) -> list[tuple[Path, str]]:
