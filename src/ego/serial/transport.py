@@ -189,6 +189,9 @@ def port_busy_error(port: str) -> PortBusyError:
     )
 
 
+#: How long a write may wait for the line to take it before the line counts as lost.
+WRITE_TIMEOUT_S = 2.0
+
 #: Sleep through this share of the time the bytes cannot be here sooner than: the rest of
 #: it covers a sleep that wakes late.
 _EARLY = 0.85
@@ -215,6 +218,9 @@ class SerialTransport(Transport):
                 xonxoff=False,
                 rtscts=False,
                 timeout=0,
+                # A write the line never takes (a wedged pty, a stalled driver) must fail
+                # as a lost line, not hang the controller: a step's batch takes 4 ms.
+                write_timeout=WRITE_TIMEOUT_S,
                 # flock(2) the port: a second controller on the same robot is refused at
                 # open instead of interleaving its batches with ours (URLs ignore it).
                 exclusive=True,
