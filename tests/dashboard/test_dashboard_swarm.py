@@ -14,6 +14,7 @@ from typing import Any
 from ego.backends import find_backend
 from ego.dashboard.served import SwarmFeed, WatchedChannel
 from ego.dashboard.server import DashboardServer
+from ego.errors import RobotResetError
 from ego.serial.protocol import Command, Firmware, Request, encode_batch
 from ego.swarm import robot_seed
 
@@ -43,7 +44,10 @@ def _spin(channel: WatchedChannel, speed: int, stop: threading.Event) -> None:
         channel.profile,
     )
     while not stop.wait(0.032):
-        channel.exchange(batch)
+        try:
+            channel.exchange(batch)
+        except RobotResetError:  # a loaded machine's resync; the next batch says it all again
+            continue
 
 
 @contextmanager
