@@ -5,17 +5,16 @@ process per step (its channel, its devices, its step clock), not the server's.""
 
 from __future__ import annotations
 
-import argparse
 import socket
-import statistics
 import subprocess
 import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from functools import partial
 from typing import Any
 
-from benchmarks.common import REPO, Table, print_and_save
+from benchmarks.common import REPO, Table, interleaved_rounds, ratio_rows, section_main
 
 __all__ = ["main", "run"]
 
@@ -64,6 +63,11 @@ def _steps(robot: Any, steps: int) -> float:
     return (time.process_time() - start) / steps
 
 
+def _steps_on(opener: Callable[[], Any], steps: int) -> float:
+    with opener() as robot:
+        return _steps(robot, steps)
+
+
 def table(steps: int, rounds: int) -> Table:
     result = Table(
         key="channel_cpu",
@@ -72,7 +76,6 @@ def table(steps: int, rounds: int) -> Table:
         columns=["channel", "CPU per step [us]", "x TCP"],
     )
     tcp_port, zenoh_port = _free_port(), _free_port()
-    cpu: dict[str, list[float]] = {"TCP (ego serve)": [], "Zenoh (ego serve --zenoh)": []}
     with _served("--listen", f"tcp://127.0.0.1:{tcp_port}"), _served(
         "--zenoh", "--name", "bench", "--zenoh-listen", f"tcp/127.0.0.1:{zenoh_port}"
     ):
@@ -82,14 +85,11 @@ def table(steps: int, rounds: int) -> Table:
                 "zenoh://bench", zenoh_connect=[f"tcp/127.0.0.1:{zenoh_port}"]
             ),
         }
-        for _ in range(rounds):
-            for name, opener in openers.items():
-                with opener() as robot:
-                    cpu[name].append(_steps(robot, steps))
-    tcp = statistics.median(cpu["TCP (ego serve)"])
-    for name, values in cpu.items():
-        median = statistics.median(values)
-        result.rows.append([name, median * 1e6, median / tcp])
+        cpu = interleaved_rounds(
+            {name: partial(_steps_on, opener, steps) for name, opener in openers.items()},
+            rounds,
+        )
+    result.rows += ratio_rows(cpu, "TCP (ego serve)")
     return result
 
 
@@ -97,12 +97,7 @@ def run(quick: bool = False) -> list[Table]:
     return [table(30 if quick else 400, 1 if quick else 4)]
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="a smoke run: few steps")
-    args = parser.parse_args(argv)
-    print_and_save(run(quick=args.quick), args.quick)
-    return 0
+main = section_main(run, __doc__)
 
 
 if __name__ == "__main__":

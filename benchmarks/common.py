@@ -200,6 +200,44 @@ def print_and_save(tables: list[Table], quick: bool) -> Path:
     return folder
 
 
+def interleaved_rounds(
+    contenders: dict[str, Callable[[], float]], rounds: int
+) -> dict[str, list[float]]:
+    """Each contender's measure, ``rounds`` times, contenders alternating round by round
+    (so that a slow moment of the machine hits every one alike)."""
+    measured: dict[str, list[float]] = {name: [] for name in contenders}
+    for _ in range(rounds):
+        for name, measure in contenders.items():
+            measured[name].append(measure())
+    return measured
+
+
+def ratio_rows(
+    measured: dict[str, list[float]], reference: str, scale: float = 1e6
+) -> list[list[Any]]:
+    """Rows of (name, median x scale, median / the reference's median)."""
+    base = statistics.median(measured[reference])
+    return [
+        [name, statistics.median(values) * scale, statistics.median(values) / base]
+        for name, values in measured.items()
+    ]
+
+
+def section_main(run: Callable[[bool], list[Table]], doc: str | None) -> Callable[[], int]:
+    """A benchmark module's ``main``: ``--quick`` for a smoke run; print and save."""
+
+    def main(argv: list[str] | None = None) -> int:
+        import argparse
+
+        parser = argparse.ArgumentParser(description=(doc or "").splitlines()[0])
+        parser.add_argument("--quick", action="store_true", help="a smoke run: small counts")
+        args = parser.parse_args(argv)
+        print_and_save(run(args.quick), args.quick)
+        return 0
+
+    return main
+
+
 def rss_kb() -> int:
     """This process' resident memory now (VmRSS, kB)."""
     with open("/proc/self/status") as f:

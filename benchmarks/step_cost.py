@@ -11,17 +11,15 @@ round by round; medians.
 
 from __future__ import annotations
 
-import argparse
 import os
 import select
-import statistics
 import subprocess
 import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
-from benchmarks.common import Table, print_and_save
+from benchmarks.common import Table, interleaved_rounds, ratio_rows, section_main
 
 __all__ = ["main", "run"]
 
@@ -139,14 +137,8 @@ def table(steps: int, rounds: int) -> Table:
             "ego core Robot": lambda: _core_steps(port, steps),
             "ego Webots face": lambda: _face_steps(port, steps),
         }
-        cpu: dict[str, list[float]] = {name: [] for name in contenders}
-        for _ in range(rounds):
-            for name, measure in contenders.items():
-                cpu[name].append(measure())
-    bare = statistics.median(cpu["bare Python client"])
-    for name, values in cpu.items():
-        median = statistics.median(values)
-        result.rows.append([name, median * 1e6, median / bare])
+        cpu = interleaved_rounds(contenders, rounds)
+    result.rows += ratio_rows(cpu, "bare Python client")
     return result
 
 
@@ -154,12 +146,7 @@ def run(quick: bool = False) -> list[Table]:
     return [table(20 if quick else 300, 1 if quick else 5)]
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="a smoke run: few steps")
-    args = parser.parse_args(argv)
-    print_and_save(run(quick=args.quick), args.quick)
-    return 0
+main = section_main(run, __doc__)
 
 
 if __name__ == "__main__":

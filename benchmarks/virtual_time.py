@@ -8,12 +8,11 @@ batch with the emulator over its pty, so the link's round trip bounds the speed-
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import sys
 import time
 
-from benchmarks.common import Table, print_and_save
+from benchmarks.common import Table, section_main
 
 __all__ = ["main", "run"]
 
@@ -70,12 +69,7 @@ def run(quick: bool = False) -> list[Table]:
     return [table(0.5 if quick else 5.0, 1 if quick else 3)]
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="a smoke run: one second a run")
-    args = parser.parse_args(argv)
-    print_and_save(run(quick=args.quick), args.quick)
-    return 0
+main = section_main(run, __doc__)
 
 
 if __name__ == "__main__":

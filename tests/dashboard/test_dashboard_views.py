@@ -7,13 +7,12 @@ from __future__ import annotations
 
 import json
 import re
-import select
 import subprocess
 import time
 from pathlib import Path
 from typing import Any
 
-from dashboard_support import OPEN_WORLD, served_robot
+from dashboard_support import OPEN_WORLD, LineReader, served_robot
 from helpers import ego_command
 
 import ego
@@ -93,14 +92,7 @@ def test_under_a_webots_controller_rad_per_s_shows_beside_steps_per_s(
     )  # fmt: skip
     try:
         assert proc.stderr is not None
-        url = ""
-        while not url and select.select([proc.stderr], [], [], 20)[0]:
-            line = proc.stderr.readline()
-            if not line:  # the command ended: say why rather than wait on its end
-                break
-            match = re.search(r"dashboard at (\S+)", line)
-            url = match.group(1) if match else ""
-        assert url, "no dashboard URL"
+        url = LineReader(proc.stderr).find(r"dashboard at (\S+)", timeout_s=20)
         _open(page, url)
         page.wait_for_function("document.getElementById('speed-left').textContent !== '0'")
         steps = page.inner_text("#speed-left")
