@@ -7,7 +7,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from dashboard_support import OPEN_WORLD, LineReader, served_robot
+from dashboard_support import OPEN_WORLD, served_robot
 from helpers import wait_until
 
 import ego
@@ -167,6 +167,8 @@ def test_a_teleop_controller_runs_unchanged_from_the_browsers_keys(
     tmp_path: Path, page: Any
 ) -> None:
     """The page's keys reach the controller's Webots Keyboard: arrows drive it, Q ends it."""
+    import re
+    import select
     import subprocess
 
     from helpers import ego_command
@@ -178,7 +180,14 @@ def test_a_teleop_controller_runs_unchanged_from_the_browsers_keys(
     )  # fmt: skip
     try:
         assert proc.stderr is not None
-        url = LineReader(proc.stderr).find(r"dashboard at (\S+)", timeout_s=20)
+        url = ""
+        while not url and select.select([proc.stderr], [], [], 20)[0]:
+            line = proc.stderr.readline()
+            if not line:  # the command ended: say why rather than wait on its end
+                break
+            match = re.search(r"dashboard at (\S+)", line)
+            url = match.group(1) if match else ""
+        assert url, "no dashboard URL"
         _open(page, url)
         _take_control(page)
         page.wait_for_function("!document.getElementById('keyboard-note').hidden")
