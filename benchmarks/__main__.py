@@ -21,12 +21,14 @@ SECTIONS = {
     "camera_tables": "Camera: acquisition, rotation, encoding (Tables 5.1-5.8) and peers",
     "memory": "Memory: peak resident set of a controller and of the emulator",
     "remote_roundtrip": "Remote control: step round trip over TCP/UDP vs the pty link",
-    "channel_cpu": "The controller's CPU per step over TCP and over Zenoh",
     "security": "Remote control under attack: the deadman and the client under floods",
     "webots_camera": "The Webots face's camera calls at 52x39, 160x120 and 640x480",
     "dashboard": "Watching a run: the dashboard's and the recorder's cost per step",
     "swarm": "Swarms: 2 to 16 robots over Zenoh and over UDP, side by side",
     "virtual_time": "Virtual time: the avoidance controller in real time and with --fast",
+    # Last: a Zenoh client in this process leaves the security section's TCP server
+    # resetting its handshakes when it runs after it (seen, not yet understood).
+    "channel_cpu": "The controller's CPU per step over TCP and over Zenoh",
 }
 
 
