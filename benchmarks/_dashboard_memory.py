@@ -20,7 +20,7 @@ def main(port: str, steps: int = 100) -> int:
         for _ in range(steps):
             robot.step(32)
         before = rss_kb()
-        from ego.dashboard.live import RobotDashboard
+        from ego.servers.dashboard.live import RobotDashboard
 
         board = RobotDashboard("127.0.0.1:0", out=sys.stderr)
         board.attach(robot)

@@ -8,7 +8,7 @@ import sys
 
 import aiohttp
 
-from ego.dashboard.access import socket_url
+from ego.servers.dashboard.access import socket_url
 
 
 async def main(url: str) -> None:

@@ -17,7 +17,7 @@ STEP_MS = 64
 
 def main(port: str, steps: int) -> int:
     import ego
-    from ego.scheduler import tune_for_stepping
+    from ego.core.scheduler import tune_for_stepping
 
     tune_for_stepping()
     lengths: list[float] = []

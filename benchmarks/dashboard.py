@@ -62,9 +62,9 @@ def _block(robot: Any, steps: int) -> tuple[float, list[float]]:
 def measure(blocks: int, steps: int, folder: Path) -> dict[str, dict[str, Any]]:
     import ego
     from ego.camera import FileReplaySource
-    from ego.dashboard.live import RobotDashboard
+    from ego.core.scheduler import tune_for_stepping
     from ego.recording.writer import Recorder
-    from ego.scheduler import tune_for_stepping
+    from ego.servers.dashboard.live import RobotDashboard
 
     tune_for_stepping()
     frames = _raw_frames(folder, 160, 120)

@@ -26,9 +26,9 @@ import time
 from typing import Any
 
 from benchmarks.common import REPO, THESIS_LINE_BAUD, Table, interleaved
-from ego.channel import Channel
-from ego.remote.client import RemoteChannel
-from ego.remote.wire import MessageType, SequenceGuard, decode_frame, encode_frame
+from ego.backends.remote.channel import RemoteChannel
+from ego.core.channel import Channel
+from ego.net.wire import MessageType, SequenceGuard, decode_frame, encode_frame
 from ego.serial.link import Link
 from ego.serial.protocol import (
     PROFILES,
@@ -62,8 +62,8 @@ SENSORS = [
 _SERVE = (
     "import asyncio, sys\n"
     "from ego.backends import open_port\n"
-    "from ego.remote.cli import _serve\n"
-    "from ego.remote.server import Server\n"
+    "from ego.app.serve import _serve\n"
+    "from ego.servers.socket.server import Server\n"
     "opened = open_port('sim', baudrate=int(sys.argv[1]))\n"
     "server = Server(opened.channel, listen=sys.argv[2], secret=sys.argv[3] or None)\n"
     "asyncio.run(_serve(server))\n"
@@ -196,8 +196,8 @@ class _SessionStep:
     CRC), fed to the sans-I/O Session, its Run completed, the reply opened and decoded."""
 
     def __init__(self, sealed: bool) -> None:
-        from ego.remote.actions import Peer, Run
-        from ego.remote.session import Session
+        from ego.servers.sessions.actions import Peer, Run
+        from ego.servers.sessions.session import Session
 
         secret = b"bench-secret-bench-secret" if sealed else None
         self.session = Session(
@@ -211,7 +211,7 @@ class _SessionStep:
         self.server_key = self.session.key_for(self.sid)
 
     def __call__(self, batch_reply: bytes, seq: int) -> None:
-        from ego.remote.messages import pack_step
+        from ego.net.messages import pack_step
 
         batch = encode_batch(SENSORS, self.profile)
         request = encode_frame(
@@ -229,8 +229,8 @@ def _handshake(session: object, peer: object, secret: bytes | None) -> object:
     """A completed handshake with ``session``, driven by hand: its key and session id."""
     from types import SimpleNamespace
 
-    from ego.remote.handshake import ClientHandshake
-    from ego.remote.wire import Frame
+    from ego.net.handshake import ClientHandshake
+    from ego.net.wire import Frame
 
     shake = ClientHandshake(secret, "bench")
     (send,) = session.receive(peer, Frame(MessageType.HELLO, 1, shake.hello()), 0.0)  # type: ignore[attr-defined]

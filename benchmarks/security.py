@@ -31,13 +31,13 @@ from pathlib import Path
 
 from benchmarks.common import THESIS_LINE_BAUD, Table, print_and_save
 from benchmarks.floods import FLOOD_KINDS, start_flood
-from ego.remote.client import RemoteChannel
-from ego.remote.messages import pack_step
-from ego.remote.server import Server, ServerThread
-from ego.remote.wire import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame, pack_json
+from ego.backends.remote.channel import RemoteChannel
+from ego.net.messages import pack_step
+from ego.net.wire import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame, pack_json
 from ego.serial.link import Link
 from ego.serial.protocol import Command, Request, encode_batch
 from ego.serial.transport import SerialTransport
+from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator
 
 __all__ = ["main", "run"]

@@ -61,8 +61,8 @@ def _core_steps(port: str, steps: int) -> float:
 
 
 def _face_steps(port: str, steps: int) -> float:
-    from ego import default_robot, runtime
     from ego.controller import Robot
+    from ego.faces import default_robot, runtime
 
     options = runtime.RunOptions(port=port)
     with default_robot.activate(default_robot.FaceContext(options)):

@@ -82,7 +82,7 @@ def measure_ranges(
 ) -> dict[tuple[int, int], list[float]]:
     """:func:`measure` for each range, on one robot and one background load."""
     import ego
-    from ego.scheduler import tune_for_stepping
+    from ego.core.scheduler import tune_for_stepping
 
     tune_for_stepping()  # as ego run does for a controller
     results: dict[tuple[int, int], list[float]] = {}
@@ -231,7 +231,7 @@ def fixed_steps(condition: Condition, ms: int, n: int) -> list[float] | None:
     """Signed lateness (ms) of ``n`` steps of ``ms`` on the emulator under ``condition``;
     None if it asks for SCHED_FIFO and this machine does not allow it."""
     import ego
-    from ego.scheduler import tune_for_stepping
+    from ego.core.scheduler import tune_for_stepping
 
     tune_for_stepping()
     late: list[float] = []
@@ -260,7 +260,7 @@ def machine_figures(seconds: float) -> dict[str, float]:
     ``preempted``: a tight loop reading the clock for ``seconds``; every gap above 50 us
     is time the kernel gave the CPU to someone else (other processes: the machine's load).
     """
-    from ego.scheduler import tune_for_stepping
+    from ego.core.scheduler import tune_for_stepping
 
     tune_for_stepping()
     overshoot = []

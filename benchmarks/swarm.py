@@ -39,7 +39,7 @@ def _free_endpoint() -> str:
 
 @contextlib.contextmanager
 def _zenoh_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
-    from ego.swarm import Swarm, robot_name
+    from ego.app.swarm import Swarm, robot_name
 
     with Swarm(count, endpoint=_free_endpoint()) as swarm:
         yield [f"zenoh://{robot_name(i)}" for i in range(count)], swarm.controller_env()
@@ -47,10 +47,10 @@ def _zenoh_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
 
 @contextlib.contextmanager
 def _udp_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
+    from ego.app.swarm import robot_seed
     from ego.backends import find_backend
-    from ego.remote.server import Server, ServerThread
     from ego.serial.protocol import Firmware
-    from ego.swarm import robot_seed
+    from ego.servers.socket.server import Server, ServerThread
 
     backend: Any = find_backend("sim")
     with contextlib.ExitStack() as stack:

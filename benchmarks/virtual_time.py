@@ -21,8 +21,8 @@ STEP_MS = 32
 
 def _avoid(fast: bool, sim_s: float) -> tuple[int, float]:
     """Steps taken and wall seconds for ``sim_s`` of controller time."""
-    from ego import default_robot, runtime
     from ego.controller import Robot
+    from ego.faces import default_robot, runtime
 
     options = runtime.RunOptions(port="sim", seed=1, fast=fast)
     with default_robot.activate(default_robot.FaceContext(options)):

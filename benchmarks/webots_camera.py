@@ -17,8 +17,8 @@ SIZES = ((52, 39), (160, 120), (640, 480))
 
 
 def table(repeats: int) -> Table:
-    from ego import default_robot, runtime
     from ego.controller import Robot
+    from ego.faces import default_robot, runtime
 
     result = Table(
         key="webots_camera",

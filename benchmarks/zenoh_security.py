@@ -37,7 +37,7 @@ from benchmarks.common import RESULTS, THESIS_LINE_BAUD, Table
 from benchmarks.zenoh_floods import flood_result, start_ascii_flood, start_radio_flood
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
-from ego.zenoh_net.node import RobotNode
+from ego.servers.zenoh_node.node import RobotNode
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 from firmware_sim import Emulator
 
@@ -119,7 +119,7 @@ def radio_trial(seconds: float = 4.0) -> dict[str, Any]:
         path.write_text(_FLOODED.replace("SECONDS", str(seconds)))
         try:
             done = subprocess.run(
-                [sys.executable, "-m", "ego.cli", "run", "--port", "sim", str(path)],
+                [sys.executable, "-m", "ego.app.cli", "run", "--port", "sim", str(path)],
                 capture_output=True, text=True, timeout=120, cwd=tmp,
                 env={**os.environ, "EGO_ZENOH_CONNECT": endpoint},
             )  # fmt: skip

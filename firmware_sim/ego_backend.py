@@ -13,7 +13,8 @@ import errno
 from collections.abc import Sequence
 from typing import Any
 
-from ego.backends import Opened, open_link
+from ego.backends import Opened
+from ego.backends.serial_line import open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
 from ego.errors import CameraCaptureError, CameraError, WorldFileError
 from ego.i2c.bus import given_bus

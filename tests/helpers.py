@@ -68,9 +68,9 @@ def assert_stopped(world: World) -> None:
 
 
 def ego_command() -> list[str]:
-    """The installed ``ego`` script beside this Python, else ``python -m ego.cli``."""
+    """The installed ``ego`` script beside this Python, else ``python -m ego.app.cli``."""
     script = Path(sys.executable).with_name("ego")
-    return [str(script)] if script.is_file() else [sys.executable, "-m", "ego.cli"]
+    return [str(script)] if script.is_file() else [sys.executable, "-m", "ego.app.cli"]
 
 
 def run_async(coroutine: Any, timeout_s: float = 20) -> Any:

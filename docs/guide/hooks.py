@@ -41,7 +41,7 @@ def _subparsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentP
 
 def cli_reference() -> str:
     """The page: the top-level help, then each subcommand's."""
-    from ego.cli import build_parser
+    from ego.app.cli import build_parser
 
     os.environ["COLUMNS"] = "100"  # argparse wraps to the terminal; a page has none
     parser = build_parser()

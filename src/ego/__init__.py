@@ -7,8 +7,8 @@
 """
 
 from ego import errors
+from ego.core.robot import SIM_PORT, Robot
 from ego.devices.leds import LedValue
-from ego.robot import SIM_PORT, Robot
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Firmware
 
@@ -18,7 +18,7 @@ __version__ = "0.1.0"
 def __getattr__(name: str) -> object:
     # RobotGroup pulls in concurrent.futures: imported when first asked for.
     if name == "RobotGroup":
-        from ego.group import RobotGroup
+        from ego.core.group import RobotGroup
 
         return RobotGroup
     raise AttributeError(f"module 'ego' has no attribute {name!r}")

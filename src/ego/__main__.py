@@ -2,6 +2,6 @@
 
 import sys
 
-from ego.cli import main
+from ego.app.cli import main
 
 sys.exit(main())

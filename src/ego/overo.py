@@ -12,7 +12,6 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from ego import default_robot
 from ego.controller.devices import (
     Camera,
     DistanceSensor,
@@ -23,7 +22,8 @@ from ego.controller.devices import (
 from ego.devices.accelerometer import AccelerometerMode
 from ego.devices.table import DEVICES, names_of, spec
 from ego.errors import UnknownDeviceError
-from ego.tags import name_of
+from ego.faces import default_robot
+from ego.faces.tags import name_of
 from ego.webots import (
     wb_camera_image_get_blue,
     wb_camera_image_get_green,

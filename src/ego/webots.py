@@ -11,7 +11,6 @@ from __future__ import annotations
 import logging
 from typing import TypeVar
 
-from ego import default_robot
 from ego.controller.devices import (
     LED,
     Accelerometer,
@@ -25,7 +24,8 @@ from ego.controller.devices import (
     whole_steps,
 )
 from ego.errors import EgoError, OutOfRangeError, UnknownDeviceError
-from ego.tags import name_of, tag_of
+from ego.faces import default_robot
+from ego.faces.tags import name_of, tag_of
 
 __all__ = [
     "wb_accelerometer_disable",

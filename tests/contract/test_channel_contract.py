@@ -1,7 +1,7 @@
 """One contract every Channel passes: the serial Link, and RemoteChannel over TCP, UDP and a
 Unix socket, with and without a shared secret.
 
-A channel is what a Robot steps through (ego.channel). Each factory below yields a channel
+A channel is what a Robot steps through (ego.core.channel). Each factory below yields a channel
 to an emulated dsPIC, and the emulator, whose world is the ground truth. To add a channel
 (a Bluetooth one, a distributed engine's), add a factory to ``CHANNELS``.
 """
@@ -15,14 +15,14 @@ from pathlib import Path
 
 import pytest
 
-from ego.channel import Channel
+from ego.backends.remote.channel import RemoteChannel
+from ego.core.channel import Channel
+from ego.core.safety import send_stop
 from ego.errors import LinkLostError, ProtocolError, UnsupportedDeviceError
-from ego.remote.client import RemoteChannel
-from ego.remote.server import Server, ServerThread
-from ego.safety import send_stop
 from ego.serial.link import Link, LinkSettings
 from ego.serial.protocol import PROFILES, Command, Firmware, Request, encode_batch
 from ego.serial.transport import SerialTransport
+from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator
 
 SECRET = "contract-secret-0123"

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import IO, Any
 
 import ego
-from ego.dashboard.live import RobotDashboard
+from ego.servers.dashboard.live import RobotDashboard
 
 #: An empty walled arena: the robot starts facing the east wall, 25 cm from it.
 OPEN_WORLD = """

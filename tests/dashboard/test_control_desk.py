@@ -8,7 +8,7 @@ from typing import Any
 
 import pytest
 
-from ego.dashboard.control import DRIVE_HOLD_S, ControlDesk, webots_key
+from ego.servers.dashboard.control import DRIVE_HOLD_S, ControlDesk, webots_key
 
 
 class Clock:

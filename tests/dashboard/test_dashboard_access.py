@@ -17,8 +17,8 @@ from dashboard_support import served_robot
 from helpers import run_async
 
 import ego
-from ego.dashboard.access import Gate, socket_url
-from ego.dashboard.server import MAX_PAGES, DashboardServer
+from ego.servers.dashboard.access import Gate, socket_url
+from ego.servers.dashboard.server import MAX_PAGES, DashboardServer
 
 SECRET = b"0123456789abcdef0123456789abcdef"
 

@@ -12,7 +12,7 @@ import aiohttp
 from dashboard_support import LineReader
 from helpers import ego_command, run_async
 
-from ego.dashboard.access import socket_url
+from ego.servers.dashboard.access import socket_url
 
 LOGGER = Path(__file__).parents[1] / "faces" / "controllers" / "sensor_logger.py"
 

@@ -15,8 +15,8 @@ from dashboard_support import served_robot
 from helpers import run_async, wait_until
 
 import ego
-from ego.dashboard.access import socket_url
-from ego.dashboard.history import History
+from ego.servers.dashboard.access import socket_url
+from ego.servers.dashboard.history import History
 
 
 class Clock:

@@ -15,10 +15,10 @@ from dashboard_support import served_robot
 from helpers import run_async, wait_until
 
 import ego
-from ego.dashboard.access import dashboard_token, socket_url
-from ego.dashboard.live import parse_address
-from ego.dashboard.server import SAMPLE_HZ, DashboardServer
 from ego.errors import InsecureSecretError
+from ego.servers.dashboard.access import dashboard_token, socket_url
+from ego.servers.dashboard.live import parse_address
+from ego.servers.dashboard.server import SAMPLE_HZ, DashboardServer
 
 SECRET = b"0123456789abcdef0123456789abcdef"
 

@@ -11,12 +11,12 @@ from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from typing import Any
 
+from ego.app.swarm import robot_seed
 from ego.backends import find_backend
-from ego.dashboard.served import SwarmFeed, WatchedChannel
-from ego.dashboard.server import DashboardServer
 from ego.errors import RobotResetError
 from ego.serial.protocol import Command, Firmware, Request, encode_batch
-from ego.swarm import robot_seed
+from ego.servers.dashboard.served import SwarmFeed, WatchedChannel
+from ego.servers.dashboard.server import DashboardServer
 
 #: Four robots 8 cm apart, a square in the middle of the arena.
 SQUARE = """

@@ -16,9 +16,9 @@ from dashboard_support import OPEN_WORLD, LineReader, served_robot
 from helpers import ego_command
 
 import ego
-from ego.dashboard.server import DashboardServer
+from ego.app.replay import ReplayFeed
 from ego.recording.reader import Recording
-from ego.recording.replay import ReplayFeed
+from ego.servers.dashboard.server import DashboardServer
 
 LOGGER = Path(__file__).parents[1] / "faces" / "controllers" / "sensor_logger.py"
 

@@ -8,7 +8,7 @@ from typing import Any
 
 from PIL import Image
 
-from ego.recording.plot import sensors_figure
+from ego.app.plot import sensors_figure
 
 
 def _samples(count: int = 30) -> list[dict[str, Any]]:

@@ -14,8 +14,8 @@ from helpers import ego_command
 from mcap.reader import make_reader
 from PIL import Image
 
+from ego.app.replay import ReplayFeed
 from ego.recording.reader import Recording
-from ego.recording.replay import ReplayFeed
 
 LOGGER = Path(__file__).parents[1] / "faces" / "controllers" / "sensor_logger.py"
 

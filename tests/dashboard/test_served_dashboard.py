@@ -17,12 +17,12 @@ from fakes import FAST_LINK
 from helpers import run_async, wait_until
 
 import ego
-from ego.dashboard.access import socket_url
-from ego.dashboard.served import ServedFeed, WatchedChannel
-from ego.dashboard.server import DashboardServer
-from ego.remote.server import Server, ServerThread
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
+from ego.servers.dashboard.access import socket_url
+from ego.servers.dashboard.served import ServedFeed, WatchedChannel
+from ego.servers.dashboard.server import DashboardServer
+from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator
 
 

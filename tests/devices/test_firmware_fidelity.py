@@ -17,10 +17,10 @@ import pytest
 from fakes import INSTANT_LINK, ScriptedTransport
 
 import ego
+from ego.core.ports import default_baud
 from ego.devices.accelerometer import ANGLE_OVERSHOOT
 from ego.devices.motors import real_speed_steps
 from ego.errors import UnsupportedDeviceError
-from ego.ports import default_baud
 from ego.serial.link import Link
 from ego.serial.protocol import Command, Firmware
 
@@ -219,8 +219,8 @@ def test_each_line_opens_at_its_firmware_rate(
 def test_the_webots_face_reads_the_stock_firmwares_battery_flag() -> None:
     """Asercom.c 'b': [BATT_LOW, 0] on a robot older than rev 1.3; Webots' battery sensor
     calls read it where the firmware has it."""
-    from ego import runtime
     from ego.controller import Robot
+    from ego.faces import runtime
     from firmware_sim import Emulator
 
     with Emulator("gctronic", seed=1) as emu:

@@ -21,7 +21,7 @@ import pytest
 from helpers import ego_command
 
 import ego
-from ego.backends import robot_i2c
+from ego.backends.serial_line import robot_i2c
 from ego.errors import OutOfRangeError, UnsupportedDeviceError
 from ego.i2c.chips import (
     ACC_COUNTS_PER_G,

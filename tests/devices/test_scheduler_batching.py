@@ -152,7 +152,7 @@ def test_an_overrun_is_counted_when_the_step_is_shorter_than_its_io(
     robot.encoders.enable(1)
     robot.motors.enable(1)
     robot.microphones.enable(1)
-    caplog.set_level(logging.WARNING, logger="ego.scheduler")
+    caplog.set_level(logging.WARNING, logger="ego.core.scheduler")
     steps = 10
     # Each batch is 10 command bytes and 62 reply bytes: over 3 ms of line time at
     # 230400 baud, however fast the host, so every 1 ms step overruns.

@@ -8,10 +8,10 @@ import time
 import pytest
 
 import ego
+from ego.core.transaction import run_step
 from ego.devices.base import PHASE, Device, Phase, Sensor
 from ego.devices.motors import SpeedReadback, WheelSpeeds
 from ego.serial.protocol import PROFILES, Command, Firmware, Request
-from ego.transaction import run_step
 
 WEBOTS = PROFILES[Firmware.WEBOTS]
 

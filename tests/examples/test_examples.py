@@ -21,8 +21,8 @@ from typing import Any
 import pytest
 from helpers import assert_stopped, ego_command, wait_until
 
-from ego import runtime
-from ego.runner import run_controller
+from ego.app.runner import run_controller
+from ego.faces import runtime
 from firmware_sim import Emulator, World
 from firmware_sim.floor import LineTrack
 

@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 from helpers import assert_stopped, ego_command
 
-from ego import default_robot, runtime
 from ego.controller import Robot as WebotsRobot
+from ego.faces import default_robot, runtime
 from firmware_sim import Emulator, World
 
 #: One seed for every emulator here, so that a failure replays with the same sensor noise.
@@ -31,7 +31,7 @@ def emulator() -> Iterator[Emulator]:
 def face_options(emulator: Emulator) -> Iterator[runtime.RunOptions]:
     """Point ``Robot()``, ``wb_robot_init()`` and ``overo_serial_init()`` at the emulator.
 
-    ``ego run`` does the same through :func:`ego.runtime.set_options`; afterwards the
+    ``ego run`` does the same through :func:`ego.faces.runtime.set_options`; afterwards the
     default robot is closed and must have stopped the robot.
     """
     options = runtime.RunOptions(port=emulator.path)

@@ -20,10 +20,10 @@ import pytest
 from fakes import FAST_LINK
 from helpers import ego_command
 
-from ego.cli import build_parser, main
-from ego.remote.server import Server, ServerThread
+from ego.app.cli import build_parser, main
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
+from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator
 
 SECRET = "a-shared-secret-of-some-length"
@@ -190,7 +190,7 @@ def test_a_missing_secret_is_asked_for_in_the_command_lines_words(
 #: ``ego`` with the import of one module refused, as where its package is not installed.
 WITHOUT = (
     "import sys; sys.modules[sys.argv.pop(1)] = None; "
-    "from ego.cli import main; sys.exit(main(sys.argv[1:]))"
+    "from ego.app.cli import main; sys.exit(main(sys.argv[1:]))"
 )
 
 

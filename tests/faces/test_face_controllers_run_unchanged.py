@@ -18,8 +18,8 @@ from typing import Any
 import pytest
 
 import ego.controller
-from ego import runtime
-from ego.runner import run_controller
+from ego.app.runner import run_controller
+from ego.faces import runtime
 from firmware_sim import Emulator, World
 
 CONTROLLERS = Path(__file__).parent / "controllers"

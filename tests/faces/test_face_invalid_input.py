@@ -11,12 +11,12 @@ from pathlib import Path
 import pytest
 
 from ego import overo as ov
-from ego import runtime
 from ego import webots as wb
 from ego.controller import DifferentialWheels
 from ego.controller import Robot as WebotsRobot
 from ego.errors import OutOfRangeError, PortNotFoundError, UnknownDeviceError
-from ego.tags import DEVICE_NAMES
+from ego.faces import runtime
+from ego.faces.tags import DEVICE_NAMES
 from firmware_sim import Emulator
 
 ALL_TAGS = len(DEVICE_NAMES)

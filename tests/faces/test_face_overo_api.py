@@ -13,8 +13,8 @@ from collections.abc import Callable, Iterator
 import numpy as np
 import pytest
 
-from ego import default_robot, runtime
 from ego import overo as ov
+from ego.faces import default_robot, runtime
 from ego.webots import Tag, wb_robot_get_device
 from firmware_sim import Emulator, World
 from firmware_sim.world import Pose

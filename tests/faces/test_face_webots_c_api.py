@@ -11,9 +11,9 @@ from collections.abc import Callable, Iterator
 
 import pytest
 
-from ego import default_robot, runtime
 from ego import webots as wb
 from ego.errors import EgoError
+from ego.faces import default_robot, runtime
 from ego.webots import Tag
 from firmware_sim import Emulator, World
 from firmware_sim.world import Pose

@@ -13,8 +13,8 @@ from typing import Any
 import pytest
 from helpers import ego_command
 
-from ego import runtime
-from ego.runner import run_controller
+from ego.app.runner import run_controller
+from ego.faces import runtime
 from firmware_sim import Emulator
 
 CONTROLLERS = Path(__file__).parent / "controllers"

@@ -13,7 +13,7 @@ import pytest
 from helpers import ego_command
 
 import ego.controller as face
-from ego.overrun_report import OverrunReport
+from ego.core.overrun_report import OverrunReport
 from firmware_sim import Emulator
 
 CONTROLLERS = Path(__file__).parent / "controllers"

@@ -9,8 +9,8 @@ from typing import Any
 import aiohttp
 from helpers import run_async
 
-from ego.dashboard.access import socket_url
-from ego.dashboard.server import DashboardServer, Feed
+from ego.servers.dashboard.access import socket_url
+from ego.servers.dashboard.server import DashboardServer, Feed
 
 
 @dataclass(frozen=True)

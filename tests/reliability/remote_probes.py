@@ -6,10 +6,10 @@ from __future__ import annotations
 import socket
 import time
 
-from ego.remote.auth import coerce_secret
-from ego.remote.connection import Connection, error_from_reply
-from ego.remote.messages import pack_step
-from ego.remote.wire import MAX_DATAGRAM, MessageType, decode_frame, encode_frame, parse_url
+from ego.backends.remote.connection import Connection, error_from_reply
+from ego.net.auth import coerce_secret
+from ego.net.messages import pack_step
+from ego.net.wire import MAX_DATAGRAM, MessageType, decode_frame, encode_frame, parse_url
 from ego.serial.protocol import Command, Request
 
 _STEP = pack_step((Request(Command.GET_SPEED),))

@@ -11,7 +11,8 @@ import logging
 
 import pytest
 
-from ego import default_robot, webots
+from ego import webots
+from ego.faces import default_robot
 
 
 def test_wbr_init_of_a_missing_port_returns_0_and_logs_why(

@@ -38,16 +38,16 @@ import ego
 import ego.errors
 import ego.overo
 import ego.webots
-from ego import default_robot, runtime
+from ego.app.cli import main as ego_main
 from ego.camera import Camera
 from ego.camera.config import parse_configuration
-from ego.cli import main as ego_main
 from ego.controller import DifferentialWheels
-from ego.dashboard.live import RobotFeed
+from ego.faces import default_robot, runtime
 from ego.recording.reader import Recording
-from ego.remote.server import Server, ServerThread
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
+from ego.servers.dashboard.live import RobotFeed
+from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator
 from firmware_sim.camera import SimulatedSource
 

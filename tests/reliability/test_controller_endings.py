@@ -7,7 +7,7 @@ can stop the robot in its place. None of the controllers stops the robot itself 
 controllers/ending_controller.py); ego must.
 
 The signals are every asynchronous one whose default action ends a process
-(``ego.safety.TERMINATING_SIGNALS``). Python itself ignores SIGPIPE and SIGXFSZ from
+(``ego.core.safety.TERMINATING_SIGNALS``). Python itself ignores SIGPIPE and SIGXFSZ from
 start-up (a failed write raises instead), so those are tested for that: they neither end
 the controller nor stop its robot.
 """
@@ -27,8 +27,8 @@ import pytest
 from helpers import ego_command, spawn, wait_until
 
 import ego
+from ego.core.safety import TERMINATING_SIGNALS
 from ego.errors import PortBusyError
-from ego.safety import TERMINATING_SIGNALS
 from firmware_sim import Emulator, World
 
 CONTROLLER = Path(__file__).parent / "controllers" / "ending_controller.py"
@@ -206,7 +206,7 @@ def test_ego_serve_stops_the_robot_on_every_terminating_signal(
 ) -> None:
     """The server on the robot is a controller too: its ssh session dropping must not leave
     the wheels turning for the PC that drove them."""
-    from ego.remote.client import RemoteChannel
+    from ego.backends.remote.channel import RemoteChannel
     from ego.serial.protocol import Command, Request, encode_batch
 
     args = [*ego_command(), "serve", "--port", emulator.path, "--listen", "tcp://127.0.0.1:0"]

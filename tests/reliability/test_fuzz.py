@@ -23,6 +23,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import ego
+from ego.backends.remote.channel import error_from_reply
 from ego.camera.config import CameraConfiguration, parse_configuration, size_range
 from ego.camera.convert import ROTATIONS
 from ego.camera.source import CONTROLS
@@ -37,9 +38,8 @@ from ego.errors import (
     ShortReplyError,
     UnknownSettingError,
 )
-from ego.remote.client import error_from_reply
-from ego.remote.messages import pack_step, unpack_step
-from ego.remote.wire import (
+from ego.net.messages import pack_step, unpack_step
+from ego.net.wire import (
     ASCII_REPLY_LINES,
     HEADER,
     MAGIC,
@@ -705,8 +705,8 @@ def test_the_session_fed_any_datagrams_runs_nothing_for_a_stranger(
 ) -> None:
     """Random and mutated datagrams from a peer that never proved the secret: the session
     answers or drops them, and never runs anything on the robot."""
-    from ego.remote.actions import Peer, Run, StopRobot
-    from ego.remote.session import Session
+    from ego.servers.sessions.actions import Peer, Run, StopRobot
+    from ego.servers.sessions.session import Session
 
     session = Session(secret=b"s" * 16, deadline_s=0.5, chunk_size=16384, welcome=dict)
     peer = Peer(("udp", 0, ("10.0.0.1", 9)), "udp stranger", "10.0.0.1", 16384)

@@ -32,9 +32,9 @@ from fakes import FAST_LINK
 from helpers import ego_command, spawn, wait_until
 from reliability_helpers import read_line
 
-from ego.remote.server import DEFAULT_DEADLINE_S, Server, ServerThread
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
+from ego.servers.socket.server import DEFAULT_DEADLINE_S, Server, ServerThread
 from firmware_sim import Emulator, World
 
 CONTROLLER = Path(__file__).parent / "controllers" / "interrupted_controller.py"

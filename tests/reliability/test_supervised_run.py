@@ -117,7 +117,7 @@ def test_a_bad_supervisor_deadline_is_refused(value: str, tmp_path: Path) -> Non
 
 
 def test_supervision_is_the_default_on_the_robots_uart_only() -> None:
-    from ego.supervisor import wants_supervision
+    from ego.servers.supervisor import wants_supervision
 
     assert wants_supervision("/dev/ttyS0") and wants_supervision("/dev/ttyO2")
     assert not wants_supervision("sim")

@@ -22,9 +22,8 @@ from dataclasses import dataclass
 from remote_helpers import RawClient, wait_for
 
 from ego.errors import FrameError
-from ego.remote.messages import pack_step
-from ego.remote.server import Server
-from ego.remote.wire import (
+from ego.net.messages import pack_step
+from ego.net.wire import (
     HEADER,
     MAGIC,
     MAX_DATAGRAM,
@@ -36,6 +35,7 @@ from ego.remote.wire import (
     parse_url,
 )
 from ego.serial.protocol import Command, Request
+from ego.servers.socket.server import Server
 from firmware_sim import Emulator
 
 #: Far more than one request in flight: what a pipelining controller writes at once.

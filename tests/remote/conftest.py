@@ -10,10 +10,10 @@ import pytest
 from fakes import FAST_LINK
 from remote_helpers import ConnectFactory, Served, ServeFactory
 
-from ego.remote.client import RemoteChannel
-from ego.remote.server import Server, ServerThread
+from ego.backends.remote.channel import RemoteChannel
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
+from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator
 from firmware_sim.camera import SimulatedSource
 

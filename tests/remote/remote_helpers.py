@@ -15,12 +15,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from types import TracebackType
 
+from ego.backends.remote.channel import RemoteChannel
 from ego.camera.source import GrantedFormat, PixelFormat
-from ego.remote.auth import client_proof, new_nonce
-from ego.remote.client import RemoteChannel
-from ego.remote.handshake import session_key
-from ego.remote.server import Server, ServerThread
-from ego.remote.wire import (
+from ego.net.auth import client_proof, new_nonce
+from ego.net.handshake import session_key
+from ego.net.wire import (
     HEADER,
     MAC_SIZE,
     MAX_DATAGRAM,
@@ -35,6 +34,7 @@ from ego.remote.wire import (
     unpack_json,
 )
 from ego.serial.link import Link
+from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator
 
 

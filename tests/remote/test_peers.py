@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from ego.remote.actions import Peer, ServerStats
-from ego.remote.peers import PREAUTH_WRITE_LIMIT, Peers
-from ego.remote.wire import FrameReader
+from ego.net.wire import FrameReader
+from ego.servers.sessions.actions import Peer, ServerStats
+from ego.servers.socket.peers import PREAUTH_WRITE_LIMIT, Peers
 
 
 class Stream:

@@ -17,10 +17,10 @@ import pytest
 from remote_helpers import DatagramProxy, RawClient, ServeFactory, StreamRelay, wait_for
 
 from benchmarks.floods import start_flood
+from ego.backends.remote.channel import RemoteChannel
 from ego.errors import LinkLostError, RobotResetError
-from ego.remote.client import RemoteChannel
-from ego.remote.messages import pack_step
-from ego.remote.wire import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame, pack_json
+from ego.net.messages import pack_step
+from ego.net.wire import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame, pack_json
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Command, Request, encode_batch
 

@@ -11,8 +11,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-from ego.remote.cli import add_arguments
-from ego.remote.client import RemoteChannel
+from ego.app.serve import add_arguments
+from ego.backends.remote.channel import RemoteChannel
 from ego.serial.protocol import Command, Request, encode_batch
 
 #: ``ego serve`` through this module alone, whatever the ``ego`` command wires.

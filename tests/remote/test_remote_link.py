@@ -9,6 +9,7 @@ from fakes import FAST_LINK
 from remote_helpers import ConnectFactory, ServeFactory, wait_for
 
 from ego.backends import open_port
+from ego.backends.remote.channel import RemoteChannel
 from ego.errors import (
     FrameError,
     LinkTimeoutError,
@@ -17,12 +18,11 @@ from ego.errors import (
     RobotResetError,
     UnsupportedDeviceError,
 )
-from ego.remote.client import RemoteChannel
-from ego.remote.server import Server, ServerThread
-from ego.remote.wire import MessageType
+from ego.net.wire import MessageType
 from ego.serial.link import Link
 from ego.serial.protocol import PROFILES, Batch, Command, Firmware, Request, encode_batch
 from ego.serial.transport import SerialTransport
+from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator, FaultTimings
 
 #: The thesis' full sensor batch: a E M N O Q u.

@@ -13,9 +13,9 @@ from __future__ import annotations
 from abuse import GO, drive, pipeline_and_close
 from remote_helpers import ServeFactory
 
+from ego.backends.remote.connection import error_from_reply
 from ego.errors import FrameError
-from ego.remote.connection import error_from_reply
-from ego.remote.wire import MessageType
+from ego.net.wire import MessageType
 
 SECRET = "s3cret-s3cret-s3cret"
 #: Batches the emulator may see after the close: the step running then, and the stop.

@@ -11,10 +11,10 @@ from remote_helpers import ServeFactory, wait_for
 
 import ego
 import ego.examples
-from ego import runtime
+from ego.app.runner import run_controller
 from ego.camera import Camera
-from ego.group import RobotGroup, step_all
-from ego.runner import run_controller
+from ego.core.group import RobotGroup, step_all
+from ego.faces import runtime
 from ego.serial.link import LinkSettings
 from firmware_sim.camera import SimulatedSource
 

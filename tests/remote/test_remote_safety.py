@@ -15,11 +15,10 @@ import zlib
 import pytest
 from remote_helpers import ConnectFactory, DatagramProxy, RawClient, ServeFactory, wait_for
 
+from ego.backends.remote.channel import RemoteChannel
 from ego.errors import AuthenticationError, RobotBusyError, RobotResetError
-from ego.remote.client import RemoteChannel
-from ego.remote.messages import pack_step
-from ego.remote.server import Server
-from ego.remote.wire import (
+from ego.net.messages import pack_step
+from ego.net.wire import (
     HEADER,
     MAGIC,
     MAX_DATAGRAM,
@@ -33,6 +32,7 @@ from ego.remote.wire import (
 )
 from ego.serial.link import Link
 from ego.serial.protocol import Command, Request, encode_batch
+from ego.servers.socket.server import Server
 
 DEADLINE_S = 0.3
 
@@ -360,7 +360,7 @@ def test_a_long_step_keeps_control_but_a_hung_controller_trips_the_deadman(
 
 
 def test_the_throttle_doubles_per_host_caps_and_forgets() -> None:
-    from ego.remote.auth import FailureThrottle
+    from ego.net.auth import FailureThrottle
 
     throttle = FailureThrottle(base_s=0.2, max_s=1.0, window_s=60.0)
     delays = [throttle.failed("10.0.0.9", t) for t in range(4)]
@@ -406,7 +406,7 @@ def test_idle_and_surplus_connections_are_dropped_and_the_client_still_gets_in(
 ) -> None:
     """Slowloris and a socket flood: connections that never hand shake are dropped after
     the handshake timeout, those beyond the half-open cap at once; the client connects."""
-    from ego.remote.server import MAX_UNAUTHENTICATED
+    from ego.servers.socket.server import MAX_UNAUTHENTICATED
 
     served = serve(kinds=("tcp",), handshake_timeout_s=0.3)
     host, port = served.url.removeprefix("tcp://").rsplit(":", 1)

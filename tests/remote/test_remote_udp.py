@@ -10,8 +10,8 @@ import time
 import pytest
 from remote_helpers import ConnectFactory, DatagramProxy, FakeCamera, ServeFactory
 
+from ego.backends.remote.channel import RemoteChannel
 from ego.errors import LinkTimeoutError
-from ego.remote.client import RemoteChannel
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Command, Request, encode_batch
 

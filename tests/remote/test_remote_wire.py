@@ -9,8 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ego.backends.remote.channel import error_from_reply
 from ego.errors import ConfigSyntaxError, FrameError, InsecureSecretError, PortBusyError
-from ego.remote.auth import (
+from ego.net.auth import (
     check_proof,
     client_proof,
     coerce_secret,
@@ -21,8 +22,7 @@ from ego.remote.auth import (
     server_proof,
     write_secret,
 )
-from ego.remote.client import error_from_reply
-from ego.remote.wire import (
+from ego.net.wire import (
     HEADER,
     MAGIC,
     MAX_PAYLOAD,

@@ -11,12 +11,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ego.errors import AuthenticationError
-from ego.remote.actions import Action, Authenticated, Hangup, Peer, Run, Send, StopRobot
-from ego.remote.auth import FailureThrottle
-from ego.remote.handshake import ClientHandshake
-from ego.remote.messages import Step, pack_step
-from ego.remote.session import Session
-from ego.remote.wire import (
+from ego.net.auth import FailureThrottle
+from ego.net.handshake import ClientHandshake
+from ego.net.messages import Step, pack_step
+from ego.net.wire import (
     HEADER,
     MAGIC,
     PROTOCOL_VERSION,
@@ -30,6 +28,8 @@ from ego.remote.wire import (
     unpack_json,
 )
 from ego.serial.protocol import Command, Request
+from ego.servers.sessions.actions import Action, Authenticated, Hangup, Peer, Run, Send, StopRobot
+from ego.servers.sessions.session import Session
 
 SECRET = b"s3cret-s3cret-s3cret"
 TCP = Peer(("tcp", 1, None), "tcp client", "127.0.0.1")

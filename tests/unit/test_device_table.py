@@ -13,15 +13,16 @@ from collections.abc import Iterator
 import pytest
 
 import ego
-from ego import overo, tags
+from ego import overo
 from ego import webots as wb
 from ego.controller import Robot as WebotsRobot
 from ego.controller.devices import DistanceSensor, LightSensor, view_class
-from ego.default_robot import FaceContext, activate
 from ego.devices import table
 from ego.devices.table import BATTERY, CAMERA, DEVICES, FAMILIES, names_of, spec, spec_of_tag
 from ego.errors import UnknownDeviceError, UnsupportedDeviceError
-from ego.runtime import RunOptions
+from ego.faces import tags
+from ego.faces.default_robot import FaceContext, activate
+from ego.faces.runtime import RunOptions
 from ego.serial.protocol import Firmware
 from firmware_sim import Emulator
 

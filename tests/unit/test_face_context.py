@@ -1,4 +1,4 @@
-"""The faces' context (ego.default_robot.FaceContext): options and robot, no module global.
+"""The faces' context (ego.faces.default_robot.FaceContext): options and robot, no module global.
 
 Each context holds its own options and robot; ``ego run`` makes one for its controller
 and passes the options explicitly; the C-style functions find the current one through a
@@ -16,12 +16,14 @@ from pathlib import Path
 import pytest
 
 import ego
-from ego import cli, default_robot, runner, runtime, safety
 from ego import webots as wb
+from ego.app import cli, runner
 from ego.controller import Robot as WebotsRobot
-from ego.default_robot import FaceContext, activate, current_context
+from ego.core import safety
 from ego.errors import EgoError
-from ego.runtime import RunOptions
+from ego.faces import default_robot, runtime
+from ego.faces.default_robot import FaceContext, activate, current_context
+from ego.faces.runtime import RunOptions
 
 
 @pytest.fixture
@@ -99,7 +101,7 @@ CONTROLLER = """
     import sys
 
     from controller import Robot
-    from ego import default_robot
+    from ego.faces import default_robot
 
     robot = Robot()
     context = default_robot.current_context()
@@ -140,7 +142,7 @@ def test_the_ego_run_command_passes_the_options_it_parsed(
 ) -> None:
     calls: list[tuple[object, RunOptions]] = []
     monkeypatch.setattr(runner, "run_controller", lambda path, o, argv=(): calls.append((path, o)))
-    monkeypatch.setattr("ego.scheduler.tune_for_stepping", lambda realtime=False: None)
+    monkeypatch.setattr("ego.core.scheduler.tune_for_stepping", lambda realtime=False: None)
     outer_options = fresh.options
     args = ["run", "--port", "sim", "--duration", "1.5", "--time-step", "16", "c.py"]
     assert cli.main(args) == 0

@@ -8,8 +8,8 @@ import sys
 import pytest
 
 import ego
-from ego.safety import TERMINATING_SIGNALS
-from ego.scheduler import STEPPING_SWITCH_INTERVAL_S, tune_for_stepping
+from ego.core.safety import TERMINATING_SIGNALS
+from ego.core.scheduler import STEPPING_SWITCH_INTERVAL_S, tune_for_stepping
 
 
 def _handlers() -> dict[signal.Signals, object]:

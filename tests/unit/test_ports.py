@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from ego.backends import open_port, scheme_of
+from ego.core.ports import DEFAULT_PORT, resolve_port
 from ego.errors import NotAnEpuckError, PortNotFoundError
-from ego.ports import DEFAULT_PORT, resolve_port
 from ego.serial.link import Link
 from ego.serial.protocol import Firmware
 from ego.serial.transport import SerialTransport

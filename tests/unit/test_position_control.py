@@ -15,7 +15,7 @@ from ego.devices.position_control import (
     position_speed,
     position_speed_rad_s,
 )
-from ego.runtime import RunOptions
+from ego.faces.runtime import RunOptions
 
 
 def test_far_from_the_target_the_wheel_turns_at_the_set_velocity() -> None:

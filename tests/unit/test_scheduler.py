@@ -7,7 +7,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from ego.scheduler import StepClock
+from ego.core.scheduler import StepClock
 
 
 class FakeTime:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import threading
 from dataclasses import dataclass, field
 
-from ego.zenoh_net.line import LineWorker
+from ego.servers.zenoh_node.line import LineWorker
 
 
 @dataclass

@@ -104,7 +104,7 @@ def test_the_swarms_dashboard_shows_every_robot_and_stops_them_all(tmp_path: Pat
 
     import aiohttp
 
-    from ego.swarm import Swarm
+    from ego.app.swarm import Swarm
 
     drive = tmp_path / "drive.py"
     drive.write_text(
@@ -124,7 +124,7 @@ def test_the_swarms_dashboard_shows_every_robot_and_stops_them_all(tmp_path: Pat
         runner.start()
 
         async def look_then_stop() -> tuple[dict[str, object], dict[str, object]]:
-            from ego.dashboard.access import socket_url
+            from ego.servers.dashboard.access import socket_url
 
             ws_url = socket_url(url)
             async with aiohttp.ClientSession() as session, session.ws_connect(ws_url) as ws:

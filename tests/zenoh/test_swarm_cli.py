@@ -11,7 +11,7 @@ from pathlib import Path
 from helpers import ego_command
 from zenoh_support import free_endpoint
 
-from ego.swarm import Swarm
+from ego.app.swarm import Swarm
 
 #: Prints its name on standard output and on standard error, then steps a little.
 SPEAKER = """\
@@ -40,7 +40,7 @@ def test_each_robot_of_the_default_world_has_its_own_noise() -> None:
 
 
 def test_robot_seeds_never_repeat_across_seeds_and_robots() -> None:
-    from ego.swarm import MAX_ROBOTS, robot_seed
+    from ego.app.swarm import MAX_ROBOTS, robot_seed
 
     seeds = [robot_seed(seed, index) for seed in range(10) for index in range(MAX_ROBOTS)]
     assert len(set(seeds)) == len(seeds)
@@ -63,7 +63,7 @@ def test_each_line_of_a_controller_is_headed_by_its_robots_name(tmp_path: Path) 
 def test_ego_swarm_without_zenoh_names_the_extra(tmp_path: Path) -> None:
     (tmp_path / "speaker.py").write_text(SPEAKER)
     without = ("import sys; sys.modules['zenoh'] = None; "
-               "from ego.cli import main; sys.exit(main(sys.argv[1:]))")  # fmt: skip
+               "from ego.app.cli import main; sys.exit(main(sys.argv[1:]))")  # fmt: skip
     done = subprocess.run(
         [sys.executable, "-c", without, "swarm", "--robots", "2", "--zenoh-endpoint",
          free_endpoint(), "speaker.py"],

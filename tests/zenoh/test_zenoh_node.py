@@ -16,8 +16,8 @@ from zenoh_support import Node, client_session, free_endpoint, served_node
 
 import ego
 from benchmarks.zenoh_floods import flood_result, start_ascii_flood
+from ego.backends.remote.connection import error_from_reply
 from ego.errors import InsecureSecretError, RobotBusyError
-from ego.remote.connection import error_from_reply
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Command, Request, encode_batch
 from ego.zenoh_net.keys import check_name
@@ -187,7 +187,7 @@ def test_ego_serve_zenoh_and_ego_run_port_zenoh(tmp_path: Path) -> None:
 
 
 def test_a_group_named_by_a_key_expression_steps_its_robots_in_lockstep() -> None:
-    from ego.group import open_group
+    from ego.core.group import open_group
 
     with served_node("lab/a") as a, served_node("lab/b") as b, served_node("other/c") as c:
         # Three nodes on three sessions; the group's robots reach them through a and b.

@@ -12,7 +12,7 @@ from fakes import FAST_LINK
 
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
-from ego.zenoh_net.node import RobotNode
+from ego.servers.zenoh_node.node import RobotNode
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 from firmware_sim import Emulator
 

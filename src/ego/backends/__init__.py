@@ -13,12 +13,12 @@ scheme        backend
 ``sim``       the dsPIC emulator, found through the ``ego.backends`` entry point that
               the ``firmware_sim`` package declares (ego itself never imports it)
 ``zenoh``     a robot served as a Zenoh node (``zenoh://NAME``, ``ego serve --zenoh``):
-              :mod:`ego.zenoh_net.channel`
+              :mod:`ego.backends.zenoh_remote`
 ``replay``    a run recorded with ``ego run --record`` (``replay://run.mcap``), answering
-              a controller as the robot did: :mod:`ego.recording.emulate`
+              a controller as the robot did: :mod:`ego.backends.replay`
 ============  ==========================================================================
 
-Each backend opens a :class:`~ego.channel.Channel` (the seam under ``Robot``) and takes
+Each backend opens a :class:`~ego.core.channel.Channel` (the seam under ``Robot``) and takes
 the options it knows: a serial port its baud rate and link settings, the emulator its
 seed, the network its secret. Beside the channel it may hand in the robot's own I2C bus
 (:class:`~ego.i2c.bus.I2CAccess`, opened at first need), where the stock firmware leaves
@@ -31,32 +31,25 @@ group or with :func:`register`; nothing in ``Robot`` changes.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
 from ego.errors import PortNotFoundError
-from ego.ports import DEFAULT_CAMERA_DEVICE
 from ego.serial.protocol import Firmware
 
 if TYPE_CHECKING:
     from ego.camera import FrameSource
-    from ego.channel import Channel
+    from ego.core.channel import Channel
+    from ego.core.scene import Scene
+    from ego.core.scheduler import Pacer
     from ego.i2c.bus import I2CAccess
-    from ego.scene import Scene
-    from ego.scheduler import Pacer
-    from ego.serial.link import Link, LinkSettings
-    from ego.serial.transport import Transport
 
 __all__ = [
     "ENTRY_POINT_GROUP",
     "Backend",
     "Opened",
-    "RemoteBackend",
-    "SerialBackend",
     "find_backend",
-    "open_link",
     "open_port",
     "register",
     "scheme_of",
@@ -110,122 +103,36 @@ class Backend(Protocol):
         ...
 
 
-def robot_i2c(port: str, i2c_bus: int | str | None) -> I2CAccess | None:
-    """The I2C bus a robot on ``port`` reaches: ``i2c_bus`` if given ("none": none), else
-    the Overo's ``/dev/i2c-3`` when ``port`` is its own UART (ego runs on the robot)."""
-    from ego.i2c.bus import DEFAULT_I2C_BUS, local_bus
-    from ego.ports import is_robot_uart
-
-    if i2c_bus == "none":
-        return None
-    if i2c_bus is not None:
-        return local_bus(i2c_bus)
-    return local_bus(DEFAULT_I2C_BUS) if is_robot_uart(port) else None
-
-
-class SerialBackend:
-    """A serial port or pyserial URL at the firmware's line rate (docs/protocol.md, Line).
-
-    ``i2c_bus`` (a number, a ``/dev/i2c-N`` path, or "none") is the robot's own I2C bus;
-    by default the Overo's ``/dev/i2c-3`` on its own UART (``/dev/ttyS*``), none elsewhere.
-    """
-
-    def open(
-        self,
-        port: str,
-        *,
-        firmware: Firmware | None,
-        baudrate: int | None = None,
-        link_settings: LinkSettings | None = None,
-        camera_device: str | None = None,
-        i2c_bus: int | str | None = None,
-    ) -> Opened:
-        from ego.ports import default_baud
-        from ego.serial.transport import SerialTransport, check_baudrate
-
-        baud = check_baudrate(baudrate) if baudrate is not None else default_baud(port, firmware)
-        i2c = robot_i2c(port, i2c_bus)  # checked before the port opens
-        channel = open_link(SerialTransport(port, baud), firmware, link_settings)
-        device = camera_device or os.environ.get("EGO_CAMERA") or DEFAULT_CAMERA_DEVICE
-        if device == "none":
-            return Opened(channel, i2c=i2c)
-
-        def camera() -> FrameSource:
-            from ego.camera import V4L2Source
-
-            return V4L2Source(device)
-
-        return Opened(channel, camera, i2c=i2c)
-
-
-def open_link(
-    transport: Transport, firmware: Firmware | None, settings: LinkSettings | None = None
-) -> Link:
-    """A Link over ``transport``; the transport is closed if the dsPIC cannot be reached."""
-    from ego.serial.link import Link
-
-    try:
-        return Link(transport, firmware, settings)
-    except BaseException:
-        transport.close()
-        raise
-
-
-class RemoteBackend:
-    """A robot served by ``ego serve`` (``tcp://HOST:PORT``, ``udp://HOST:PORT``).
-
-    ``baudrate`` is accepted for controllers written for a serial line (E-GO's
-    ``overo_serial_init(230400, ...)``): the server owns that line and its rate. A
-    ``unix://`` server runs on this machine (``ego run``'s supervisor on the robot), so
-    the robot's own I2C bus is this machine's (``i2c_bus``, default ``/dev/i2c-3``); a
-    network port reaches none.
-    """
-
-    def open(
-        self,
-        port: str,
-        *,
-        firmware: Firmware | None,
-        secret: str | bytes | None = None,
-        baudrate: int | None = None,
-        link_settings: LinkSettings | None = None,
-        i2c_bus: int | str | None = None,
-        **connection: Any,
-    ) -> Opened:
-        from ego.i2c.bus import DEFAULT_I2C_BUS
-        from ego.remote.client import RemoteChannel
-
-        if i2c_bus is None and port.startswith("unix://"):
-            i2c_bus = DEFAULT_I2C_BUS
-        i2c = robot_i2c(port, i2c_bus)
-
-        channel = RemoteChannel.from_url(port, secret, settings=link_settings, **connection)
-        if firmware is not None and channel.info.firmware is not firmware:
-            channel.close()
-            raise PortNotFoundError(
-                f"{port} serves a robot with the {channel.info.firmware} firmware, not {firmware}"
-            )
-        return Opened(channel, channel.frame_source, remote=True, i2c=i2c)
-
-
 _REGISTRY: dict[str, Callable[[], Backend]] = {
-    "serial": SerialBackend,
-    "tcp": RemoteBackend,
-    "udp": RemoteBackend,
-    "unix": RemoteBackend,
+    "serial": lambda: _serial_backend(),
+    "tcp": lambda: _remote_backend(),
+    "udp": lambda: _remote_backend(),
+    "unix": lambda: _remote_backend(),
     "replay": lambda: _replay_backend(),
     "zenoh": lambda: _zenoh_backend(),
 }
 
 
+def _serial_backend() -> Backend:
+    from ego.backends.serial_line import SerialBackend
+
+    return SerialBackend()
+
+
+def _remote_backend() -> Backend:
+    from ego.backends.remote import RemoteBackend
+
+    return RemoteBackend()
+
+
 def _zenoh_backend() -> Backend:
-    from ego.zenoh_net.channel import ZenohBackend  # zenoh is imported only for zenoh://
+    from ego.backends.zenoh_remote import ZenohBackend  # zenoh is imported only for zenoh://
 
     return ZenohBackend()
 
 
 def _replay_backend() -> Backend:
-    from ego.recording.emulate import ReplayBackend  # mcap is imported only for a replay
+    from ego.backends.replay import ReplayBackend  # mcap is imported only for a replay
 
     return ReplayBackend()
 

@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING, Final
 
 from ego.camera.convert import ROTATIONS
 from ego.camera.source import CONTROLS
+from ego.core.files import read_regular
 from ego.errors import (
     BadFileError,
     CameraConfigError,
@@ -49,7 +50,6 @@ from ego.errors import (
     SettingOutOfRangeError,
     UnknownSettingError,
 )
-from ego.files import read_regular
 
 if TYPE_CHECKING:
     from ego.camera.device import Camera

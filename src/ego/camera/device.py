@@ -26,9 +26,9 @@ from ego.camera.source import (
     GrantedFormat,
     PixelFormat,
 )
+from ego.core.validate import check_int
 from ego.devices.base import MAX_PERIOD_MS
 from ego.errors import CameraError, OutOfRangeError
-from ego.validate import check_int
 
 __all__ = ["DEFAULT_FOV_RAD", "Camera"]
 

@@ -37,8 +37,8 @@ import time
 from typing import Final, Protocol
 
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
+from ego.core.ports import DEFAULT_CAMERA_DEVICE
 from ego.errors import CameraCaptureError, CameraError, CameraTimeoutError, UnsupportedControlError
-from ego.ports import DEFAULT_CAMERA_DEVICE
 
 __all__ = [
     "CONTROL_IDS",

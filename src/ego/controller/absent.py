@@ -17,7 +17,7 @@ from ego.controller.node_types import NODE_TYPES
 from ego.errors import UnsupportedDeviceError
 
 if TYPE_CHECKING:
-    from ego.robot import Robot as CoreRobot
+    from ego.core.robot import Robot as CoreRobot
 
 __all__ = [
     "GPS",

@@ -19,7 +19,7 @@ from ego.devices.table import find, spec
 from ego.errors import EgoError, OutOfRangeError, UnknownDeviceError
 
 if TYPE_CHECKING:
-    from ego.robot import Robot as CoreRobot
+    from ego.core.robot import Robot as CoreRobot
 
 __all__ = [
     "LED",
@@ -75,7 +75,7 @@ def _by_name(cls: type[Device], name: str) -> Device:
     accepts any: a subclass gets an object of its own that shares the device's state,
     as two Webots objects share one device tag.
     """
-    from ego.default_robot import current_context
+    from ego.faces.default_robot import current_context
 
     robot = current_context().webots_robot
     if robot is None or robot._core.closed:  # type: ignore[attr-defined]
@@ -100,7 +100,7 @@ def webots_camera_size(core: CoreRobot) -> None:
     """Give ``core``'s camera the size a Webots controller expects: the run's
     ``--camera WxH``, else the emulator's world's (its camera_width/camera_height, as a
     Webots world sets them), else Webots' e-puck's 52x39 (the E-GO face keeps 640x480)."""
-    from ego.default_robot import current_context
+    from ego.faces.default_robot import current_context
 
     world = getattr(core.emulator, "world", None)
     size = (
@@ -114,7 +114,7 @@ def webots_camera_size(core: CoreRobot) -> None:
 
 def _sibling(device: Device, name: str) -> Device | None:
     """Another device of the same robot, as its Webots Robot serves it."""
-    from ego.default_robot import current_context
+    from ego.faces.default_robot import current_context
 
     robot = current_context().webots_robot
     if robot is not None and robot._core is device._core:  # type: ignore[attr-defined]
@@ -154,7 +154,7 @@ class Device:
         if isinstance(core, str):
             return  # made by name (__new__): the robot's own device, already set up
         if strict is None:
-            from ego.default_robot import current_context
+            from ego.faces.default_robot import current_context
 
             strict = current_context().options.strict
         self._core = core
@@ -185,7 +185,7 @@ class Device:
 
 
 def _basic_time_step_ms() -> int:
-    from ego.default_robot import current_context
+    from ego.faces.default_robot import current_context
 
     return int(current_context().options.basic_time_step_ms)
 
@@ -508,7 +508,7 @@ class Motor(Device):
     def _position_period_ms(self) -> float:
         if self._period_ms is not None:
             return self._period_ms
-        from ego.default_robot import current_context
+        from ego.faces.default_robot import current_context
 
         return current_context().options.basic_time_step_ms
 

@@ -74,7 +74,7 @@ class Keyboard:
         self._stop = threading.Event()
         self._reader: threading.Thread | None = None
         if sampling_period is None:  # Webots' Keyboard(): on at the basic time step
-            from ego.default_robot import current_context
+            from ego.faces.default_robot import current_context
 
             sampling_period = int(current_context().options.basic_time_step_ms)
         if sampling_period:

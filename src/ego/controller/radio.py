@@ -33,7 +33,7 @@ from ego.devices.base import MAX_PERIOD_MS, check_int
 from ego.errors import DeviceError, OutOfRangeError
 
 if TYPE_CHECKING:
-    from ego.robot import Robot as CoreRobot
+    from ego.core.robot import Robot as CoreRobot
     from ego.zenoh_net.radio import Packet, Radio
 
 __all__ = ["RADIO_DEVICES", "Emitter", "Receiver", "radio_available"]

@@ -24,10 +24,10 @@ from ego.controller.devices import (
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
 from ego.controller.radio import RADIO_DEVICES, Emitter, Receiver, radio_available
-from ego.default_robot import current_context
+from ego.core.robot import Robot as CoreRobot
 from ego.errors import EgoError, UnknownDeviceError, UnsupportedDeviceError
-from ego.robot import Robot as CoreRobot
-from ego.runtime import RunOptions
+from ego.faces.default_robot import current_context
+from ego.faces.runtime import RunOptions
 
 __all__ = ["DifferentialWheels", "Robot"]
 

@@ -9,8 +9,8 @@ from typing import NoReturn
 
 from ego.controller.absent import Field, Node
 from ego.controller.robot import Robot
+from ego.core.scene import ROBOT, Scene
 from ego.errors import OutOfRangeError, UnsupportedDeviceError
-from ego.scene import ROBOT, Scene
 
 __all__ = ["SceneField", "SceneNode", "Supervisor"]
 

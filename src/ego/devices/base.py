@@ -30,9 +30,9 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
+from ego.core.validate import check_int  # re-exported: the families' integer check
 from ego.errors import DeviceError, UnknownDeviceError, UnsupportedDeviceError
 from ego.serial.protocol import Command, Profile, Request
-from ego.validate import check_int  # re-exported: the families' integer check
 
 if TYPE_CHECKING:
     from ego.i2c.chips import Chip

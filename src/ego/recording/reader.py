@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ego.core.files import open_regular
 from ego.errors import BadFileError, RecordingError
-from ego.files import open_regular
 from ego.recording.records import RawMessage, RawRecording, read_records
 from ego.recording.schemas import CHANNELS
 

@@ -59,7 +59,7 @@ SCHEMAS: dict[str, dict[str, Any]] = {
     },
     "ego.Sensors": {
         "title": "ego.Sensors",
-        "description": "One step of the robot (ego.telemetry): every family's last sample "
+        "description": "One step of the robot (ego.core.telemetry): every family's last sample "
         "(null when off), the wheel speeds and LEDs asked, odometry, true pose, link counters",
         "type": "object",
         "properties": {"t": {"type": "number"}, "step": {"type": "integer"}},

@@ -25,15 +25,15 @@ from mcap.writer import Writer
 
 from ego import __version__
 from ego.camera.encode import encode_jpeg
-from ego.channel import TappedChannel
+from ego.core.channel import TappedChannel
+from ego.core.telemetry import Telemetry, describe_robot, describe_world
 from ego.errors import EgoError
 from ego.recording.schemas import CHANNELS, log_message, pose_message, schema_bytes, stamp
-from ego.telemetry import Telemetry, describe_robot, describe_world
 
 if TYPE_CHECKING:
     import numpy as np
 
-    from ego.robot import Robot
+    from ego.core.robot import Robot
     from ego.serial.protocol import Batch
 
 __all__ = ["JPEG_QUALITY", "Recorder"]

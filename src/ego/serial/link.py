@@ -20,7 +20,7 @@ import time
 from collections import Counter
 from dataclasses import dataclass, field
 
-from ego.channel import reconnect_within
+from ego.core.channel import reconnect_within
 from ego.errors import (
     ExtraBytesError,
     LinkLostError,

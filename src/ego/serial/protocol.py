@@ -404,7 +404,7 @@ def parse_batch(tx: bytes, profile: Profile) -> Batch:
 
     For tools that watch a line (a logger, a relay between a PC and a robot) and must
     know how many reply bytes a batch asks for; ``ego serve`` needs none, as it is sent
-    requests, not bytes (ego.remote.messages). Raises ValueError for bytes that are not
+    requests, not bytes (ego.net.messages). Raises ValueError for bytes that are not
     exactly one well-formed batch: an unknown or unsupported command, arguments cut
     short, or anything after the final 0x00.
     """

@@ -12,7 +12,7 @@ key                   kind         what
 ``ego/NAME/ascii``    queryable    an ASCII command (``V``, ``C``, ``S``, ``K``)
 ``ego/NAME/keepalive`` put         a controller's keepalive while it waits out a step
 ``ego/NAME/bye``      put          a controller lets go (the robot stops)
-``ego/NAME/sensors``  publication  every step's sample (ego.telemetry's keys, JSON)
+``ego/NAME/sensors``  publication  every step's sample (ego.core.telemetry's keys, JSON)
 ====================  ===========  ========================================================
 
 Webots' radio: an Emitter on channel C puts on ``ego/radio/C`` (``ego/radio/all`` for

@@ -19,7 +19,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from ego.errors import InsecureSecretError
-from ego.remote.auth import is_loopback
+from ego.net.auth import is_loopback
 
 if TYPE_CHECKING:
     import zenoh

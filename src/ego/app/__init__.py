@@ -1,0 +1,1 @@
+"""The app: the ``ego`` command line, the demo, swarms, replays and plots."""

@@ -1,0 +1,134 @@
+"""``ego demo``: an obstacle-avoiding Webots controller drives the emulated robot, shown live."""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from importlib import resources
+from typing import TextIO
+
+from ego.app.observers import observe_run
+from ego.app.runner import run_controller
+from ego.controller.devices import WEBOTS_CAMERA_SIZE
+from ego.core.ports import default_baud
+from ego.core.robot import Robot
+from ego.faces import runtime
+from ego.serial.protocol import Firmware
+
+__all__ = ["DemoReport", "run_demo"]
+
+_BARS = " ▁▂▃▄▅▆▇█"
+#: How often the demo's camera takes a frame for the dashboard (ms).
+CAMERA_PERIOD_MS = 64
+
+
+def _bar(value: int) -> str:
+    """A proximity value as a one-character gauge (log scale: 60..4095)."""
+    level = (math.log(max(value, 60)) - math.log(60)) / (math.log(4095) - math.log(60))
+    return _BARS[min(len(_BARS) - 1, max(0, round(level * (len(_BARS) - 1))))]
+
+
+@dataclass
+class DemoReport:
+    steps: int = 0
+    overruns: int = 0
+    controller_time_s: float = 0.0
+    wall_time_s: float = 0.0
+    distance_m: float = 0.0
+    closest_approach_mm: float = math.inf
+    robots: list[Robot] = field(default_factory=list)
+
+
+class _Progress:
+    """Prints the sensor ring and wheel speeds a few times a second."""
+
+    def __init__(
+        self, out: TextIO, report: DemoReport, every_s: float = 0.25,
+        camera_size: tuple[int, int] | None = None,
+    ) -> None:  # fmt: skip
+        self.camera_size = camera_size
+        self.out = out
+        self.report = report
+        self.every_s = every_s
+        self.next_s = 0.0
+        self.tty = out.isatty()
+
+    def attach(self, robot: Robot) -> None:
+        self.report.robots.append(robot)
+        robot.add_step_listener(self.on_step)
+        if self.camera_size is not None:  # for the dashboard: the emulator's camera
+            robot.camera.set_size(*self.camera_size)
+            robot.camera.enable(CAMERA_PERIOD_MS)
+
+    def on_step(self, robot: Robot) -> None:
+        if robot.time_s < self.next_s:
+            return
+        self.next_s = robot.time_s + (self.every_s if self.tty else 1.0)
+        ring = (
+            "".join(_bar(v) for v in robot.proximity.values) if robot.proximity.has_values else "-"
+        )
+        left, right = robot.motors.speed
+        world = robot.emulator.world if robot.emulator is not None else None
+        clearance = f"  closest {world.closest_approach_m * 1000:5.1f} mm" if world else ""
+        line = (
+            f"t={robot.time_s:5.1f} s  ps0-7 [{ring}]  speed L {left:+5d} R {right:+5d} steps/s"
+            f"  steps {robot.steps:5d}  overruns {robot.overruns}{clearance}"
+        )
+        self.out.write(("\r" + line) if self.tty else (line + "\n"))
+        self.out.flush()
+
+
+def run_demo(
+    duration_s: float = 20.0,
+    firmware: str = "webots",
+    seed: int | None = 1,
+    out: TextIO = sys.stdout,
+    world: str | None = None,
+    dashboard: str | None = None,
+    record: str | None = None,
+) -> DemoReport:
+    """Run the bundled obstacle-avoidance controller on the built-in emulator, with a
+    live dashboard at ``dashboard`` (HOST:PORT) and a recording to ``record`` if asked."""
+    report = DemoReport()
+    # With a dashboard, the emulated camera is shown at Webots' e-puck size.
+    progress = _Progress(out, report, camera_size=WEBOTS_CAMERA_SIZE if dashboard else None)
+    options = runtime.RunOptions(
+        port="sim",
+        firmware=firmware,
+        duration_s=duration_s,
+        seed=seed,
+        world=world,
+        on_robot=[progress.attach],
+    )
+    baud = default_baud("sim", Firmware.choose(firmware))
+    out.write(
+        f"ego demo: a Webots obstacle-avoidance controller drives the emulated e-puck "
+        f"({firmware} firmware, {baud} baud pty) for {duration_s:g} s\n"
+    )
+    controller = resources.files("ego.examples") / "obstacle_avoidance.py"
+    started = time.monotonic()
+    with resources.as_file(controller) as path, observe_run(
+        options, dashboard=dashboard, record=record, out=out
+    ):
+        run_controller(path, options)
+    report.wall_time_s = time.monotonic() - started
+    if report.robots:
+        robot = report.robots[0]
+        report.steps = robot.steps
+        report.overruns = robot.overruns
+        report.controller_time_s = robot.time_s
+        if robot.emulator is not None:
+            report.distance_m = robot.emulator.world.distance_travelled_m
+            report.closest_approach_mm = robot.emulator.world.closest_approach_m * 1000
+    if progress.tty:
+        out.write("\n")
+    out.write(
+        "summary: "
+        f"{report.steps} steps in {report.controller_time_s:.1f} s of controller time "
+        f"({report.wall_time_s:.1f} s wall), {report.overruns} overruns, "
+        f"travelled {report.distance_m:.2f} m, closest approach to a wall or block "
+        f"{report.closest_approach_mm:.1f} mm; motors stopped, LEDs off\n"
+    )
+    return report

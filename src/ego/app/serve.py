@@ -1,0 +1,286 @@
+"""``ego serve``: its command-line options, and the loop that serves until a signal.
+
+The ``ego`` command wires it as a subcommand::
+
+    serve = sub.add_parser("serve", help="let another machine drive this robot")
+    ego.app.serve.add_arguments(serve)
+    serve.set_defaults(func=ego.app.serve.run)     # then: sys.exit(args.func(args))
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import logging
+import os
+import signal
+import sys
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from ego.app.cli_options import add_dashboard_options, error_line
+from ego.backends import open_port, takes_option
+from ego.core.channel import Channel
+from ego.core.ports import DEFAULT_CAMERA_DEVICE
+from ego.core.safety import TERMINATING_SIGNALS
+from ego.errors import EgoError
+from ego.net.auth import load_secret
+from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmware
+from ego.servers.socket.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, Server, check_listen
+
+if TYPE_CHECKING:
+    from ego.camera.source import FrameSource
+
+__all__ = ["ServedRobot", "add_arguments", "open_robot", "run"]
+
+log = logging.getLogger(__name__)
+
+
+#: The longest deadman ego serve accepts: beyond a minute it no longer protects anyone.
+MAX_DEADLINE_MS = 60_000
+
+
+def _deadline_ms(text: str) -> int:
+    """An argparse type: whole milliseconds within 1..MAX_DEADLINE_MS."""
+    value = int(text) if text.strip().isdigit() and len(text.strip()) < 12 else -1
+    if not 1 <= value <= MAX_DEADLINE_MS:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a whole number of milliseconds within 1..{MAX_DEADLINE_MS} "
+            "(the deadman stops the motors when the client is silent this long)"
+        )
+    return value
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of ``ego serve``."""
+    parser.add_argument(
+        "--port",
+        default=None,
+        help="serial port of the dsPIC, or 'sim' for the built-in emulator "
+        "(default: $EGO_PORT, else /dev/ttyS0)",
+    )
+    parser.add_argument(
+        "--listen",
+        action="append",
+        metavar="URL",
+        help=f"tcp://HOST:PORT or udp://HOST:PORT to serve on, repeatable "
+        f"(default: {DEFAULT_LISTEN}); off 127.0.0.1 a --secret-file is required",
+    )
+    parser.add_argument(
+        "--secret-file",
+        metavar="FILE",
+        help="file holding the shared secret clients must prove they know (chmod 600); "
+        "also given to a --port that wants one (tcp://, udp://, unix://)",
+    )
+    parser.add_argument(
+        "--firmware",
+        choices=(*FIRMWARE_CHOICES, *DEPRECATED_FIRMWARE_NAMES),
+        metavar="{auto,gctronic,webots}",
+        default="auto",
+        help="dsPIC firmware (default: ask the robot); with --port sim, the one emulated",
+    )
+    parser.add_argument(
+        "--deadline-ms",
+        type=_deadline_ms,
+        default=round(DEFAULT_DEADLINE_S * 1000),
+        help="stop the motors when the client is silent this long (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--zenoh",
+        action="store_true",
+        help="serve the robot as a Zenoh node instead of on --listen: ego/NAME/... "
+        "(docs/zenoh.md); controllers reach it as zenoh://NAME",
+    )
+    _add_zenoh_arguments(parser)
+    add_dashboard_options(
+        parser, "a dashboard of the robot as the client drives it, with a stop button",
+        secret=False,  # --secret-file above serves the dashboard too
+    )  # fmt: skip
+    parser.add_argument(
+        "--camera",
+        metavar="DEVICE",
+        default=None,
+        help=f"video device to serve (default: $EGO_CAMERA, else {DEFAULT_CAMERA_DEVICE} if it "
+        "exists; the emulator's camera with --port sim); 'none' serves no camera",
+    )
+
+
+def _add_zenoh_arguments(parser: argparse.ArgumentParser) -> None:
+    """``ego serve --zenoh`` and its session's options."""
+    parser.add_argument("--name", default="epuck", help="the robot's Zenoh name (default epuck)")
+    parser.add_argument(
+        "--zenoh-listen",
+        action="append",
+        metavar="ENDPOINT",
+        help="Zenoh endpoint to listen on, repeatable (default tcp/127.0.0.1:7447); off "
+        "loopback a --zenoh-config with Zenoh's authentication is required",
+    )
+    parser.add_argument(
+        "--zenoh-connect", action="append", metavar="ENDPOINT",
+        help="Zenoh endpoint (a router, another peer) to connect to, repeatable",
+    )  # fmt: skip
+    parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration")
+
+
+@dataclass
+class ServedRobot:
+    """What ``ego serve`` opened: the channel, the camera, and how to close them all."""
+
+    channel: Channel
+    camera: FrameSource | None = None
+    closers: list[Callable[[], None]] = field(default_factory=list)
+    #: The emulated world behind a simulated robot (its ground truth), else None.
+    world: Any = None
+
+    def close(self) -> None:
+        for close in self.closers:
+            with contextlib.suppress(Exception):
+                close()
+
+
+def open_robot(
+    port: str | None,
+    firmware: str = "auto",
+    camera: str | None = None,
+    secret: bytes | None = None,
+) -> ServedRobot:
+    """The robot on ``port`` (any backend's: "sim" starts an emulator) and its camera;
+    ``secret`` goes to a backend that takes one (a robot served elsewhere)."""
+    from ego.core.ports import resolve_port
+
+    resolved = resolve_port(port)
+    # Only a device named on the command line goes to the backend (the emulator has no
+    # V4L2 devices, and says so when given one).
+    options: dict[str, Any] = {"camera_device": camera} if camera not in (None, "none") else {}
+    if secret is not None and takes_option(resolved, "secret"):
+        options["secret"] = secret
+    opened = open_port(resolved, firmware=Firmware.choose(firmware), **options)
+    world = getattr(opened.ground_truth, "world", None)
+    robot = ServedRobot(opened.channel, closers=[opened.close], world=world)
+    device = camera or os.environ.get("EGO_CAMERA")
+    # Serve the backend's camera: a simulated one always, a V4L2 device when named or
+    # present (a robot without its camera board serves none rather than fail).
+    wanted = opened.ground_truth is not None or device is not None
+    present = wanted or os.path.exists(DEFAULT_CAMERA_DEVICE)
+    if device != "none" and opened.camera is not None and present:
+        robot.camera = opened.camera()
+        robot.closers.insert(0, robot.camera.close)
+    return robot
+
+
+def run(args: argparse.Namespace) -> int:
+    """Serve until a signal ends it (SIGINT, SIGTERM, SIGHUP...), then stop the robot."""
+    if not logging.getLogger().handlers:
+        logging.basicConfig(level=logging.INFO, format="%(asctime)s %(levelname)s %(message)s")
+    listen = args.listen or [DEFAULT_LISTEN]
+    if args.zenoh and args.listen:
+        print("ego serve: serve over --zenoh or on --listen, not both: one controller holds "
+              "a robot", file=sys.stderr)  # fmt: skip
+        return 2
+    try:
+        secret = load_secret(args.secret_file) if args.secret_file else None
+        check_listen(listen, secret)  # before the robot is touched
+    except (OSError, ValueError) as exc:
+        print(f"ego serve: {exc}", file=sys.stderr)
+        return 2
+    try:
+        robot = open_robot(args.port, args.firmware, args.camera, secret)
+    except EgoError as exc:
+        print(f"ego serve: {error_line(exc)}", file=sys.stderr)
+        return 1
+    try:
+        channel = _dashboard(args, robot, secret) if args.dashboard else robot.channel
+        if args.zenoh:
+            return _serve_zenoh(args, robot, channel)
+        server = Server(
+            channel,
+            listen=listen,
+            secret=secret,
+            deadline_s=args.deadline_ms / 1000,
+            frame_source=robot.camera,
+        )
+        asyncio.run(_serve(server))
+    except ValueError as exc:  # a deadline out of range
+        print(f"ego serve: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # the address is in use, or not ours
+        print(f"ego serve: cannot listen: {exc}", file=sys.stderr)
+        return 1
+    finally:
+        robot.close()
+    return 0
+
+
+def _dashboard(args: argparse.Namespace, robot: ServedRobot, secret: bytes | None) -> Channel:
+    """Start ``--dashboard`` on the served robot; the channel the server must use."""
+    from ego.servers.dashboard.live import parse_address
+    from ego.servers.dashboard.served import ServedFeed, WatchedChannel
+    from ego.servers.dashboard.server import DashboardServer
+
+    watched = WatchedChannel(robot.channel, world=robot.world)
+    feed = ServedFeed(watched, str(args.port or "default port"))
+    host, port = parse_address(args.dashboard)
+    board = DashboardServer(feed, host, port, secret).start()
+    feed.server = board
+    robot.closers.insert(0, board.close)
+    print(f"ego serve: dashboard at {board.url}", file=sys.stderr, flush=True)
+    return watched
+
+
+def _serve_zenoh(args: argparse.Namespace, robot: ServedRobot, channel: Channel) -> int:
+    """Serve the robot as the Zenoh node ``--name`` until a signal ends it."""
+    from ego.servers.zenoh_node.node import RobotNode
+    from ego.zenoh_net.keys import check_name
+    from ego.zenoh_net.sessions import DEFAULT_ENDPOINT, ZenohSettings, open_session
+
+    try:
+        check_name(args.name)
+        settings = ZenohSettings(args.zenoh_listen or [DEFAULT_ENDPOINT], args.zenoh_connect,
+                                 args.zenoh_config)  # fmt: skip
+        session: Any = open_session(settings)
+    except (ValueError, EgoError) as exc:
+        print(f"ego serve: {exc}", file=sys.stderr)
+        return 2
+    node = RobotNode(channel, session, args.name, deadline_s=args.deadline_ms / 1000,
+                     world=robot.world).start()  # fmt: skip
+    print(f"ego serve: {channel.name} ({channel.profile.firmware} firmware) as Zenoh node "
+          f"{args.name} on {', '.join(settings.listen)}", file=sys.stderr, flush=True)  # fmt: skip
+    stop = threading.Event()
+    previous = {}
+    for sig in (signal.SIGINT, *TERMINATING_SIGNALS):
+        with contextlib.suppress(ValueError, OSError):
+            previous[sig] = signal.signal(sig, lambda *_: stop.set())
+    try:
+        stop.wait()
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        node.close()
+        session.close()
+    return 0
+
+
+async def _serve(server: Server) -> None:
+    loop = asyncio.get_running_loop()
+    stop = asyncio.Event()
+    # Every signal that would end the process (an ssh session dropping sends SIGHUP)
+    # stops the server first, which stops the robot; handlers set by others are kept.
+    for sig in (signal.SIGINT, *TERMINATING_SIGNALS):
+        if sig != signal.SIGINT and signal.getsignal(sig) is not signal.SIG_DFL:
+            continue
+        with contextlib.suppress(NotImplementedError, RuntimeError, ValueError):
+            loop.add_signal_handler(sig, stop.set)
+    try:
+        await server.start()
+        print(
+            f"ego serve: {server.channel.name} ({server.channel.profile.firmware} firmware) "
+            f"on {', '.join(server.urls)}",
+            file=sys.stderr,
+            flush=True,
+        )
+        await stop.wait()
+    finally:
+        await server.aclose()

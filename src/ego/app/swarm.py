@@ -1,0 +1,192 @@
+"""``ego swarm --robots N [--world FILE] controller.py``: N emulated e-pucks in one world.
+
+The robots share one emulated world (each sees the others on its proximity sensors and
+bumps into them: the emulator's crowd, reached through its backend, since ego never
+imports the emulator). Each is served as a Zenoh node, ``epuck0`` .. ``epuckN-1``, on
+this process's Zenoh session; each runs its controller in a process of its own through
+``ego run --port zenoh://epuckK``: the same path as a real robot's. Webots' Emitter and
+Receiver work between them (their signal strength from the world). Given several
+controller files, robot K runs file ``K mod len(files)``.
+
+Each robot's sensors have a noise stream of their own, seeded from the swarm's seed and
+the robot's index (:func:`robot_seed`): the same seed gives the same run, and no two
+robots read the same noise. What a controller prints reaches this process's standard
+output and error line by line, each line headed by its robot's name (``[epuck0] ``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import IO, Any
+
+from ego.backends import Opened, find_backend
+from ego.serial.protocol import Firmware
+
+__all__ = ["MAX_ROBOTS", "Swarm", "robot_name", "robot_seed"]
+
+#: The names of a swarm's robots: epuck0, epuck1...
+NAME_PREFIX = "epuck"
+#: The largest swarm served.
+MAX_ROBOTS = 64
+
+
+def robot_name(index: int) -> str:
+    return f"{NAME_PREFIX}{index}"
+
+
+def robot_seed(seed: int | None, index: int) -> int | None:
+    """The noise seed of robot ``index`` in a swarm seeded ``seed`` (None: a fresh one).
+
+    ``seed * MAX_ROBOTS + index``: distinct for every robot of every seed, so that two
+    seeds never share a stream between their robots (``seed + index`` would give robot 1
+    of seed 1 the noise of robot 0 of seed 2).
+    """
+    return None if seed is None else seed * MAX_ROBOTS + index
+
+
+@dataclass
+class Swarm:
+    """N emulated robots in one world, served as Zenoh nodes (see the module's doc)."""
+
+    count: int
+    world: str | None = None
+    firmware: str = "webots"
+    seed: int | None = 1
+    endpoint: str = "tcp/127.0.0.1:7447"
+    deadline_s: float = 0.5
+    worlds: list[Any] = field(default_factory=list)
+    opened: list[Opened] = field(default_factory=list)
+    nodes: list[Any] = field(default_factory=list)
+    session: Any = None
+    _closers: list[Any] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        if not 1 <= self.count <= MAX_ROBOTS:
+            raise ValueError(f"a swarm of {self.count} robots: 1..{MAX_ROBOTS} are served")
+
+    def start(self) -> Swarm:
+        from ego.servers.zenoh_node.node import RobotNode
+        from ego.zenoh_net.sessions import ZenohSettings, open_session
+
+        backend: Any = find_backend("sim")
+        seeds = [robot_seed(self.seed, index) for index in range(self.count)]
+        self.worlds = backend.swarm_worlds(self.world, seeds)
+        self.session = open_session(ZenohSettings(listen=[self.endpoint], connect=[]))
+        try:
+            for index, world in enumerate(self.worlds):
+                opened = backend.open("sim", firmware=Firmware(self.firmware), world=world)
+                self.opened.append(opened)
+                node = RobotNode(opened.channel, self.session, robot_name(index),
+                                 deadline_s=self.deadline_s, world=world)  # fmt: skip
+                self.nodes.append(node.start())
+        except BaseException:
+            self.close()
+            raise
+        return self
+
+    def serve_dashboard(self, address: str | None, secret: bytes | None = None) -> str:
+        """A dashboard of the whole swarm (every robot on the map, one stop for all); its URL."""
+        from ego.servers.dashboard.live import parse_address
+        from ego.servers.dashboard.served import SwarmFeed
+        from ego.servers.dashboard.server import DashboardServer
+
+        feed = SwarmFeed([robot_name(i) for i in range(self.count)],
+                         [node.watched for node in self.nodes])  # fmt: skip
+        host, port = parse_address(address)
+        server = DashboardServer(feed, host, port, secret).start()
+        feed.server = server
+        feed.start()
+        self._closers.append(server.close)
+        self._closers.append(feed.close)
+        return server.url
+
+    def close(self) -> None:
+        while self._closers:
+            self._closers.pop()()
+        for node in self.nodes:
+            node.close()
+        for opened in self.opened:
+            with contextlib.suppress(Exception):
+                opened.close()
+        if self.session is not None:
+            self.session.close()
+        self.nodes, self.opened, self.session = [], [], None
+
+    def __enter__(self) -> Swarm:
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def controller_env(self) -> dict[str, str]:
+        """The environment a controller process reaches its robot with (its output
+        unbuffered: its lines are relayed as they come)."""
+        return {**os.environ, "EGO_ZENOH_CONNECT": self.endpoint,
+                "EGO_ZENOH_LISTEN": "tcp/127.0.0.1:0", "PYTHONUNBUFFERED": "1"}  # fmt: skip
+
+    def run_controllers(
+        self, files: Sequence[str], args: Sequence[str] = (), duration_s: float | None = None
+    ) -> list[int]:
+        """Run each robot's controller in its own process until all end; their statuses.
+
+        Their output is relayed line by line, each line headed ``[epuckK] ``.
+        """
+        processes: list[subprocess.Popen[bytes]] = []
+        relays: list[threading.Thread] = []
+        try:
+            for index in range(self.count):
+                command = [sys.executable, "-m", "ego", "run", "--port",
+                           f"zenoh://{robot_name(index)}"]  # fmt: skip
+                if duration_s is not None:
+                    command += ["--duration", str(duration_s)]
+                command += [files[index % len(files)], *args]
+                pipe = subprocess.PIPE
+                process = subprocess.Popen(command, env=self.controller_env(), stdout=pipe,
+                                           stderr=pipe)  # fmt: skip
+                processes.append(process)
+                relays += _relay(process, f"[{robot_name(index)}] ")
+            return [process.wait() for process in processes]
+        finally:
+            _end_all(processes)
+            for relay in relays:
+                relay.join(5)
+
+
+def _relay(process: subprocess.Popen[bytes], prefix: str) -> list[threading.Thread]:
+    """Threads that copy ``process``'s output and errors here, each line after ``prefix``."""
+    pairs = ((process.stdout, sys.stdout), (process.stderr, sys.stderr))
+    threads = [
+        threading.Thread(target=_copy_lines, args=(source, to, prefix),
+                         name=f"ego-swarm-relay {prefix.strip()}", daemon=True)
+        for source, to in pairs
+        if source is not None
+    ]  # fmt: skip
+    for thread in threads:
+        thread.start()
+    return threads
+
+
+def _copy_lines(source: IO[bytes], to: IO[str], prefix: str) -> None:
+    with source:
+        for raw in source:
+            line = raw.decode("utf-8", "replace").rstrip("\r\n")
+            to.write(f"{prefix}{line}\n")
+            to.flush()
+
+
+def _end_all(processes: Sequence[subprocess.Popen[bytes]]) -> None:
+    """Terminate the processes still running, and give each up to 5 s to end."""
+    for process in processes:
+        if process.poll() is None:
+            process.terminate()
+    deadline = time.monotonic() + 5
+    for process in processes:
+        with contextlib.suppress(subprocess.TimeoutExpired):
+            process.wait(max(0.1, deadline - time.monotonic()))

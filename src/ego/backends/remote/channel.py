@@ -1,0 +1,388 @@
+"""The PC side: a robot behind ``ego serve`` as a :class:`~ego.core.channel.Channel`, and
+its camera.
+
+:class:`RemoteChannel` carries a Robot's batches to the server as lists of requests; the
+server encodes each for its own serial link and answers with exactly the batch's reply
+bytes, or with the ego error its link met (LinkTimeoutError, RobotResetError...), which
+is raised here as that class with its fields. Nothing is relayed byte by byte: the
+server's link resynchronises, retries and re-detects its line by itself.
+
+While the controller waits out a step (:meth:`RemoteChannel.waiting_until`, which
+``Robot.step`` calls), a heartbeat thread pings the server when the line is quiet, so
+that a controller with a 1 s step is not taken for a dead one; once the controller
+stops stepping (it hangs, or loops without calling step), the pings stop too and the
+server's deadman stops the robot after ``deadline_s``. Before the first step nothing
+drives the robot, and the pings go on. A ping told that the server ended the session
+(its deadman stopped the robot, it shut down) ends the controller as a lost link does:
+the next step raises that LinkLostError (``Robot.step`` is -1), even a step that sends
+nothing. ``close`` says goodbye.
+
+>>> channel = RemoteChannel.from_url("udp://127.0.0.1:4242")   # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import math
+import threading
+import time
+import weakref
+from typing import TYPE_CHECKING, Any
+
+from ego.backends.remote.connection import Connection, RemoteStats, error_from_reply
+from ego.core.channel import reconnect_within
+from ego.errors import (
+    CameraCaptureError,
+    CameraError,
+    EgoError,
+    ImageFormatError,
+    LinkLostError,
+    LinkTimeoutError,
+    OutOfRangeError,
+    PortNotFoundError,
+    ProtocolError,
+    RobotBusyError,
+    RobotResetError,
+    ShortReplyError,
+)
+from ego.net.auth import coerce_secret, secret_from_environment
+from ego.net.messages import (
+    Ascii,
+    CameraClose,
+    CameraControl,
+    CameraFrame,
+    CameraOpen,
+    Info,
+    RobotCall,
+    Step,
+    pack_request,
+)
+from ego.net.wire import ASCII_REPLY_LINES, MessageType, parse_url, unpack_json
+from ego.serial.firmware import FirmwareInfo, gctronic_profile
+from ego.serial.link import LinkSettings, LinkStats
+from ego.serial.protocol import PROFILES, Batch, Firmware, Profile
+
+if TYPE_CHECKING:
+    from ego.camera.source import GrantedFormat, PixelFormat
+
+__all__ = ["RemoteChannel", "RemoteFrameSource", "RemoteStats", "error_from_reply", "info_from"]
+
+log = logging.getLogger(__name__)
+
+
+def info_from(fields: dict[str, Any]) -> FirmwareInfo:
+    """The server link's firmware, profile included, from what it said (service.firmware_fields)."""
+    firmware = Firmware(str(fields.get("firmware", "webots")))
+    profile: Profile = PROFILES[firmware]
+    if firmware is Firmware.GCTRONIC:
+        selector = fields.get("selector")
+        profile = gctronic_profile(
+            selector if isinstance(selector, int) else None, fields.get("rev13") or None
+        )
+    hardware = fields.get("hardware_version")
+    return FirmwareInfo(
+        profile,
+        str(fields.get("firmware_version", "")),
+        hardware if isinstance(hardware, int) else None,
+        fields.get("selector") if isinstance(fields.get("selector"), int) else None,
+        bool(fields.get("detected", True)),
+    )
+
+
+class RemoteChannel:
+    """A robot served by ``ego serve``, over TCP or UDP: the Channel a Robot steps through.
+
+    ``secret`` defaults to ``EGO_SECRET_FILE`` / ``EGO_SECRET`` from the environment; a
+    client that has one refuses a server that cannot prove it has it too. ``timeout_s``
+    bounds one request (the server may retry the serial line meanwhile); a lost server
+    is reconnected to within ``settings.reconnect_timeout_s``, after which the robot's
+    state is re-applied (RobotResetError), as after a re-plugged serial port.
+    """
+
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        *,
+        protocol: str = "tcp",
+        secret: str | bytes | None = None,
+        settings: LinkSettings | None = None,
+        timeout_s: float = 5.0,
+        heartbeat: bool = True,
+        **connection_options: Any,
+    ) -> None:
+        if protocol not in ("tcp", "udp", "unix"):
+            raise ValueError(f"protocol {protocol!r} is not tcp, udp or unix")
+        self._address = (host, port, protocol)
+        shown = f"[{host}]" if ":" in host else host
+        self.name: str = f"unix://{host}" if protocol == "unix" else f"{protocol}://{shown}:{port}"
+        self.secret = coerce_secret(secret) if secret is not None else secret_from_environment()
+        self.settings = settings or LinkSettings()
+        self.timeout_s = timeout_s
+        self.heartbeat = heartbeat
+        self._options = connection_options
+        self.net = RemoteStats()
+        self.stats = LinkStats()
+        self._lock = threading.Lock()
+        self._last_activity = 0.0
+        #: Until when the heartbeat may keep the session alive (time.monotonic()): no
+        #: limit until the controller's first step, then the end of each step's wait.
+        self._alive_until = math.inf
+        self._closed = False
+        #: The end of the session, as a heartbeat heard the server announce it.
+        self._ended: LinkLostError | None = None
+        self._conn: Connection | None = None
+        self._beat_stop = threading.Event()
+        self._connect()
+
+    @classmethod
+    def from_url(cls, url: str, secret: str | bytes | None = None, **options: Any) -> RemoteChannel:
+        """``tcp://host:port``, ``udp://host:port`` (port 4242 if omitted) or ``unix:///path``."""
+        try:
+            scheme, host, port = parse_url(url)
+        except ValueError as exc:
+            raise PortNotFoundError(str(exc)) from exc
+        return cls(host, port, protocol=scheme, secret=secret, **options)
+
+    def _connect(self) -> None:
+        host, port, protocol = self._address
+        conn = Connection(host, port, protocol, self.secret, stats=self.net, **self._options)
+        self._conn = conn
+        self.info = info_from(conn.welcome)
+        self.server_info = conn.welcome
+        log.info("%s: connected, %s firmware", conn.name, self.info.firmware)
+        if self.heartbeat:
+            self._beat_stop = threading.Event()
+            threading.Thread(
+                target=_heartbeat,
+                args=(weakref.ref(self), self._beat_stop, max(0.01, conn.deadline_s / 4)),
+                name="ego-remote-heartbeat",
+                daemon=True,
+            ).start()
+
+    @property
+    def profile(self) -> Profile:
+        return self.info.profile
+
+    @property
+    def deadline_s(self) -> float:
+        """How long the server lets this client be silent before it stops the robot."""
+        return self._conn.deadline_s if self._conn is not None else 0.5
+
+    # -- the Channel -------------------------------------------------------------------------
+
+    def exchange(self, batch: Batch) -> bytes:
+        if not batch.requests:
+            return b""
+        reply = self._request(Step(batch.requests))
+        self.stats.batches += 1
+        self.stats.bytes_sent += len(batch.tx)
+        self.stats.bytes_received += len(reply)
+        if len(reply) != batch.reply_size:
+            raise ShortReplyError(
+                f"{self.name}: {len(reply)} reply bytes from the server, "
+                f"the batch asks for {batch.reply_size}"
+            )
+        return reply
+
+    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
+        if ASCII_REPLY_LINES.get(letter) is None:
+            relayed = ", ".join(ASCII_REPLY_LINES)
+            raise ProtocolError(f"{self.name}: ASCII command {letter!r} is not relayed ({relayed})")
+        return self._lines(self._request(Ascii(letter, ASCII_REPLY_LINES[letter])))[:lines]
+
+    def calibrate_proximity(self) -> list[str]:
+        return self._lines(self._request(Ascii("K", ASCII_REPLY_LINES["K"])))
+
+    @staticmethod
+    def _lines(reply: bytes) -> list[str]:
+        return [line for line in reply.decode("ascii", "replace").split("\r\n") if line]
+
+    def waiting_until(self, deadline_s: float) -> None:
+        self._raise_if_ended()
+        self._alive_until = deadline_s
+
+    def _raise_if_ended(self) -> None:
+        """The server ended the session behind a controller that sends nothing (its
+        steps only wait): it ends, as on a lost link, rather than step on blind."""
+        ended = self._ended
+        if ended is not None:
+            raise LinkLostError(str(ended)) from ended
+
+    def call(self, request: RobotCall, timeout_s: float | None = None) -> bytes:
+        """One request to the server (the camera's, say); its reply payload."""
+        with self._lock:
+            conn = self._conn
+            if conn is None or self._closed:
+                raise LinkLostError(f"{self.name}: not connected")
+            mtype, payload = pack_request(request)
+            self._last_activity = time.monotonic()
+            try:
+                return conn.call(mtype, payload, self.timeout_s if timeout_s is None else timeout_s)
+            finally:
+                self._last_activity = time.monotonic()
+
+    def _request(self, request: RobotCall) -> bytes:
+        """A request to the robot's link; a lost server is reconnected to (see the class)."""
+        if self._closed:
+            raise LinkLostError(f"{self.name}: the channel is closed")
+        self._raise_if_ended()
+        try:
+            return self.call(request)
+        except RobotResetError:
+            self.stats.restarts += 1
+            self.info = info_from(unpack_json(self.call(Info())))
+            raise
+        except LinkLostError as exc:
+            self.stats.faults["LinkLostError"] += 1
+            self._reconnect(exc)
+            raise AssertionError("unreachable") from None
+
+    def _reconnect(self, cause: LinkLostError) -> None:
+        """Connect again until the deadline (a new session: the server stopped the robot)."""
+        log.warning("%s: %s; reconnecting", self.name, cause)
+        self._shutdown(goodbye=True)
+        # A server still holding our old session refuses with RobotBusyError until its
+        # deadman releases it: not back yet.
+        not_back = (PortNotFoundError, LinkLostError, RobotBusyError, LinkTimeoutError)
+        reconnect_within(
+            self.name, self.settings.reconnect_timeout_s, self._connect, not_back, cause
+        )
+        self.stats.reconnects += 1
+        raise RobotResetError(f"{self.name}: reconnected; robot state must be re-applied")
+
+    def close(self) -> None:
+        """Say goodbye (the server stops the robot) and close the socket; idempotent."""
+        self._closed = True
+        self._shutdown(goodbye=True)
+
+    def _shutdown(self, goodbye: bool) -> None:
+        self._beat_stop.set()
+        with self._lock:
+            conn, self._conn = self._conn, None
+            if conn is None:
+                return
+            if goodbye:
+                with contextlib.suppress(EgoError, OSError):
+                    conn.call(MessageType.BYE, b"", 0.3)
+            conn.close()
+
+    @property
+    def is_open(self) -> bool:
+        return self._conn is not None
+
+    def _beat(self) -> None:
+        """Ping the server if nothing was sent for a while (called by the heartbeat thread)."""
+        now = time.monotonic()
+        conn = self._conn
+        if (
+            conn is None
+            or now - self._last_activity < conn.deadline_s / 4
+            or now > self._alive_until
+        ):
+            return
+        if not self._lock.acquire(blocking=False):
+            return  # a request is under way: that is activity enough
+        try:
+            if self._conn is not None and not self._beat_stop.is_set():
+                self.net.heartbeats += 1
+                self._last_activity = now
+                self._conn.call(MessageType.PING, b"", self._conn.deadline_s)
+        except LinkLostError as exc:
+            if not getattr(exc, "session_ended", False):
+                log.debug("%s: heartbeat failed: %s", self.name, exc)
+                return
+            log.warning("%s", exc)
+            self._ended = exc
+            self._beat_stop.set()
+        except (EgoError, OSError) as exc:
+            log.debug("%s: heartbeat failed: %s", self.name, exc)
+        finally:
+            self._lock.release()
+
+    def frame_source(self) -> RemoteFrameSource:
+        """The robot's camera, fetched through this connection."""
+        return RemoteFrameSource(self)
+
+    def __repr__(self) -> str:
+        return f"<RemoteChannel {self.name} {'open' if self.is_open else 'closed'}>"
+
+
+def _heartbeat(
+    ref: weakref.ReferenceType[RemoteChannel], stop: threading.Event, interval_s: float
+) -> None:
+    """The heartbeat thread. It holds the channel weakly: a channel dropped without
+    ``close`` stops beating, and the server's deadman then stops the robot."""
+    while not stop.wait(interval_s / 4):
+        channel = ref()
+        if channel is None:
+            return
+        channel._beat()
+        del channel
+
+
+class RemoteFrameSource:
+    """The camera of a robot behind ``ego serve``: a frame source for ego's Camera.
+
+    Raw frames come in the pixel format asked at :meth:`open` (RGB565, so the client's
+    Camera converts and rotates them locally); :meth:`fetch_encoded` asks the server for
+    a JPEG or PNG instead, far smaller on a slow network.
+    """
+
+    def __init__(self, channel: RemoteChannel) -> None:
+        if not isinstance(channel, RemoteChannel):
+            raise CameraError(f"{channel!r} is not a remote robot: no remote camera there")
+        self.channel = channel
+        self.granted: GrantedFormat | None = None
+
+    def _request(self, request: RobotCall) -> bytes:
+        try:
+            return self.channel.call(request)
+        except (LinkTimeoutError, LinkLostError) as exc:
+            raise CameraCaptureError(f"camera of {self.channel.name}: {exc}") from exc
+
+    def open(self, width: int, height: int, pixel_format: PixelFormat | str) -> GrantedFormat:
+        """Start capture near ``width`` x ``height``; what the robot's camera granted."""
+        from ego.camera.source import GrantedFormat, PixelFormat
+
+        fmt = PixelFormat(pixel_format)
+        reply = unpack_json(self._request(CameraOpen(width, height, fmt.value)))
+        self.granted = GrantedFormat(
+            int(reply["width"]), int(reply["height"]), int(reply["stride"])
+        )
+        return self.granted
+
+    def read_frame(self) -> bytes:
+        """The next raw frame, ``stride_bytes`` x ``height`` bytes."""
+        return self._request(CameraFrame("raw"))
+
+    def fetch_encoded(self, kind: str = "jpeg", quality: int = 90, rotation: int = 180) -> bytes:
+        """The next frame as a JPEG (``quality`` 1..100) or PNG file's bytes, converted
+        and rotated (degrees counter-clockwise; 180 undoes the camera's mounting) on the
+        robot."""
+        from ego.camera.encode import check_quality
+        from ego.core.validate import ROTATIONS
+
+        if kind not in ("jpeg", "png"):
+            raise ImageFormatError(f"image kind {kind!r} is not jpeg or png")
+        quality = check_quality(quality)
+        if isinstance(rotation, bool) or rotation not in ROTATIONS:
+            raise OutOfRangeError(f"rotation {rotation!r} is not one of 0, 90, 180, 270 degrees")
+        return self._request(CameraFrame(kind, quality, rotation))
+
+    def set_control(self, name: str, value: int) -> int:
+        """Set a camera control (brightness, contrast...); the value the camera took."""
+        return int(unpack_json(self._request(CameraControl(name, int(value))))["value"])
+
+    def set_fov_rad(self, fov_rad: float) -> float:
+        """Zoom an emulated camera; a real one keeps its optics and reports ``fov_rad``."""
+        return float(unpack_json(self._request(CameraControl("fov_rad", float(fov_rad))))["value"])
+
+    def close(self) -> None:
+        """Stop capture; harmless when not open or when the connection is gone."""
+        if self.granted is None:
+            return
+        self.granted = None
+        with contextlib.suppress(EgoError):
+            self._request(CameraClose())

@@ -1,0 +1,76 @@
+"""How a controller run is set up when the controller itself cannot say: ``ego run`` fills it.
+
+A Webots controller constructs ``Robot()`` with no arguments; the port, a time limit and
+progress listeners therefore come from the run's :class:`RunOptions` (made by ``ego run``
+/ ``ego demo``, held by the current :class:`ego.faces.default_robot.FaceContext`), or from
+``EGO_PORT``. This module holds no state of its own: :func:`current` and
+:func:`set_options` read and change the current face context's options.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ego.core.robot import Robot
+
+__all__ = ["RunOptions", "current", "set_options"]
+
+
+@dataclass
+class RunOptions:
+    #: Where to connect (None: EGO_PORT, else /dev/ttyS0).
+    port: str | None = None
+    firmware: str | None = None
+    #: After this much controller time, step() returns -1, as when Webots stops.
+    duration_s: float | None = None
+    #: What getBasicTimeStep() answers (ms); e-puck worlds commonly use 32.
+    basic_time_step_ms: float = 32.0
+    seed: int | None = None
+    #: ``ego run --world``: the emulator's world (a built-in name or a TOML file; port sim).
+    world: str | None = None
+    #: ``ego run --strict``: where Webots would print a warning and carry on (an unknown
+    #: device, a speed beyond the maximum), the Webots face raises ego's error instead.
+    strict: bool = False
+    #: ``ego run --camera WxH``: the Webots face's camera size (None: Webots' e-puck 52x39).
+    camera_size: tuple[int, int] | None = None
+    #: ``ego run --fast``: the emulator in virtual time, as fast as it can (port sim).
+    fast: bool = False
+    #: ``ego run --secret-file``: the shared secret of a served robot (tcp://, udp://, unix://).
+    secret: bytes | None = None
+    #: Called with each core Robot a face creates (progress displays subscribe here).
+    on_robot: list[Callable[[Robot], None]] = field(default_factory=list)
+
+    def robot_options(self) -> dict[str, Any]:
+        """The options the faces open their robot with (None: the backend's default)."""
+        return {
+            "firmware": self.firmware,
+            "seed": self.seed,
+            "world": self.world,
+            "virtual_time": True if self.fast else None,
+            "secret": self.secret,
+        }
+
+    def time_is_up(self, time_s: float) -> bool:
+        """Whether a controller at ``time_s`` of controller time has used up ``duration_s``.
+
+        The one cutoff of ``ego run --duration``: the Webots ``Robot.step`` and the
+        C-style faces' step both end the run (returning -1) once this is true.
+        """
+        return self.duration_s is not None and time_s >= self.duration_s - 1e-9
+
+
+def current() -> RunOptions:
+    """The options of the current face context (:func:`ego.faces.default_robot.current_context`)."""
+    from ego.faces.default_robot import current_context
+
+    return current_context().options
+
+
+def set_options(options: RunOptions) -> None:
+    """Give the current face context ``options`` (its robot, if any, stays open)."""
+    from ego.faces.default_robot import current_context
+
+    current_context().options = options

@@ -1,0 +1,1 @@
+"""Recordings: the MCAP format of ``ego run --record``, its writer and its reader."""

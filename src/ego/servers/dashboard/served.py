@@ -1,0 +1,281 @@
+"""``ego serve --dashboard``: the robot a PC drives, seen (and stopped) on the robot's side.
+
+``ego serve`` has no Robot: its client's batches pass through. :class:`WatchedChannel`
+sits between the server and the robot's channel. It reads each batch and its reply into
+a sample (the same keys as :mod:`ego.core.telemetry`'s) and, while the page's stop holds,
+turns every wheel command of the client's batches into (0, 0): the PC's controller runs
+on, its robot stays put. The page may stop and resume; driving, LEDs and sensors belong
+to the controller on the PC, and the page says so.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import Any
+
+from ego.core.channel import Channel
+from ego.core.safety import send_stop
+from ego.core.telemetry import Sampler, describe_firmware, describe_world, world_pose
+from ego.serial.protocol import Batch, Command, Request, encode_batch
+from ego.servers.dashboard.control import ControlDesk, Reply
+from ego.servers.dashboard.server import DashboardServer
+
+__all__ = ["ServedFeed", "SwarmFeed", "WatchedChannel"]
+
+#: What a reply's values are, by command: the sample's key.
+_READINGS = {
+    Command.PROXIMITY: "proximity",
+    Command.LIGHT: "light",
+    Command.FLOOR: "floor",
+    Command.GET_STEPS: "encoders",
+    Command.MIC_AMPLITUDE: "microphones",
+}
+_FAMILY_COMMANDS = (
+    (Command.PROXIMITY, "proximity"), (Command.LIGHT, "light"), (Command.FLOOR, "floor"),
+    (Command.ACCELEROMETER_RAW, "accelerometer"), (Command.GET_STEPS, "encoders"),
+    (Command.MIC_AMPLITUDE, "microphones"),
+)  # fmt: skip
+GRAVITY_MPS2 = 9.81
+
+
+class WatchedChannel:
+    """A channel whose batches a dashboard reads, and whose wheels it may hold stopped."""
+
+    def __init__(self, inner: Channel, on_sample: Any = None, world: Any = None) -> None:
+        self.inner = inner
+        self.world = world
+        self.on_sample = on_sample
+        self.halted = False
+        self.lock = threading.RLock()
+        self._sampler = Sampler(world_pose(world))
+        self._readings: dict[str, list[float] | None] = {}
+        self._speed = [0, 0]
+        self._asked = (0, 0)
+        self._leds = [0] * 10
+        self._battery: int | None = None
+        self._steps = 0
+        #: The sample of the last batch (None before the first).
+        self.last_sample: dict[str, Any] | None = None
+        #: The emulated world's true pose after the last batch (None on a real robot).
+        self.last_truth: list[float] | None = world_pose(world)
+        self._started = time.monotonic()
+        self._last = self._started
+
+    @property
+    def name(self) -> str:
+        return self.inner.name
+
+    @property
+    def info(self) -> Any:
+        return self.inner.info
+
+    @property
+    def stats(self) -> Any:
+        return self.inner.stats
+
+    @property
+    def profile(self) -> Any:
+        return self.inner.profile
+
+    def exchange(self, batch: Batch) -> bytes:
+        for request in batch.requests:
+            if request.command is Command.SET_SPEED:
+                self._asked = (int(request.arguments[0]), int(request.arguments[1]))
+        with self.lock:
+            if self.halted:
+                batch = self._stopped(batch)
+            reply = self.inner.exchange(batch)
+        self._take(batch, reply)
+        return reply
+
+    @property
+    def battery(self) -> int | None:
+        """The battery's last reading in a batch (raw ADC count), None if never read."""
+        return self._battery
+
+    def device_families(self) -> list[str]:
+        """The sensor families this robot's firmware serves (ego.core.telemetry's names)."""
+        profile = self.inner.profile
+        return [family for command, family in _FAMILY_COMMANDS if profile.supports(command)]
+
+    def resume(self) -> None:
+        """End the stop: the wheels go back to what the client's controller last asked
+        (its robot does not know it was stopped, so it would not ask again)."""
+        with self.lock:
+            self.halted = False
+            if self._asked != (0, 0):
+                requests = [Request(Command.SET_SPEED, self._asked), Request(Command.GET_SPEED)]
+                self.inner.exchange(encode_batch(requests, self.inner.profile))
+                self._speed = list(self._asked)
+
+    def _stopped(self, batch: Batch) -> Batch:
+        requests = [
+            Request(Command.SET_SPEED, (0, 0)) if r.command is Command.SET_SPEED else r
+            for r in batch.requests
+        ]
+        return encode_batch(requests, self.inner.profile)
+
+    def stop(self) -> None:
+        """The confirmed stop batch now, between two of the client's batches."""
+        with self.lock:
+            send_stop(self.inner)
+        self._speed = [0, 0]
+
+    def _take(self, batch: Batch, reply: bytes) -> None:
+        values = batch.decode(reply) if batch.expects_reply else [()] * len(batch.requests)
+        for request, got in zip(batch.requests, values, strict=True):
+            command = request.command
+            if command in _READINGS:
+                self._readings[_READINGS[command]] = [float(v) for v in got]
+            elif command is Command.ACCELEROMETER_RAW:
+                profile = self.inner.profile
+                k = GRAVITY_MPS2 / profile.acc_counts_per_g
+                x, y, z = (float(v) - profile.acc_zero_counts for v in got)
+                self._readings["accelerometer"] = [round(-k * x, 4), round(k * y, 4),
+                                                   round(k * z, 4)]  # fmt: skip
+            elif command is Command.BATTERY:
+                self._battery = int(got[0])
+            elif command is Command.SET_SPEED:
+                self._speed = [int(v) for v in request.arguments]
+            elif command is Command.SET_LED:
+                index, value = (int(v) for v in request.arguments)
+                if 0 <= index < len(self._leds):
+                    self._leds[index] = 1 if value else 0
+        now = time.monotonic()
+        step_ms, self._last = (now - self._last) * 1000.0, now
+        self._steps += 1
+        self.last_truth = world_pose(self.world)
+        self.last_sample = self._sampler.sample(
+            t_s=now - self._started, step=self._steps, step_ms=step_ms, wall_ms=step_ms,
+            overruns=None, readings=dict(self._readings), speed=list(self._speed),
+            leds=list(self._leds), battery=self._battery, truth=self.last_truth,
+            stats=self.inner.stats,
+        )  # fmt: skip
+        if self.on_sample is not None:
+            self.on_sample(self.last_sample)
+
+    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
+        with self.lock:
+            return self.inner.ascii_command(letter, lines)
+
+    def calibrate_proximity(self) -> list[str]:
+        with self.lock:
+            return self.inner.calibrate_proximity()
+
+    def waiting_until(self, deadline_s: float) -> None:
+        self.inner.waiting_until(deadline_s)
+
+    def close(self) -> None:
+        self.inner.close()
+
+
+def _hello(mode: str, channel: WatchedChannel, name: str) -> dict[str, Any]:
+    """What a page is first told of a robot whose batches it reads."""
+    profile = channel.info.profile
+    families = channel.device_families()
+    proximity = profile.reply_values(Command.PROXIMITY) if "proximity" in families else 0
+    return {
+        "mode": mode,
+        "robot": describe_firmware(channel.info, name, remote=False, proximity_count=proximity,
+                                   led_count=len(profile.leds), families=families),
+        "world": describe_world(channel.world),
+    }  # fmt: skip
+
+
+class _StopFeed:
+    """A feed whose page may stop and resume the robots of ``channels``, and nothing more:
+    their controllers run elsewhere and own their devices."""
+
+    def __init__(self, channels: list[WatchedChannel], hello: dict[str, Any]) -> None:
+        self.channels = channels
+        self.desk = ControlDesk(can_act=False)
+        self.server: DashboardServer | None = None
+        self._hello = hello
+
+    def hello(self) -> dict[str, Any]:
+        return self._hello
+
+    def state(self, client: object) -> dict[str, Any]:
+        return self.desk.state(client)
+
+    def handle(self, client: object, message: object) -> Reply:
+        reply = self.desk.handle(client, message)
+        for channel in self.channels:
+            if self.desk.halted:
+                channel.halted = True
+            elif channel.halted:
+                channel.resume()
+        return reply
+
+    def leave(self, client: object) -> None:
+        self.desk.leave(client)
+
+    def stop_now(self) -> None:
+        for channel in self.channels:
+            channel.stop()
+
+
+class ServedFeed(_StopFeed):
+    """The dashboard's view of a served robot: samples from the client's batches, and a
+    stop that holds whatever the client sends."""
+
+    def __init__(self, channel: WatchedChannel, port: str) -> None:
+        super().__init__([channel], _hello("served", channel, port))
+        self.channel = channel
+        channel.on_sample = self._on_sample
+
+    def _on_sample(self, sample: dict[str, Any]) -> None:
+        if self.server is not None:
+            self.server.publish(sample)
+
+
+class SwarmFeed(_StopFeed):
+    """``ego swarm --dashboard``: every robot of a swarm on the map (``swarm``: each one's
+    name and true pose), the first one's sensors in detail, and one stop for all. A page
+    may pick another robot to detail (``{"type": "pick", "robot": "epuck2"}``): while it
+    is picked, its samples come too, under ``details`` by name."""
+
+    def __init__(self, names: list[str], channels: list[WatchedChannel]) -> None:
+        super().__init__(channels, {**_hello("swarm", channels[0], names[0]), "robots": names})
+        self.names = names
+        self._picks: dict[object, str] = {}
+        self._closing = threading.Event()
+        self._thread = threading.Thread(target=self._publish, name="ego-swarm-feed", daemon=True)
+
+    def handle(self, client: object, message: object) -> Reply:
+        if not (isinstance(message, dict) and message.get("type") == "pick"):
+            return super().handle(client, message)
+        name = message.get("robot")
+        if name not in self.names:
+            return Reply({"type": "error", "error": f"robot {name!r} is not one of the "
+                          f"swarm's: {', '.join(self.names)}"})  # fmt: skip
+        self._picks = {**self._picks, client: str(name)}  # replaced whole: read by _publish
+        return Reply()
+
+    def leave(self, client: object) -> None:
+        self._picks = {c: n for c, n in self._picks.items() if c != client}
+        super().leave(client)
+
+    def _details(self) -> dict[str, Any]:
+        """The samples of the robots some page picked (the first one's is the sample)."""
+        picked = set(self._picks.values()) - {self.names[0]}
+        return {name: channel.last_sample for name, channel in zip(self.names, self.channels,
+                strict=True) if name in picked and channel.last_sample is not None}  # fmt: skip
+
+    def start(self) -> SwarmFeed:
+        self._thread.start()
+        return self
+
+    def close(self) -> None:
+        self._closing.set()
+        self._thread.join(2)
+
+    def _publish(self) -> None:
+        while not self._closing.wait(0.04):
+            sample = self.channels[0].last_sample
+            if sample is None or self.server is None:
+                continue
+            swarm = [[name, *(world_pose(c.world) or [0.0, 0.0, 0.0])]
+                     for name, c in zip(self.names, self.channels, strict=True)]  # fmt: skip
+            self.server.publish({**sample, "swarm": swarm, "details": self._details()})

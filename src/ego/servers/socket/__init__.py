@@ -1,0 +1,1 @@
+"""``ego serve`` over TCP, UDP and Unix sockets: the asyncio adapter of the session."""

@@ -1,0 +1,1 @@
+"""A robot served as a Zenoh node (``ego serve --zenoh``)."""

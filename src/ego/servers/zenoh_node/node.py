@@ -1,0 +1,289 @@
+"""``ego serve --zenoh``: a robot as a Zenoh node (the key space is keys.py's).
+
+The node answers its controller's batches on ``ego/NAME/exchange`` and ASCII commands
+on ``ego/NAME/ascii``, publishes every step's sample on ``ego/NAME/sensors``, answers
+``ego/NAME/info``, and keeps ``ego/NAME/alive`` while it runs. The rules are
+``ego serve``'s:
+
+- one controller holds the robot (:class:`ControlLease`: the first to send a batch or an
+  ASCII command, known by the id its queries carry); another's queries, ASCII ones
+  included, are refused with RobotBusyError as they arrive, before they are queued;
+- if the holder sends nothing new for ``deadline_s`` (no batch, no keepalive) or says
+  bye, the deadman (a thread of its own) has the wheels stopped and frees the robot;
+- a malformed query (no id, a payload that is not a batch of this firmware, too long,
+  an ASCII command asking for too many lines) is refused with the reason (admission.py).
+
+Zenoh's threads never run Python: queries wait in Zenoh for a thread of ours that
+checks and queues them (intake.py); one worker owns the serial line (line.py) and runs
+the stop ahead of every queued query, so a flood never delays the deadman. Refusals are
+counted (``refused``) and logged once, then periodically.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from ego.core.safety import send_stop
+from ego.errors import EgoError, ProtocolError, RobotBusyError
+from ego.net.wire import error_fields, pack_error
+from ego.servers.dashboard.served import WatchedChannel
+from ego.servers.service import firmware_fields
+from ego.servers.zenoh_node.admission import (
+    MAX_BATCH_BYTES,
+    ControlLease,
+    check_ascii,
+    check_batch,
+    controller_id,
+)
+from ego.servers.zenoh_node.intake import Intake
+from ego.servers.zenoh_node.line import LineWorker
+from ego.zenoh_net.keys import check_name, robot_key
+from ego.zenoh_net.tally import Tally
+
+if TYPE_CHECKING:
+    import zenoh
+
+    from ego.core.channel import Channel
+    from ego.serial.protocol import Batch
+
+__all__ = ["MAX_BATCH_BYTES", "ControlLease", "RobotNode"]
+
+log = logging.getLogger(__name__)
+#: How often the deadman looks while nobody holds the robot.
+IDLE_LOOK_S = 0.05
+#: What a checked query does on the line: given the query and its controller's id.
+Work = Callable[[Any, str], None]
+
+
+@dataclass
+class _Query:
+    """A checked query waiting for the line: ``work`` runs it there."""
+
+    who: str
+    query: Any
+    work: Work
+
+    def run(self) -> None:
+        try:
+            self.work(self.query, self.who)
+        finally:
+            self.query.drop()
+
+    def cancel(self, why: str) -> None:
+        try:
+            self.query.reply_err(pack_error("RobotBusyError", why))
+            self.query.drop()
+        except Exception as exc:  # the node is closing: its queryable may be gone
+            log.debug("cancelling a query: %s", exc)
+
+
+class RobotNode:
+    """Serves ``channel`` as the Zenoh node NAME on ``session`` (see the module's doc)."""
+
+    def __init__(
+        self,
+        channel: Channel,
+        session: zenoh.Session,
+        name: str,
+        *,
+        deadline_s: float = 0.5,
+        world: Any = None,
+    ) -> None:
+        self.name = check_name(name)
+        self.session = session
+        self.watched = WatchedChannel(channel, on_sample=self._publish, world=world)
+        self.lease = ControlLease(deadline_s, robot=self.name)
+        self.world = world
+        self._lock = threading.Lock()  # the lease: the intakes, the puts, the worker, the deadman
+        self._closing = threading.Event()
+        self._entities: list[Any] = []
+        self._line = LineWorker(self.stop, name=f"ego-zenoh-line-{self.name}")
+        self._deadman = threading.Thread(target=self._watch, name="ego-zenoh-deadman",
+                                         daemon=True)  # fmt: skip
+        self._publisher: Any = None
+        self._busy = f"robot {self.name} is driven by another controller"
+        self._busy_reply = pack_error("RobotBusyError", self._busy)
+        #: What the node refused, by reason ("busy", "malformed", "flood"; tests, logs).
+        self.refused = Tally(log, f"robot {self.name}: refused a query")
+        self.stops = 0
+
+    # -- life ----------------------------------------------------------------------------
+
+    def start(self) -> RobotNode:
+        key = lambda leaf: robot_key(self.name, leaf)  # noqa: E731
+        session = self.session
+        self._publisher = session.declare_publisher(key("sensors"))
+        # Queries wait in Zenoh (intake.py) for a thread of ours that checks and queues
+        # them; the line's worker runs them (the serial line takes milliseconds). All can
+        # be told to end: a Python thread left inside Zenoh at exit would abort the process.
+        self._line.start()
+        self._deadman.start()
+        self._entities += [
+            self._publisher,
+            Intake(session, key("exchange"), self._on_exchange),
+            Intake(session, key("info"), self._info),
+            Intake(session, key("ascii"), self._on_ascii),
+            session.declare_subscriber(key("keepalive"), self._keepalive),
+            session.declare_subscriber(key("bye"), self._bye),
+            session.liveliness().declare_token(key("alive")),
+        ]
+        log.info("robot %s served on Zenoh (%s firmware)", self.name, self.watched.info.firmware)
+        return self
+
+    def close(self) -> None:
+        """Stop serving, then stop the robot's wheels and LEDs."""
+        self._closing.set()
+        for entity in reversed(self._entities):
+            try:
+                entity.undeclare()
+            except Exception as exc:  # the session may be closing too
+                log.debug("undeclaring %s: %s", entity, exc)
+        self._line.close(f"robot {self.name} is no longer served")
+        if self._deadman.ident is not None:
+            self._deadman.join(2)
+        self.stop()
+
+    def stop(self) -> None:
+        """The confirmed stop batch (wheels 0, LEDs off), on the line's worker (or at close)."""
+        try:
+            with self.watched.lock:
+                send_stop(self.watched.inner)
+            self.stops += 1
+        except (EgoError, OSError) as exc:
+            log.error("robot %s: could not stop: %s", self.name, exc)
+
+    # -- queries: checked as they arrive (the intakes' threads), run by the line's worker --
+
+    def _admit(self, query: Any, prepare: Callable[[], Work]) -> None:
+        """Check ``query`` (its id, the lease, ``prepare``'s checks) and queue its work."""
+        holder = self.lease.holder  # read without the lock: the fast refusal of a flood
+        if holder is not None and _attachment(query) != holder.encode():
+            self.refused.add("busy", self._busy)
+            query.reply_err(self._busy_reply)
+            return None
+        try:
+            who = controller_id(_attachment(query))
+            with self._lock:
+                self.lease.admit(who, time.monotonic())
+            work = prepare()
+        except RobotBusyError as exc:
+            return self._refuse(query, "busy", exc)
+        except ProtocolError as exc:
+            return self._refuse(query, "malformed", exc)
+        if not self._line.submit(_Query(who, query, work)):  # a flood: refused, not queued
+            self._refuse(query, "flood", RobotBusyError(f"robot {self.name} is overloaded"))
+        return None
+
+    def _on_exchange(self, query: Any) -> None:
+        def prepare() -> Work:
+            payload = query.payload.to_bytes() if query.payload is not None else b""
+            batch = check_batch(payload, self.watched.profile)
+            return lambda q, who: self._exchange(q, who, batch)
+
+        self._admit(query, prepare)
+
+    def _on_ascii(self, query: Any) -> None:
+        def prepare() -> Work:
+            raw = query.payload.to_bytes()[:64] if query.payload is not None else b""
+            letter, lines = check_ascii(raw.decode("ascii", "replace"))
+            return lambda q, who: self._ascii(q, who, letter, lines)
+
+        self._admit(query, prepare)
+
+    def _claim(self, query: Any, who: str) -> bool:
+        """``who`` takes the robot as its query runs (False: another holds it, refused)."""
+        with self._lock:
+            claimed = self.lease.claim(who, time.monotonic())
+        if not claimed:
+            self._refuse(query, "busy", RobotBusyError(self._busy))
+        return claimed
+
+    def _exchange(self, query: Any, who: str, batch: Batch) -> None:
+        if not self._claim(query, who):
+            return
+        try:
+            reply = self.watched.exchange(batch)
+        except EgoError as exc:
+            query.reply_err(pack_error(type(exc).__name__, str(exc), error_fields(exc)))
+            return
+        truth = self.watched.last_truth
+        pose = json.dumps(truth).encode() if truth is not None else None
+        query.reply(query.key_expr, reply, attachment=pose)
+
+    def _ascii(self, query: Any, who: str, letter: str, lines: int) -> None:
+        if not self._claim(query, who):
+            return
+        try:
+            with self.watched.lock:
+                if letter == "K":
+                    got = self.watched.inner.calibrate_proximity()
+                else:
+                    got = self.watched.inner.ascii_command(letter, lines)
+        except EgoError as exc:
+            query.reply_err(pack_error(type(exc).__name__, str(exc), error_fields(exc)))
+            return
+        query.reply(query.key_expr, "\n".join(got).encode("ascii", "replace"))
+
+    def _refuse(self, query: Any, reason: str, error: EgoError) -> None:
+        self.refused.add(reason, str(error))
+        query.reply_err(pack_error(type(error).__name__, str(error), error_fields(error)))
+
+    def _info(self, query: Any) -> None:
+        info = {**firmware_fields(self.watched.info), "name": self.name,
+                "emulated": self.world is not None, "devices": self.watched.device_families(),
+                "battery": self.watched.battery}  # fmt: skip
+        query.reply(query.key_expr, json.dumps(info).encode())
+
+    # -- the controller's puts, and the deadman --------------------------------------------
+
+    def _keepalive(self, sample: Any) -> None:
+        try:
+            who = controller_id(_attachment(sample))
+        except ProtocolError:
+            return  # a put is not answered: nothing to tell, nothing to keep
+        with self._lock:
+            self.lease.heard(who, time.monotonic())
+
+    def _bye(self, sample: Any) -> None:
+        try:
+            who = controller_id(_attachment(sample))
+        except ProtocolError:
+            return
+        with self._lock:
+            released = self.lease.release(who)
+        if released:
+            self._stop_for(who, f"robot {self.name}: its controller said bye")
+
+    def _watch(self) -> None:
+        """Wait until the holder's deadline is due, then have the robot stopped at once."""
+        wait_s = IDLE_LOOK_S
+        while not self._closing.wait(wait_s):
+            with self._lock:
+                gone = self.lease.expire(time.monotonic())
+                due_s = self.lease.due_in(time.monotonic())
+            if gone is not None:
+                log.warning("robot %s: its controller went silent; stopping it", self.name)
+                self._stop_for(gone, f"robot {self.name} was stopped before this query ran: "
+                               "its controller was silent past the deadline")  # fmt: skip
+            # Just past the deadline (expire wants "more than"), never more than IDLE_LOOK_S.
+            wait_s = IDLE_LOOK_S if due_s is None else min(max(due_s, 0.0) + 1e-4, IDLE_LOOK_S)
+
+    def _stop_for(self, who: str, why: str) -> None:
+        """The stop, ahead of every queued query; ``who``'s queued ones are cancelled."""
+        for job in self._line.request_stop(drop=lambda job: job.who == who):
+            job.cancel(why)
+
+    def _publish(self, sample: dict[str, Any]) -> None:
+        if self._publisher is not None and not self._closing.is_set():
+            self._publisher.put(json.dumps(sample).encode())
+
+
+def _attachment(message: Any) -> bytes | None:
+    attachment = message.attachment
+    return attachment.to_bytes() if attachment is not None else None
