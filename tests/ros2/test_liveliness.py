@@ -33,7 +33,15 @@ from ego.ros2 import (
     subscription_token,
 )
 from ego.ros2.gid import entity_gid
-from ego.ros2.qos import Durability, Duration, History, Liveliness, Reliability, adapt
+from ego.ros2.qos import (
+    INFINITE,
+    Durability,
+    Duration,
+    History,
+    Liveliness,
+    Reliability,
+    adapt,
+)
 
 STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
 PREFIX = "@ros2_lv/0/ab/0/1/MP/%/%/n/%t/std_msgs::msg::dds_::String_/" + STRING_HASH
@@ -83,6 +91,18 @@ def test_tokens_parse_back_to_what_made_them() -> None:
     assert parse_token(key, "kilted") == Token(EntityKind.SUBSCRIPTION, node, 9, topic)
     assert parse_token(node_token(node, "kilted"), "kilted") == Token(EntityKind.NODE, node, 3)
     assert graph_key(7) == "@ros2_lv/7/**"  # liveliness_utils.cpp:428-432
+
+
+def test_an_explicit_profile_leaves_exactly_rmw_zenohs_defaults_empty() -> None:
+    # qos.cpp:18-33: KEEP_LAST, depth 42, RELIABLE, VOLATILE, infinite durations, AUTOMATIC.
+    explicit = QoS(
+        Reliability.RELIABLE, Durability.VOLATILE, History.KEEP_LAST, 42,
+        INFINITE, INFINITE, Liveliness.AUTOMATIC, INFINITE,
+    )  # fmt: skip
+    assert qos_to_keyexpr(explicit, "kilted") == "::,:,:,:,,"
+    rclcpp_default = QoS(Reliability.RELIABLE, Durability.VOLATILE, History.KEEP_LAST, 10)
+    assert qos_to_keyexpr(rclcpp_default, "jazzy") == "::,10:,:,:,,"  # design.md
+    assert INFINITE == (9223372036, 854775807)  # RMW_DURATION_INFINITE, rmw/time.h:54
 
 
 @pytest.mark.parametrize(
