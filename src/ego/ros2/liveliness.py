@@ -183,7 +183,7 @@ def subscription_token(
 
 def parse_token(key: str, distro: Distro | str) -> Token:
     """The :class:`Token` a liveliness key expression stands for (``Entity::make``,
-    liveliness_utils.cpp:531-621); :class:`~ego.errors.FrameError` if it is not one."""
+    liveliness_utils.cpp:536-621); :class:`~ego.errors.FrameError` if it is not one."""
     if len(key) > MAX_TOKEN_CHARS:
         raise FrameError(f"liveliness token of {len(key)} characters (at most {MAX_TOKEN_CHARS})")
     parts = key.split("/")
