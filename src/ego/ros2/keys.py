@@ -90,8 +90,8 @@ def parse_topic_key(key: str, distro: Distro | str) -> TopicKey:
     if len(parts) < 4:
         raise FrameError(f"topic key {key[:200]!r} is not 'domain/topic/type/hash'")
     domain, *topic, dds_type, type_hash = parts
-    if not domain.isdigit() or not domain.isascii():
-        raise FrameError(f"topic key {key[:200]!r}: domain {domain[:20]!r} is not a number")
+    if not domain.isdigit() or not domain.isascii() or int(domain) > MAX_DOMAIN_ID:
+        raise FrameError(f"topic key {key[:200]!r}: domain {domain[:20]!r} is not a domain id")
     return TopicKey(
         check_domain_id(int(domain)),
         check_topic("/" + "/".join(topic)),

@@ -202,7 +202,12 @@ def parse_token(key: str, distro: Distro | str) -> Token:
             raise FrameError(f"liveliness token {what} {field[:30]!r} is not a number")
     node = NodeInfo(int(parts[1]), parts[2], int(parts[3]), demangle_name(parts[8]),
                     demangle_name(parts[7]), demangle_name(parts[6]))  # fmt: skip
-    _check_node(node)
+    try:
+        _check_node(node)
+        _check_id(int(parts[4]), "entity id")
+    except OutOfRangeError as exc:
+        raise FrameError(f"liveliness token {key[:200]!r}: {exc}") from exc
+
     topic = None
     if len(parts) == 13:
         topic = TopicInfo(
