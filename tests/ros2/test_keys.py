@@ -85,7 +85,7 @@ def test_dds_type_names_go_both_ways() -> None:
         (lambda: parse_topic_key("0/chatter/" + STRING_HASH, "jazzy"),
          FrameError, "is not 'domain/topic/type/hash'"),
         (lambda: parse_topic_key("x/chatter/std_msgs::msg::dds_::String_/" + STRING_HASH, "jazzy"),
-         FrameError, "domain 'x' is not a number"),
+         FrameError, "domain 'x' is not a domain id"),
         (lambda: parse_topic_key("0/chatter/std_msgs::msg::String/" + STRING_HASH, "jazzy"),
          FrameError, "is not 'package::msg::dds_::Name_'"),
         (lambda: parse_topic_key("0/" + "a/" * 3000 + "T/h", "jazzy"),
