@@ -16,7 +16,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from ros2_support import CdrReader, CdrWriter, describe, field_entry, rihs01
 
-from ego.errors import FrameError, UnknownDeviceError
+from ego.errors import FrameError, OutOfRangeError, UnknownDeviceError
 from ego.ros2.messages import (
     EPUCK_TYPES,
     decode_message,
@@ -170,6 +170,8 @@ def test_twists_round_trip_and_read_with_the_independent_reader(values: list[flo
          "payload starts empty"),
         (lambda: type_hash("std_msgs/msg/Nope", "jazzy"), UnknownDeviceError,
          "message type 'std_msgs/msg/Nope' is not in rosbags' jazzy store"),
+        (lambda: encode_message(message_class("std_msgs/msg/Int32", "jazzy")(2**40), "jazzy"),
+         OutOfRangeError, "std_msgs/msg/Int32 message cannot be serialized: 'i' format requires"),
         (lambda: encode_message(object(), "jazzy"), TypeError,
          "object is not a ROS 2 message of ego.ros2"),
     ],

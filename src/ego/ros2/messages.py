@@ -24,10 +24,11 @@ Usage::
 
 from __future__ import annotations
 
+import struct
 from functools import cache
 from typing import TYPE_CHECKING, Any
 
-from ego.errors import FrameError, UnknownDeviceError
+from ego.errors import FrameError, OutOfRangeError, UnknownDeviceError
 from ego.ros2.distros import Distro, distro_format
 from ego.ros2.extras import missing
 
@@ -106,14 +107,17 @@ def type_hash(type_name: str, distro: Distro | str) -> str:
 
 def encode_message(message: Any, distro: Distro | str) -> bytes:
     """``message`` (a :func:`message_class` instance) as rmw_zenoh's payload: the
-    little-endian CDR encapsulation header, then the CDR data."""
+    little-endian CDR encapsulation header, then the CDR data. A number too big for its
+    field is an :class:`~ego.errors.OutOfRangeError`."""
     type_name = getattr(message, "__msgtype__", None)
     if type_name is None:
         raise TypeError(f"{type(message).__name__} is not a ROS 2 message of ego.ros2")
     store = _store(distro, type_name)
     try:
         return bytes(store.serialize_cdr(message, type_name, little_endian=True))
-    except (AttributeError, TypeError, ValueError, OverflowError, IndexError) as exc:
+    except (struct.error, OverflowError) as exc:  # a number too big for its field
+        raise OutOfRangeError(f"{type_name} message cannot be serialized: {exc}") from exc
+    except (AttributeError, TypeError, ValueError, IndexError) as exc:
         raise FrameError(f"{type_name} message cannot be serialized: {exc}") from exc
 
 
