@@ -105,6 +105,17 @@ def test_an_explicit_profile_leaves_exactly_rmw_zenohs_defaults_empty() -> None:
     assert INFINITE == (9223372036, 854775807)  # RMW_DURATION_INFINITE, rmw/time.h:54
 
 
+def test_the_epuck_drivers_publishers_show_as_depth_1_reliable_volatile() -> None:
+    # cyberbotics/epuck_ros2@91ff8a1f epuck_ros2_driver/src/driver.cpp:157:
+    # create_publisher<sensor_msgs::msg::Range>("ps" + std::to_string(i), 1): rclcpp's
+    # KeepLast(1), reliable, volatile.
+    node = NodeInfo(0, "1f", 0, "EPuckDriver")
+    ps0 = TopicInfo("/ps0", "sensor_msgs/msg/Range", "RIHS01_" + "1" * 64, QoS(depth=1))
+    assert publisher_token(node, 5, ps0, "jazzy").endswith(
+        "/%ps0/sensor_msgs::msg::dds_::Range_/RIHS01_" + "1" * 64 + "/::,1:,:,:,,"
+    )
+
+
 @pytest.mark.parametrize(
     ("qos", "field"),
     [
