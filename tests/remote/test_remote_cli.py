@@ -18,7 +18,7 @@ from ego.serial.protocol import Command, Request, encode_batch
 #: ``ego serve`` through this module alone, whatever the ``ego`` command wires.
 SERVE = (
     "import argparse, sys\n"
-    "from ego.remote import cli\n"
+    "from ego.app import serve as cli\n"
     "parser = argparse.ArgumentParser()\n"
     "cli.add_arguments(parser)\n"
     "sys.exit(cli.run(parser.parse_args(sys.argv[1:])))\n"
