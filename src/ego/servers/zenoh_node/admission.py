@@ -10,11 +10,12 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ego.errors import EgoError, ProtocolError
+from ego.errors import EgoError, ProtocolError, RobotBusyError
 from ego.serial.protocol import parse_batch
 
 if TYPE_CHECKING:
     from ego.serial.protocol import Batch, Profile
+    from ego.servers.sessions.control import ControlSession
 
 __all__ = [
     "ASCII_LETTERS",
@@ -23,6 +24,7 @@ __all__ = [
     "MAX_ID_BYTES",
     "check_ascii",
     "check_batch",
+    "check_lease",
     "controller_id",
 ]
 
@@ -35,6 +37,13 @@ ASCII_LETTERS = ("V", "C", "S", "K")
 #: The most lines an ASCII query may ask for: docs/protocol.md, ``V`` answers two, the
 #: others one. Each line asked for beyond the reply holds the line one line timeout.
 MAX_ASCII_LINES = 2
+
+
+def check_lease(control: ControlSession[str], who: str, now: float, robot: str) -> None:
+    """A query of ``who`` arrives at ``now``: RobotBusyError if another controller holds
+    ``robot``; if ``who`` holds it, it was heard (nothing is taken until the query runs)."""
+    if not control.admit(who, now):
+        raise RobotBusyError(f"robot {robot} is driven by another controller")
 
 
 def controller_id(attachment: bytes | None) -> str:

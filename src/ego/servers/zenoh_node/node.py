@@ -42,6 +42,7 @@ from ego.servers.zenoh_node.admission import (
     MAX_BATCH_BYTES,
     check_ascii,
     check_batch,
+    check_lease,
     controller_id,
 )
 from ego.servers.zenoh_node.intake import Intake
@@ -175,9 +176,7 @@ class RobotNode:
         try:
             who = controller_id(_attachment(query))
             with self._lock:
-                admitted = self.lease.admit(who, self._clock())
-            if not admitted:
-                raise RobotBusyError(self._busy)
+                check_lease(self.lease, who, self._clock(), self.name)
             work = prepare()
         except RobotBusyError as exc:
             return self._refuse(query, "busy", exc)
