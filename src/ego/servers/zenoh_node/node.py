@@ -130,15 +130,21 @@ class RobotNode:
         # be told to end: a Python thread left inside Zenoh at exit would abort the process.
         self._line.start()
         self._deadman.start()
-        self._entities += [
-            self._publisher,
-            Intake(session, key("exchange"), self._on_exchange),
-            Intake(session, key("info"), self._info),
-            Intake(session, key("ascii"), self._on_ascii),
-            session.declare_subscriber(key("keepalive"), self._keepalive),
-            session.declare_subscriber(key("bye"), self._bye),
-            session.liveliness().declare_token(key("alive")),
+        self._entities.append(self._publisher)
+        declare: list[Callable[[], Any]] = [
+            lambda: Intake(session, key("exchange"), self._on_exchange),
+            lambda: Intake(session, key("info"), self._info),
+            lambda: Intake(session, key("ascii"), self._on_ascii),
+            lambda: session.declare_subscriber(key("keepalive"), self._keepalive),
+            lambda: session.declare_subscriber(key("bye"), self._bye),
+            lambda: session.liveliness().declare_token(key("alive")),
         ]
+        try:
+            for entity in declare:
+                self._entities.append(entity())
+        except BaseException:
+            self.close()  # the threads started above end with it
+            raise
         log.info("robot %s served on Zenoh (%s firmware)", self.name, self.watched.info.firmware)
         return self
 
