@@ -82,6 +82,11 @@ class RobotService:
         #: thread, and must never interleave with a batch.
         self.channel_lock = threading.Lock()
         self._camera: tuple[GrantedFormat, PixelFormat] | None = None
+        #: Guards the two below: a stop never closes the source under a camera call
+        #: (another thread may be inside ``read_frame``); the call closes it as it ends.
+        self._camera_lock = threading.Lock()
+        self._camera_users = 0
+        self._close_wanted = False
 
     def welcome(self) -> dict[str, object]:
         return {**firmware_fields(self.channel.info), "camera": self.frame_source is not None}
@@ -96,7 +101,7 @@ class RobotService:
         once the channel is ours, so that no stop can come between the check and the
         batch (a session's stop always comes after its calls, never before one)."""
         if self.uses_camera(call):
-            return self._camera_call(call) if live() else None
+            return self._camera_turn(call, live)
         with self.channel_lock:
             if not live():
                 return None
@@ -128,8 +133,34 @@ class RobotService:
                 send_stop(self.channel)
         finally:
             if close_camera and self.frame_source is not None:
-                self._camera = None
-                self.frame_source.close()
+                self._release_camera()
+
+    def _release_camera(self) -> None:
+        """Close the camera now, or, if a call is using it, as soon as that call ends."""
+        with self._camera_lock:
+            if self._camera_users:
+                self._close_wanted = True
+                return
+            self._close_camera()
+
+    def _close_camera(self) -> None:
+        """Under ``_camera_lock``, with no camera call running."""
+        self._camera, self._close_wanted = None, False
+        if self.frame_source is not None:
+            self.frame_source.close()
+
+    def _camera_turn(self, call: RobotCall, live: Callable[[], bool]) -> bytes | None:
+        """A camera call, counted as a user of the source from before ``live()`` is asked
+        (a stop that ends its session later defers the close to it) to its end."""
+        with self._camera_lock:
+            self._camera_users += 1
+        try:
+            return self._camera_call(call) if live() else None
+        finally:
+            with self._camera_lock:
+                self._camera_users -= 1
+                if not self._camera_users and self._close_wanted:
+                    self._close_camera()
 
     def _camera_call(self, call: RobotCall) -> bytes:
         from ego.camera.source import FieldOfViewControl, PixelFormat

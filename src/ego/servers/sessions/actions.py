@@ -140,15 +140,15 @@ class PendingHandshake:
 
 @dataclass(slots=True)
 class ControllerState:
-    """The client in control: its session, key, dedup, and when it was last heard."""
+    """The client in control as the socket wire knows it: its session, key and dedup (when
+    it was last heard and whether a call of it runs: its
+    :class:`~ego.servers.sessions.control.ControlSession`)."""
 
     peer: Peer
     id: int
     key: FrameKey | None
     hello_payload: bytes
-    last_heard: float
     guard: SequenceGuard = field(default_factory=SequenceGuard)
-    busy: int = 0
     #: The last reply too big for one datagram, for FETCH: (seq, type, payload).
     big: tuple[int, MessageType, bytes] | None = None
     camera_open: bool = False

@@ -171,7 +171,7 @@ class Gate:
         if self.secret is not None:
             raw = session_key(self.secret, pending.hello.nonce, pending.server_nonce, pending.id)
             key = FrameKey(raw, server=True)
-        new = ControllerState(peer, pending.id, key, pending.hello_payload, now)
+        new = ControllerState(peer, pending.id, key, pending.hello_payload)
         data = encode_frame(MessageType.OK, frame.seq, pack_json(self._welcome()), new.id, key)
         new.guard.done(frame.seq, data)
         self.stats.sessions += 1

@@ -14,11 +14,13 @@ Its parts:
   key that seals every later frame;
 * dedup (:class:`~ego.net.wire.SequenceGuard`): a repeated request is answered from
   the cache and never runs twice; an older one is ignored;
-* the deadman: once the controller has been silent for ``deadline_s`` (nothing new, not
-  even a heartbeat; repeats and stale frames do not count) the robot is stopped;
-* one request in flight: a controller's request that comes while another of its runs
-  is refused, never queued, so that nothing it stacked up outlives it; a Run of a
-  session that ended meanwhile is dropped by the adapter (:meth:`Session.live`);
+* the lease, the deadman and one request in flight: the
+  :class:`~ego.servers.sessions.control.ControlSession` the Zenoh node runs too, held
+  by the session id: once the controller has been silent for ``deadline_s`` (nothing
+  new, not even a heartbeat; repeats and stale frames do not count) the robot is
+  stopped; a request that comes while another of its runs is refused, never queued,
+  so that nothing it stacked up outlives it; a Run of a session that ended meanwhile
+  is dropped by the adapter (:meth:`Session.live`);
 * no amplification: a peer that has not proven its address (a UDP stranger, a forged
   source) is never answered with more bytes than it sent
   (:func:`~ego.servers.sessions.actions.small_reply`);
@@ -31,24 +33,19 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 
-from ego.errors import EgoError, FrameError, RemoteError, VersionMismatchError
+from ego.errors import FrameError, RemoteError, VersionMismatchError
 from ego.net.auth import FailureThrottle
 from ego.net.messages import Bye, Fetch, parse_request
 from ego.net.wire import (
     MAX_PAYLOAD,
-    PROTOCOL_VERSION,
     REQUEST_TYPES,
-    SEALED_OVERHEAD,
     Frame,
     FrameKey,
     MessageType,
     Verdict,
     decode_frame,
     encode_frame,
-    error_fields,
-    pack_error,
     peek_session,
-    split_reply,
 )
 from ego.servers.sessions.actions import (
     Action,
@@ -62,10 +59,19 @@ from ego.servers.sessions.actions import (
     error_frame,
     small_reply,
 )
+from ego.servers.sessions.control import ControlSession
 from ego.servers.sessions.ended import MAX_EXPIRED, EndedSessions, ended_payload
 from ego.servers.sessions.gate import Gate
+from ego.servers.sessions.replies import (
+    answer,
+    count_bad,
+    error_payload,
+    fetch,
+    malformed,
+    reply_frame,
+)
 
-__all__ = ["MAX_EXPIRED", "Session"]  # MAX_EXPIRED: from ego.servers.sessions.ended
+__all__ = ["MAX_EXPIRED", "Session", "error_payload"]  # MAX_EXPIRED: from sessions.ended
 
 log = logging.getLogger(__name__)
 
@@ -92,9 +98,10 @@ class Session:
         udp_cookies: bool = True,
     ) -> None:
         self.secret = secret
-        self.deadline_s = deadline_s
         self.chunk_size = chunk_size
         self.stats = ServerStats()
+        #: The lease, the deadman, one request in flight: held by the session id.
+        self.control: ControlSession[int] = ControlSession(deadline_s)
         self._controller: ControllerState | None = None
         self.ended = EndedSessions(self.stats)
         self.gate = Gate(
@@ -110,6 +117,10 @@ class Session:
     # -- what the adapter asks -------------------------------------------------------------
 
     @property
+    def deadline_s(self) -> float:
+        return self.control.deadline_s
+
+    @property
     def controller(self) -> Peer | None:
         return self._controller.peer if self._controller else None
 
@@ -118,8 +129,7 @@ class Session:
 
     def live(self, session: int) -> bool:
         """Whether ``session`` still controls the robot: a Run of one that ended is dropped."""
-        owner = self._controller
-        return owner is not None and owner.id == session
+        return self.control.holds(session)
 
     def key_for(self, session: int | None) -> FrameKey | None:
         """The key that frames of ``session`` must be sealed with (None: unsealed)."""
@@ -160,7 +170,7 @@ class Session:
             return self.gate.hello(peer, frame, now, size, self._controller)
         if frame.type is MessageType.AUTH:
             actions, new = self.gate.auth(peer, frame, now, self._controller, size)
-            if new is not None:
+            if new is not None and self.control.take(new.id, now):
                 self._controller = new
             return actions
         return self._request(peer, frame, now, size)
@@ -170,10 +180,8 @@ class Session:
     ) -> list[Action]:
         """A Run finished with ``result`` (its reply payload, or the error it raised)."""
         owner = self._controller
-        if owner is None or owner.id != session:
+        if owner is None or not self.control.completed(session, now):
             return []  # the session ended meanwhile: nobody to answer
-        owner.busy -= 1
-        owner.last_heard = now
         if isinstance(result, Exception):
             reply_type, payload = MessageType.ERROR, error_payload(self.stats, result)
         elif len(result) > MAX_PAYLOAD:
@@ -183,9 +191,7 @@ class Session:
             reply_type, payload = MessageType.ERROR, error_payload(self.stats, too_big)
         else:
             reply_type, payload = MessageType.OK, result
-        data = self._reply(owner, seq, reply_type, payload)
-        owner.guard.done(seq, data)
-        return [Send(owner.peer, data)]
+        return [answer(owner, seq, reply_type, payload)]
 
     def peer_lost(self, peer: Peer) -> list[Action]:
         """A TCP connection closed: a controller that did not say goodbye is stopped."""
@@ -195,16 +201,15 @@ class Session:
     def tick(self, now: float) -> list[Action]:
         """Time passed: the deadman, and handshakes that took too long."""
         self.gate.expire(now)
-        owner = self._controller
-        if owner is None or owner.busy:
-            return []
-        silent_s = now - owner.last_heard
-        if silent_s <= self.deadline_s:
+        lapsed = self.control.tick(now)
+        if lapsed is None:
             return []
         self.stats.deadman_stops += 1
-        why = f"silent for {silent_s * 1e3:.0f} ms (deadline {self.deadline_s * 1e3:.0f} ms)"
-        told = f"session ended: the server's deadman stopped the robot: its controller was {why}"
-        return self._end(why, notify=True, told=told)
+        told = (
+            "session ended: the server's deadman stopped the robot: "
+            f"its controller was {lapsed.why}"
+        )
+        return self._end(lapsed.why, notify=True, told=told)
 
     def shutdown(self) -> list[Action]:
         return self._end("the server is shutting down", notify=True)
@@ -220,27 +225,26 @@ class Session:
             self.stats.repeats += 1
             return [Send(peer, owner.guard.cached)]
         if verdict is Verdict.WORKING:
-            return [Send(peer, self._reply(owner, frame.seq, MessageType.WORKING, b""))]
+            return [Send(peer, reply_frame(owner, frame.seq, MessageType.WORKING, b""))]
         if verdict is Verdict.STALE:
             self.stats.stale += 1
             return []
-        if owner.busy and frame.type not in _WHILE_BUSY:
+        if self.control.in_flight and frame.type not in _WHILE_BUSY:
             return [self._pipelined(owner, frame.seq)]
-        owner.last_heard = now  # only something new keeps the robot going
+        self.control.heard(owner.id, now)  # only something new keeps the robot going
         try:
             call = parse_request(frame)
         except FrameError as exc:
-            return [
-                self._answer(owner, frame.seq, MessageType.ERROR, error_payload(self.stats, exc))
-            ]
+            return [answer(owner, frame.seq, MessageType.ERROR, error_payload(self.stats, exc))]
         if isinstance(call, Fetch):
-            return [self._fetch(owner, frame.seq, call)]
+            return [fetch(self.stats, owner, frame.seq, call, self.chunk_size)]
         if isinstance(call, Bye):
             # Stopped before the reply goes: when close() returns, the robot stands still.
-            data = self._reply(owner, frame.seq, MessageType.OK, b"")
+            data = reply_frame(owner, frame.seq, MessageType.OK, b"")
             return [*self._end("said goodbye", level=logging.INFO), Send(peer, data)]
+        if self.control.dispatch(owner.id, now) is not None:  # checked above: never
+            return [self._pipelined(owner, frame.seq)]
         owner.guard.begin(frame.seq)
-        owner.busy += 1
         if frame.type is MessageType.STEP:
             self.stats.steps += 1
         elif frame.type is MessageType.CAMERA_OPEN:
@@ -263,34 +267,7 @@ class Session:
             "one request at a time, wait for each reply"
         )
         payload = error_payload(self.stats, error)
-        return Send(owner.peer, self._reply(owner, seq, MessageType.ERROR, payload))
-
-    def _fetch(self, owner: ControllerState, seq: int, fetch: Fetch) -> Send:
-        big = owner.big
-        try:
-            if big is None or big[0] != fetch.seq:
-                raise FrameError(f"no big reply to request {fetch.seq} to fetch from")
-            limit = owner.peer.datagram or self.chunk_size
-            part = split_reply(big[1], big[2], fetch.offset, limit)
-        except FrameError as exc:
-            return self._answer(owner, seq, MessageType.ERROR, error_payload(self.stats, exc))
-        return self._answer(owner, seq, MessageType.PART, part)
-
-    def _answer(
-        self, owner: ControllerState, seq: int, reply_type: MessageType, payload: bytes
-    ) -> Send:
-        data = self._reply(owner, seq, reply_type, payload)
-        owner.guard.done(seq, data)
-        return Send(owner.peer, data)
-
-    def _reply(
-        self, owner: ControllerState, seq: int, reply_type: MessageType, payload: bytes
-    ) -> bytes:
-        limit = owner.peer.datagram
-        if limit is not None and SEALED_OVERHEAD + len(payload) > limit:
-            owner.big = (seq, reply_type, payload)
-            payload, reply_type = split_reply(reply_type, payload, 0, limit), MessageType.PART
-        return encode_frame(reply_type, seq, payload, owner.id, owner.key)
+        return Send(owner.peer, reply_frame(owner, seq, MessageType.ERROR, payload))
 
     def _end(
         self,
@@ -305,6 +282,7 @@ class Session:
         owner, self._controller = self._controller, None
         if owner is None:
             return []
+        self.control.release(owner.id)  # already free if the deadman lapsed it
         message = told or f"session ended: {reason}; the robot was stopped"
         self.ended.remember(owner.id, message, owner.peer)
         actions: list[Action] = [
@@ -318,38 +296,3 @@ class Session:
     def _taken(self, session: int) -> bool:
         owner = self._controller
         return session in self.ended or (owner is not None and owner.id == session)
-
-
-# -- errors ------------------------------------------------------------------------------
-
-
-def error_payload(stats: ServerStats, exc: Exception) -> bytes:
-    """An ERROR payload naming ``exc`` (an ego error), or an internal error."""
-    if isinstance(exc, EgoError):
-        stats.errors[type(exc).__name__] += 1
-        return pack_error(type(exc).__name__, str(exc), error_fields(exc))
-    stats.errors["internal"] += 1
-    return pack_error("RemoteError", f"internal server error: {exc!r}")
-
-
-def malformed(stats: ServerStats, exc: FrameError) -> bytes:
-    """The unsealed ERROR answering a frame that could not be read."""
-    stats.malformed += 1
-    if isinstance(exc, VersionMismatchError):
-        message = (
-            f"ego remote protocol {PROTOCOL_VERSION} here, {exc.peer_version} there: "
-            "install the same ego version on both ends"
-        )
-        payload = pack_error("RemoteError", message)
-        return encode_frame(MessageType.ERROR, exc.seq, payload, exc.session)
-    return encode_frame(MessageType.ERROR, 0, pack_error("FrameError", str(exc)))
-
-
-def count_bad(stats: ServerStats, peer: Peer, exc: FrameError, *, sealed: bool) -> None:
-    """A frame dropped unanswered: forged (it failed a session's MAC) or malformed."""
-    if sealed:
-        stats.forged += 1
-        log.info("%s: dropped a forged or altered frame: %s", peer.label, exc)
-    else:
-        stats.malformed += 1
-        log.debug("%s: dropped a malformed frame: %s", peer.label, exc)

@@ -15,6 +15,9 @@ only moves bytes and runs calls:
 * the deadman runs in a thread of its own, so that it fires on time even when the
   event loop is flooded: it asks the session every few milliseconds, and stops the
   robot itself;
+* every task and thread has an owner that ends and joins it in :meth:`Server.aclose`:
+  the tasks a :class:`~ego.servers.nursery.Nursery`, the deadman and the three worker
+  threads the server (none is a daemon);
 * a stop never waits behind calls: it runs in a thread of its own, and a call whose
   session ended before its turn came is dropped, not run (the session lets a
   controller have one request in flight, so at most one batch runs after it is gone);
@@ -53,6 +56,7 @@ from ego.net.wire import (
     FrameReader,
     parse_url,
 )
+from ego.servers.nursery import Nursery
 from ego.servers.service import FrameEncoder, RobotService, encode_image
 from ego.servers.sessions.actions import Action, Authenticated, Hangup, Peer, Run, Send, StopRobot
 from ego.servers.sessions.session import Session
@@ -142,7 +146,7 @@ class Server:
         self._lock = threading.Lock()
         self.peers = Peers(self.stats, max_unauthenticated, write_limit)
         self._closers: list[Callable[[], None]] = []
-        self._tasks: set[asyncio.Task[None]] = set()
+        self._tasks = Nursery("ego serve")
         self._loop: asyncio.AbstractEventLoop | None = None
         self._deadman: threading.Thread | None = None
         self._stopping = threading.Event()
@@ -199,9 +203,7 @@ class Server:
                 self._closers.append(transport.close)
             shown = f"[{sockname[0]}]" if ":" in sockname[0] else sockname[0]
             self.urls.append(f"{scheme}://{shown}:{sockname[1]}")
-        self._deadman = threading.Thread(
-            target=_deadman, args=(self,), name="ego-serve-deadman", daemon=True
-        )
+        self._deadman = threading.Thread(target=_deadman, args=(self,), name="ego-serve-deadman")
         self._deadman.start()
         log.info(
             "serving %s (%s firmware) on %s%s",
@@ -228,9 +230,9 @@ class Server:
         for close in self._closers:
             close()
         if self._deadman is not None:
-            await asyncio.get_running_loop().run_in_executor(None, self._deadman.join, 5)
-        for task in list(self._tasks):
-            task.cancel()
+            loop = asyncio.get_running_loop()
+            await loop.run_in_executor(self._stop_thread, self._deadman.join, 5)
+        await self._tasks.aclose()
         self._channel_thread.shutdown(wait=True)
         self._camera_thread.shutdown(wait=True)
         self._stop_thread.shutdown(wait=True)
@@ -240,11 +242,8 @@ class Server:
 
     def feed(self, actions: list[Action]) -> None:
         """Carry out ``actions`` (in order) from the loop thread."""
-        if not actions:
-            return
-        task = asyncio.ensure_future(self._perform(actions))
-        self._tasks.add(task)
-        task.add_done_callback(self._tasks.discard)
+        if actions:
+            self._tasks.start_soon(self._perform(actions))
 
     def call_session(self, method: Callable[..., list[Action]], *args: Any) -> None:
         with self._lock:
@@ -275,9 +274,7 @@ class Server:
                 log.exception("internal error performing %s", type(action).__name__)
 
     def feed_run(self, run: Run) -> None:
-        task = asyncio.ensure_future(self._run(run))
-        self._tasks.add(task)
-        task.add_done_callback(self._tasks.discard)
+        self._tasks.start_soon(self._run(run))
 
     async def _run(self, run: Run) -> None:
         pool = self._camera_thread if self.service.uses_camera(run.call) else self._channel_thread
@@ -446,7 +443,7 @@ class ServerThread:
         return self.server.urls[0]
 
     def start(self) -> ServerThread:
-        self._thread = threading.Thread(target=self._run, name="ego-serve", daemon=True)
+        self._thread = threading.Thread(target=self._run, name="ego-serve")
         self._thread.start()
         self._ready.wait()
         if self._error is not None:

@@ -2,14 +2,12 @@
 
 A query must carry its controller's id; a batch must be one of the robot's firmware and
 at most 1 KiB; an ASCII command is ``V``, ``C``, ``S`` or ``K`` and asks for at most
-:data:`MAX_ASCII_LINES` lines. Only the controller holding the robot
-(:class:`ControlLease`) may use the line, ASCII commands included: a query from any
-other is refused with RobotBusyError.
+:data:`MAX_ASCII_LINES` lines. Who holds the robot is the node's
+:class:`~ego.servers.sessions.control.ControlSession`'s to say.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ego.errors import EgoError, ProtocolError, RobotBusyError
@@ -17,15 +15,16 @@ from ego.serial.protocol import parse_batch
 
 if TYPE_CHECKING:
     from ego.serial.protocol import Batch, Profile
+    from ego.servers.sessions.control import ControlSession
 
 __all__ = [
     "ASCII_LETTERS",
     "MAX_ASCII_LINES",
     "MAX_BATCH_BYTES",
     "MAX_ID_BYTES",
-    "ControlLease",
     "check_ascii",
     "check_batch",
+    "check_lease",
     "controller_id",
 ]
 
@@ -40,54 +39,11 @@ ASCII_LETTERS = ("V", "C", "S", "K")
 MAX_ASCII_LINES = 2
 
 
-@dataclass
-class ControlLease:
-    """Who holds the robot and when they were last heard (sans-I/O: times are given)."""
-
-    deadline_s: float
-    holder: str | None = None
-    last_heard: float = 0.0
-    #: The robot's name, for the refusal's message.
-    robot: str = "robot"
-
-    def admit(self, who: str, now: float) -> None:
-        """A query from ``who`` arrives: RobotBusyError if another holds the robot; if
-        ``who`` holds it, it was heard (nothing is claimed until the query runs)."""
-        if self.holder not in (None, who):
-            raise RobotBusyError(f"robot {self.robot} is driven by another controller")
-        if who == self.holder:
-            self.last_heard = now
-
-    def claim(self, who: str, now: float) -> bool:
-        """``who`` sends a batch: theirs if free (or already theirs); False if another's."""
-        if self.holder not in (None, who):
-            return False
-        self.holder, self.last_heard = who, now
-        return True
-
-    def heard(self, who: str, now: float) -> None:
-        if who == self.holder:
-            self.last_heard = now
-
-    def release(self, who: str) -> bool:
-        """``who`` lets go; whether they held it."""
-        if who != self.holder:
-            return False
-        self.holder = None
-        return True
-
-    def due_in(self, now: float) -> float | None:
-        """Seconds until the deadman is due (<= 0: due now); None while nobody holds it."""
-        if self.holder is None:
-            return None
-        return self.last_heard + self.deadline_s - now
-
-    def expire(self, now: float) -> str | None:
-        """Free the robot if its holder has been silent past the deadline; who that was."""
-        if self.holder is not None and now - self.last_heard > self.deadline_s:
-            holder, self.holder = self.holder, None
-            return holder
-        return None
+def check_lease(control: ControlSession[str], who: str, now: float, robot: str) -> None:
+    """A query of ``who`` arrives at ``now``: RobotBusyError if another controller holds
+    ``robot``; if ``who`` holds it, it was heard (nothing is taken until the query runs)."""
+    if not control.admit(who, now):
+        raise RobotBusyError(f"robot {robot} is driven by another controller")
 
 
 def controller_id(attachment: bytes | None) -> str:

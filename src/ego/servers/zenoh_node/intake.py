@@ -44,7 +44,7 @@ class Intake:
         # The handler, not the queryable: undeclaring the queryable while its own recv()
         # waits would fail ("Already borrowed"); the handler's recv ends when it closes.
         self._queries = self.queryable.handler
-        self._thread = threading.Thread(target=self._run, name=f"ego-zenoh {key}", daemon=True)
+        self._thread = threading.Thread(target=self._run, name=f"ego-zenoh {key}")
         self._thread.start()
 
     def _run(self) -> None:
@@ -67,3 +67,5 @@ class Intake:
         """Stop taking queries; the thread ends once the one in hand is handled."""
         self.queryable.undeclare()
         self._thread.join(2)
+        if self._thread.is_alive():
+            log.error("%s: its thread did not end within 2 s", self.key)

@@ -46,7 +46,7 @@ class LineWorker:
         self._wake = threading.Condition()
         self._stop_wanted = False
         self._closing = False
-        self._thread = threading.Thread(target=self._work, name=name, daemon=True)
+        self._thread = threading.Thread(target=self._work, name=name)
 
     def start(self) -> LineWorker:
         self._thread.start()
@@ -82,6 +82,9 @@ class LineWorker:
             job.cancel(why)
         if self._thread.ident is not None:
             self._thread.join(timeout_s)
+            if self._thread.is_alive():
+                log.error("%s: the job in hand did not end within %.1f s", self._thread.name,
+                          timeout_s)  # fmt: skip
 
     def _next(self) -> Job | None:
         """The next job, None for the stop; raises StopIteration when closing."""

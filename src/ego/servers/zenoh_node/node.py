@@ -5,11 +5,14 @@ on ``ego/NAME/ascii``, publishes every step's sample on ``ego/NAME/sensors``, an
 ``ego/NAME/info``, and keeps ``ego/NAME/alive`` while it runs. The rules are
 ``ego serve``'s:
 
-- one controller holds the robot (:class:`ControlLease`: the first to send a batch or an
-  ASCII command, known by the id its queries carry); another's queries, ASCII ones
-  included, are refused with RobotBusyError as they arrive, before they are queued;
-- if the holder sends nothing new for ``deadline_s`` (no batch, no keepalive) or says
-  bye, the deadman (a thread of its own) has the wheels stopped and frees the robot;
+- one controller holds the robot (the lease of the
+  :class:`~ego.servers.sessions.control.ControlSession` ``ego serve`` runs too, held by
+  the first to send a batch or an ASCII command, known by the id its queries carry);
+  another's queries, ASCII ones included, are refused with RobotBusyError as they
+  arrive, before they are queued;
+- if the holder sends nothing new for ``deadline_s`` (no batch, no keepalive) while
+  none of its queries runs, or says bye, the deadman (a thread of its own) has the
+  wheels stopped, drops the holder's queued queries, and frees the robot;
 - a malformed query (no id, a payload that is not a batch of this firmware, too long,
   an ASCII command asking for too many lines) is refused with the reason (admission.py).
 
@@ -34,11 +37,12 @@ from ego.errors import EgoError, ProtocolError, RobotBusyError
 from ego.net.wire import error_fields, pack_error
 from ego.servers.dashboard.served import WatchedChannel
 from ego.servers.service import firmware_fields
+from ego.servers.sessions.control import ControlSession
 from ego.servers.zenoh_node.admission import (
     MAX_BATCH_BYTES,
-    ControlLease,
     check_ascii,
     check_batch,
+    check_lease,
     controller_id,
 )
 from ego.servers.zenoh_node.intake import Intake
@@ -52,7 +56,7 @@ if TYPE_CHECKING:
     from ego.core.channel import Channel
     from ego.serial.protocol import Batch
 
-__all__ = ["MAX_BATCH_BYTES", "ControlLease", "RobotNode"]
+__all__ = ["MAX_BATCH_BYTES", "RobotNode"]
 
 log = logging.getLogger(__name__)
 #: How often the deadman looks while nobody holds the robot.
@@ -94,18 +98,20 @@ class RobotNode:
         *,
         deadline_s: float = 0.5,
         world: Any = None,
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.name = check_name(name)
         self.session = session
         self.watched = WatchedChannel(channel, on_sample=self._publish, world=world)
-        self.lease = ControlLease(deadline_s, robot=self.name)
+        #: The lease, the deadman, one query in flight: held by the controller's id.
+        self.lease: ControlSession[str] = ControlSession(deadline_s)
+        self._clock = clock
         self.world = world
         self._lock = threading.Lock()  # the lease: the intakes, the puts, the worker, the deadman
         self._closing = threading.Event()
         self._entities: list[Any] = []
         self._line = LineWorker(self.stop, name=f"ego-zenoh-line-{self.name}")
-        self._deadman = threading.Thread(target=self._watch, name="ego-zenoh-deadman",
-                                         daemon=True)  # fmt: skip
+        self._deadman = threading.Thread(target=self._watch, name=f"ego-zenoh-deadman-{self.name}")
         self._publisher: Any = None
         self._busy = f"robot {self.name} is driven by another controller"
         self._busy_reply = pack_error("RobotBusyError", self._busy)
@@ -124,15 +130,21 @@ class RobotNode:
         # be told to end: a Python thread left inside Zenoh at exit would abort the process.
         self._line.start()
         self._deadman.start()
-        self._entities += [
-            self._publisher,
-            Intake(session, key("exchange"), self._on_exchange),
-            Intake(session, key("info"), self._info),
-            Intake(session, key("ascii"), self._on_ascii),
-            session.declare_subscriber(key("keepalive"), self._keepalive),
-            session.declare_subscriber(key("bye"), self._bye),
-            session.liveliness().declare_token(key("alive")),
+        self._entities.append(self._publisher)
+        declare: list[Callable[[], Any]] = [
+            lambda: Intake(session, key("exchange"), self._on_exchange),
+            lambda: Intake(session, key("info"), self._info),
+            lambda: Intake(session, key("ascii"), self._on_ascii),
+            lambda: session.declare_subscriber(key("keepalive"), self._keepalive),
+            lambda: session.declare_subscriber(key("bye"), self._bye),
+            lambda: session.liveliness().declare_token(key("alive")),
         ]
+        try:
+            for entity in declare:
+                self._entities.append(entity())
+        except BaseException:
+            self.close()  # the threads started above end with it
+            raise
         log.info("robot %s served on Zenoh (%s firmware)", self.name, self.watched.info.firmware)
         return self
 
@@ -170,7 +182,7 @@ class RobotNode:
         try:
             who = controller_id(_attachment(query))
             with self._lock:
-                self.lease.admit(who, time.monotonic())
+                check_lease(self.lease, who, self._clock(), self.name)
             work = prepare()
         except RobotBusyError as exc:
             return self._refuse(query, "busy", exc)
@@ -196,39 +208,42 @@ class RobotNode:
 
         self._admit(query, prepare)
 
-    def _claim(self, query: Any, who: str) -> bool:
-        """``who`` takes the robot as its query runs (False: another holds it, refused)."""
+    def _dispatch(self, query: Any, who: str, run: Callable[[], None]) -> None:
+        """``who`` takes the robot as its query runs (refused if another holds it); the
+        deadman waits while it runs, and counts anew from its end."""
         with self._lock:
-            claimed = self.lease.claim(who, time.monotonic())
-        if not claimed:
+            now = self._clock()
+            taken = self.lease.take(who, now) and self.lease.dispatch(who, now) is None
+        if not taken:
             self._refuse(query, "busy", RobotBusyError(self._busy))
-        return claimed
-
-    def _exchange(self, query: Any, who: str, batch: Batch) -> None:
-        if not self._claim(query, who):
             return
         try:
-            reply = self.watched.exchange(batch)
+            run()
         except EgoError as exc:
             query.reply_err(pack_error(type(exc).__name__, str(exc), error_fields(exc)))
-            return
-        truth = self.watched.last_truth
-        pose = json.dumps(truth).encode() if truth is not None else None
-        query.reply(query.key_expr, reply, attachment=pose)
+        finally:
+            with self._lock:
+                self.lease.completed(who, self._clock())
+
+    def _exchange(self, query: Any, who: str, batch: Batch) -> None:
+        def run() -> None:
+            reply = self.watched.exchange(batch)
+            truth = self.watched.last_truth
+            pose = json.dumps(truth).encode() if truth is not None else None
+            query.reply(query.key_expr, reply, attachment=pose)
+
+        self._dispatch(query, who, run)
 
     def _ascii(self, query: Any, who: str, letter: str, lines: int) -> None:
-        if not self._claim(query, who):
-            return
-        try:
+        def run() -> None:
             with self.watched.lock:
                 if letter == "K":
                     got = self.watched.inner.calibrate_proximity()
                 else:
                     got = self.watched.inner.ascii_command(letter, lines)
-        except EgoError as exc:
-            query.reply_err(pack_error(type(exc).__name__, str(exc), error_fields(exc)))
-            return
-        query.reply(query.key_expr, "\n".join(got).encode("ascii", "replace"))
+            query.reply(query.key_expr, "\n".join(got).encode("ascii", "replace"))
+
+        self._dispatch(query, who, run)
 
     def _refuse(self, query: Any, reason: str, error: EgoError) -> None:
         self.refused.add(reason, str(error))
@@ -248,7 +263,7 @@ class RobotNode:
         except ProtocolError:
             return  # a put is not answered: nothing to tell, nothing to keep
         with self._lock:
-            self.lease.heard(who, time.monotonic())
+            self.lease.heard(who, self._clock())
 
     def _bye(self, sample: Any) -> None:
         try:
@@ -265,13 +280,15 @@ class RobotNode:
         wait_s = IDLE_LOOK_S
         while not self._closing.wait(wait_s):
             with self._lock:
-                gone = self.lease.expire(time.monotonic())
-                due_s = self.lease.due_in(time.monotonic())
-            if gone is not None:
+                now = self._clock()
+                lapsed = self.lease.tick(now)
+                due_s = self.lease.due_in(now)
+            if lapsed is not None:
                 log.warning("robot %s: its controller went silent; stopping it", self.name)
-                self._stop_for(gone, f"robot {self.name} was stopped before this query ran: "
-                               "its controller was silent past the deadline")  # fmt: skip
-            # Just past the deadline (expire wants "more than"), never more than IDLE_LOOK_S.
+                why = f"its controller was {lapsed.why}"
+                self._stop_for(lapsed.holder, f"robot {self.name} was stopped before this "
+                               f"query ran: {why}")  # fmt: skip
+            # Just past the deadline (tick wants "more than"), never more than IDLE_LOOK_S.
             wait_s = IDLE_LOOK_S if due_s is None else min(max(due_s, 0.0) + 1e-4, IDLE_LOOK_S)
 
     def _stop_for(self, who: str, why: str) -> None:
