@@ -12,6 +12,7 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     │   ├── PortNotFoundError (FileNotFoundError) the port or URL does not exist
     │   ├── LinkTimeoutError (TimeoutError)      no (complete) reply within the timeout
     │   ├── LinkLostError                        the port went away and did not come back
+    │   │   └── ReplayEndedError                 a replayed recording has no more steps
     │   ├── PortBusyError                        another controller holds the port
     │   └── NotAnEpuckError                      something answered, but not an e-puck
     ├── ProtocolError
@@ -75,6 +76,7 @@ __all__ = [
     "ProtocolError",
     "RecordingError",
     "RemoteError",
+    "ReplayEndedError",
     "RobotBusyError",
     "RobotResetError",
     "SecretRequiredError",
@@ -139,6 +141,11 @@ class LinkTimeoutError(LinkError, TimeoutError):
 
 class LinkLostError(LinkError):
     """The port disappeared and did not come back within the reconnect deadline."""
+
+
+class ReplayEndedError(LinkLostError):
+    """A replayed recording has no more steps: the run is over, as it was then, not broken
+    (the Robot's step returns -1 and logs it at INFO, where a lost link is an ERROR)."""
 
 
 class PortBusyError(LinkError):

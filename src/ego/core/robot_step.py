@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 from ego.core.transaction import run_step
 from ego.devices.base import MAX_PERIOD_MS, Device, check_int
-from ego.errors import LinkLostError
+from ego.errors import LinkLostError, ReplayEndedError
 from ego.i2c.side import run_i2c_step
 
 if TYPE_CHECKING:
@@ -76,9 +76,12 @@ class Stepping:
                 run_step(self._step_parts, self.link, now, self._restarted, self._reply_clock)
             # Also where a network channel says its session ended with nothing to send.
             self.link.waiting_until(time.monotonic() + step_ms / 1000.0)
+        except ReplayEndedError as exc:  # a replay's end: over, not broken
+            log.info("link lost for good: %s", exc)
+            self._lost = self._parts.lost = True
+            return -1
         except LinkLostError as exc:
-            ended = getattr(exc, "expected", False)  # a replay's end: over, not broken
-            log.log(logging.INFO if ended else logging.ERROR, "link lost for good: %s", exc)
+            log.error("link lost for good: %s", exc)
             self._lost = self._parts.lost = True
             return -1
         # Beside the batch: what the firmware leaves on the Overo's I2C bus (its own lock).
