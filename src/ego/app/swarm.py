@@ -17,6 +17,7 @@ output and error line by line, each line headed by its robot's name (``[epuck0] 
 from __future__ import annotations
 
 import contextlib
+import logging
 import os
 import subprocess
 import sys
@@ -27,9 +28,12 @@ from dataclasses import dataclass, field
 from typing import IO, Any
 
 from ego.backends import Opened, find_backend
+from ego.core.closing import close_each
 from ego.serial.protocol import Firmware
 
 __all__ = ["MAX_ROBOTS", "Swarm", "robot_name", "robot_seed"]
+
+log = logging.getLogger(__name__)
 
 #: The names of a swarm's robots: epuck0, epuck1...
 NAME_PREFIX = "epuck"
@@ -112,9 +116,8 @@ class Swarm:
             self._closers.pop()()
         for node in self.nodes:
             node.close()
-        for opened in self.opened:
-            with contextlib.suppress(Exception):
-                opened.close()
+        for index, opened in enumerate(self.opened):
+            close_each(robot_name(index), [opened.close], log)
         if self.session is not None:
             self.session.close()
         self.nodes, self.opened, self.session = [], [], None
