@@ -41,7 +41,6 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
         └── FrameError (ValueError)              a malformed or oversized network frame
             └── VersionMismatchError             a frame of another ego protocol version
     EgoWarning (UserWarning)
-    ├── StepOverrunWarning                       a step's work took longer than the step
     └── DeprecatedNameWarning (FutureWarning)    an old name that still works, for now
 """
 
@@ -82,7 +81,6 @@ __all__ = [
     "SecretRequiredError",
     "SettingOutOfRangeError",
     "ShortReplyError",
-    "StepOverrunWarning",
     "UnknownDeviceError",
     "UnknownSettingError",
     "UnsupportedControlError",
@@ -303,10 +301,6 @@ class VersionMismatchError(FrameError):
 
 class EgoWarning(UserWarning):
     """Base of ego's warnings."""
-
-
-class StepOverrunWarning(EgoWarning):
-    """A step's work (I/O included) took longer than the step itself."""
 
 
 class DeprecatedNameWarning(EgoWarning, FutureWarning):

@@ -1,4 +1,4 @@
-"""How a Robot's run ends: a replay's end is the run's end (INFO), a lost link a failure (ERROR).
+"""How a replayed run ends (its end is the run's end, at INFO), and begins (a forced firmware).
 
 The end of a replay is told by its type, :class:`ego.errors.ReplayEndedError`, one of the
 one error tree's (a LinkLostError, so ``except LinkLostError`` still catches it).
@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import ego
-from ego.errors import LinkLostError, ReplayEndedError
+from ego.errors import FirmwareMismatchError, LinkLostError, ReplayEndedError
 from ego.recording.writer import Recorder
 
 STEPS = 5
@@ -49,3 +49,11 @@ def test_a_replay_that_reaches_its_end_ends_the_run_at_info_not_error(
     assert [r.levelno for r in ended] == [logging.INFO]
     assert "the recording ends after step" in ended[0].getMessage()
     assert not [r for r in caplog.records if r.levelno >= logging.ERROR]
+
+
+def test_a_replay_forced_to_another_firmware_is_a_firmware_mismatch(recording: Path) -> None:
+    with pytest.raises(FirmwareMismatchError) as raised:
+        ego.Robot(f"replay://{recording}", firmware="gctronic")
+    assert str(raised.value) == (
+        f"replay://{recording} recorded a robot with the webots firmware, not gctronic"
+    )

@@ -32,7 +32,13 @@ from typing import Any
 from ego.backends import Opened
 from ego.core.safety import stop_requests
 from ego.core.scheduler import StepClock
-from ego.errors import LinkError, RecordingError, ReplayEndedError, UnsupportedDeviceError
+from ego.errors import (
+    FirmwareMismatchError,
+    LinkError,
+    RecordingError,
+    ReplayEndedError,
+    UnsupportedDeviceError,
+)
 from ego.recording.reader import Recording
 from ego.serial.firmware import FirmwareInfo, gctronic_profile
 from ego.serial.link import LinkStats
@@ -197,7 +203,7 @@ class ReplayBackend:
         recording = Recording.open(Path(path))
         channel = ReplayChannel(recording, _reply_times_ns(recording))
         if firmware is not None and channel.info.firmware is not firmware:
-            raise UnsupportedDeviceError(
+            raise FirmwareMismatchError(
                 f"{port} recorded a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
         clock = None if speed == 1.0 else paced_clock(speed)
