@@ -12,6 +12,7 @@ import threading
 from pathlib import Path
 
 import ego
+from ego.faces.runtime import RunOptions
 from ego.recording.writer import Recorder
 from ego.servers.dashboard.live import RobotDashboard
 
@@ -39,3 +40,26 @@ def test_closing_a_robot_with_camera_recording_and_dashboard_leaves_no_thread(
     recorder.close()  # their owners' own close stays harmless after the robot's
     board.close()
     assert (tmp_path / "run.mcap").stat().st_size > 0
+
+
+def test_the_keyboards_reader_ends_with_the_robot() -> None:
+    """A Webots controller's keyboard reads its terminal (here a pty) on a thread of its
+    own; the core robot's close, however the run ends it, stops and joins that thread."""
+    import os
+    import pty
+
+    from ego.controller import Keyboard, Robot
+
+    before = set(threading.enumerate())
+    leader, follower = pty.openpty()
+    robot = Robot(options=RunOptions(port="sim", seed=1))
+    try:
+        robot.keyboard = Keyboard(16, fd=follower)
+        assert robot.step(16) == 0
+        assert "ego-keyboard" in _others(before)
+        robot.core.close()  # what ego run does at the end of the run
+        assert _others(before) == []
+    finally:
+        robot.cleanup()
+        os.close(leader)
+        os.close(follower)

@@ -76,6 +76,8 @@ class Robot(DeviceLookup):
         self.core = self._core
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
+        # The keyboard's reader thread ends with the robot, however the run closes it.
+        self._core.add_closer(self._stop_inputs)
         context.webots_robot = self
         for callback in options.on_robot:
             callback(self._core)
@@ -238,6 +240,9 @@ class Robot(DeviceLookup):
         if not self._core.battery.has_values:
             return math.nan
         return self._core.battery.value
+
+    def _stop_inputs(self) -> None:
+        self.keyboard.disable()
 
     def cleanup(self) -> None:
         """Stop the robot and close the link (also done at exit); the terminal back."""
