@@ -60,11 +60,15 @@ from __future__ import annotations
 
 import logging
 import math
+import sys
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
-import tomllib
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # Python 3.10: the same parser, published before it joined the standard library
+    import tomli as tomllib
 
 from firmware_sim.files import read_regular
 from firmware_sim.floor import LineTrack, Marks

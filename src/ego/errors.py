@@ -12,6 +12,7 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     │   ├── PortNotFoundError (FileNotFoundError) the port or URL does not exist
     │   ├── LinkTimeoutError (TimeoutError)      no (complete) reply within the timeout
     │   ├── LinkLostError                        the port went away and did not come back
+    │   │   └── ReplayEndedError                 a replayed recording has no more steps
     │   ├── PortBusyError                        another controller holds the port
     │   └── NotAnEpuckError                      something answered, but not an e-puck
     ├── ProtocolError
@@ -40,7 +41,6 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
         └── FrameError (ValueError)              a malformed or oversized network frame
             └── VersionMismatchError             a frame of another ego protocol version
     EgoWarning (UserWarning)
-    ├── StepOverrunWarning                       a step's work took longer than the step
     └── DeprecatedNameWarning (FutureWarning)    an old name that still works, for now
 """
 
@@ -75,12 +75,12 @@ __all__ = [
     "ProtocolError",
     "RecordingError",
     "RemoteError",
+    "ReplayEndedError",
     "RobotBusyError",
     "RobotResetError",
     "SecretRequiredError",
     "SettingOutOfRangeError",
     "ShortReplyError",
-    "StepOverrunWarning",
     "UnknownDeviceError",
     "UnknownSettingError",
     "UnsupportedControlError",
@@ -139,6 +139,11 @@ class LinkTimeoutError(LinkError, TimeoutError):
 
 class LinkLostError(LinkError):
     """The port disappeared and did not come back within the reconnect deadline."""
+
+
+class ReplayEndedError(LinkLostError):
+    """A replayed recording has no more steps: the run is over, as it was then, not broken
+    (the Robot's step returns -1 and logs it at INFO, where a lost link is an ERROR)."""
 
 
 class PortBusyError(LinkError):
@@ -296,10 +301,6 @@ class VersionMismatchError(FrameError):
 
 class EgoWarning(UserWarning):
     """Base of ego's warnings."""
-
-
-class StepOverrunWarning(EgoWarning):
-    """A step's work (I/O included) took longer than the step itself."""
 
 
 class DeprecatedNameWarning(EgoWarning, FutureWarning):

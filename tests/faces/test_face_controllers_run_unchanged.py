@@ -122,13 +122,11 @@ def test_a_webots_controller_runs_unchanged_in_process(
     emulator: Emulator,
     world: World,
     tmp_path: Path,
-    monkeypatch: pytest.MonkeyPatch,
     check_stopped: Callable[[World], None],
 ) -> None:
     result_path = tmp_path / "result.json"
-    monkeypatch.setenv("EGO_TEST_RESULT", str(result_path))
     options = runtime.RunOptions(port=emulator.path, duration_s=0.5)
-    run_controller(CONTROLLERS / controller, options)
+    run_controller(CONTROLLERS / controller, options, [str(result_path)])
     CHECKS[controller](json.loads(result_path.read_text()), 0.5)
     check_stopped(world)
 

@@ -49,10 +49,18 @@ def test_serial_init_scheduler_and_close(emulator: Emulator, face_options: objec
     assert not default_robot.is_open()
 
 
-def test_serial_init_without_a_port_uses_the_run_options(face_options: object) -> None:
+def test_serial_init_without_a_port_uses_the_run_options(
+    face_options: runtime.RunOptions, world: World
+) -> None:
     ov.overo_serial_init()  # E-GO's defaults: 230400 baud, the configured port
+    robot = default_robot.get()
+    assert robot.port == face_options.port
+    ov.overo_motors_set_speed("left wheel motor", 300, 300)
     step()
+    assert ov.overo_scheduler_local_get_time() == pytest.approx(TIME_STEP / 1000)
+    assert world.speeds == (300, 300)  # the batch went down the options' port
     ov.overo_serial_close(3)  # E-GO passes the port's file descriptor: accepted, unused
+    assert not default_robot.is_open() and robot.closed
 
 
 def test_accelerometer_raw_then_spherical(device: Addressing) -> None:

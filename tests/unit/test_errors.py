@@ -65,3 +65,38 @@ def test_every_exported_name_exists_and_is_an_ego_error_or_warning() -> None:
     for name in errors.__all__:
         obj = getattr(errors, name)
         assert issubclass(obj, (errors.EgoError, errors.EgoWarning)), name
+
+
+def _raised_names() -> set[str]:
+    """Every name ego (or its emulator) makes an error of, ``X(...)``, or warns with,
+    ``warn(message, X)``, outside ego.errors itself."""
+    import ast
+    from pathlib import Path
+
+    import firmware_sim
+
+    roots = (Path(errors.__file__).parent, Path(firmware_sim.__file__).parent)
+    names: set[str] = set()
+    for path in (p for root in roots for p in root.rglob("*.py")):
+        if path == Path(errors.__file__):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if not isinstance(node, ast.Call):
+                continue
+            named = [node.func]
+            if getattr(node.func, "attr", getattr(node.func, "id", "")) == "warn":
+                named += node.args[1:2]
+            for name in named:
+                if isinstance(name, ast.Name):
+                    names.add(name.id)
+                elif isinstance(name, ast.Attribute):
+                    names.add(name.attr)
+    return names
+
+
+def test_every_leaf_of_the_tree_is_raised_somewhere() -> None:
+    classes = [getattr(errors, name) for name in errors.__all__]
+    leaves = {
+        c.__name__ for c in classes if not any(o is not c and issubclass(o, c) for o in classes)
+    }
+    assert sorted(leaves - _raised_names()) == []

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextvars
 import signal
+import sys
 import textwrap
 from collections.abc import Iterator
 from pathlib import Path
@@ -137,18 +138,35 @@ def test_ego_run_gives_the_controller_its_options_in_a_context_of_its_own(
     assert len(robots) == 1 and robots[0].time_s == pytest.approx(0.048)
 
 
+OPTIONS_REPORTER = """
+    import sys
+
+    from ego.faces import default_robot
+
+    options = default_robot.current_context().options
+    with open(sys.argv[1], "w") as out:
+        out.write(f"{options.port} {options.duration_s} {options.basic_time_step_ms}")
+"""
+
+
 def test_the_ego_run_command_passes_the_options_it_parsed(
-    monkeypatch: pytest.MonkeyPatch, fresh: FaceContext
+    tmp_path: Path, fresh: FaceContext
 ) -> None:
-    calls: list[tuple[object, RunOptions]] = []
-    monkeypatch.setattr(runner, "run_controller", lambda path, o, argv=(): calls.append((path, o)))
-    monkeypatch.setattr("ego.core.scheduler.tune_for_stepping", lambda realtime=False: None)
+    script = tmp_path / "c.py"
+    script.write_text(textwrap.dedent(OPTIONS_REPORTER))
+    report = tmp_path / "options.txt"
     outer_options = fresh.options
-    args = ["run", "--port", "sim", "--duration", "1.5", "--time-step", "16", "c.py"]
-    assert cli.main(args) == 0
-    [(path, options)] = calls
-    assert path == "c.py"
-    assert (options.port, options.duration_s, options.basic_time_step_ms) == ("sim", 1.5, 16)
+    took_signals = signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+    interval = sys.getswitchinterval()  # ego run tunes the process for stepping
+    args = ["run", "--port", "sim", "--duration", "1.5", "--time-step", "16", str(script),
+            str(report)]  # fmt: skip
+    try:
+        assert cli.main(args) == 0
+    finally:
+        sys.setswitchinterval(interval)
+        if took_signals:  # ego run takes them for good: give them back for the next tests
+            safety.uninstall_signal_handlers()
+    assert report.read_text().split() == ["sim", "1.5", "16.0"]
     assert fresh.options is outer_options  # nothing was set behind the call
 
 
@@ -165,20 +183,19 @@ def test_time_is_up_once_the_duration_is_used(
     assert RunOptions(duration_s=duration_s).time_is_up(time_s) is up
 
 
-def test_both_faces_end_the_run_where_time_is_up_says(
-    monkeypatch: pytest.MonkeyPatch, fresh: FaceContext
-) -> None:
+def test_both_faces_end_the_run_where_time_is_up_says(fresh: FaceContext) -> None:
     asked: list[float] = []
 
-    def up_after_first(self: RunOptions, time_s: float) -> bool:
-        asked.append(time_s)
-        return time_s > 0
+    class UpAfterFirst(RunOptions):
+        def time_is_up(self, time_s: float) -> bool:
+            asked.append(time_s)
+            return time_s > 0
 
-    monkeypatch.setattr(RunOptions, "time_is_up", up_after_first)
+    fresh.options = UpAfterFirst(port="sim", seed=1)
     assert wb.wb_robot_init() == 1
     assert wb.wb_robot_step(32) == 0
     assert wb.wb_robot_step(32) == -1 and not fresh.is_open()
-    robot = WebotsRobot(options=RunOptions(port="sim", seed=1))
+    robot = WebotsRobot(options=UpAfterFirst(port="sim", seed=1))
     try:
         assert robot.step(32) == 0
         assert robot.step(32) == -1

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 
 from ego.backends import open_port, scheme_of
-from ego.core.ports import DEFAULT_PORT, resolve_port
+from ego.core.ports import DEFAULT_PORT
 from ego.errors import NotAnEpuckError, PortNotFoundError
 from ego.serial.link import Link
 from ego.serial.protocol import Firmware
@@ -13,19 +16,24 @@ from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator
 
 
-def test_explicit_port_wins(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("EGO_PORT", "/dev/ttyUSB0")
-    assert resolve_port("loop://") == "loop://"
+def _resolved(port: str | None, environment: dict[str, str]) -> str:
+    """resolve_port(port) in a process of its own, with ``environment`` as its whole env."""
+    code = f"from ego.core.ports import resolve_port; print(resolve_port({port!r}))"
+    done = subprocess.run([sys.executable, "-c", code], env=environment, capture_output=True,
+                          text=True, check=True)  # fmt: skip
+    return done.stdout.strip()
 
 
-def test_environment_names_the_port_when_none_is_given(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("EGO_PORT", "/dev/ttyUSB0")
-    assert resolve_port(None) == "/dev/ttyUSB0"
+def test_explicit_port_wins() -> None:
+    assert _resolved("loop://", {"EGO_PORT": "/dev/ttyUSB0"}) == "loop://"
 
 
-def test_overo_uart_is_the_default(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.delenv("EGO_PORT", raising=False)
-    assert resolve_port(None) == DEFAULT_PORT == "/dev/ttyS0"
+def test_environment_names_the_port_when_none_is_given() -> None:
+    assert _resolved(None, {"EGO_PORT": "/dev/ttyUSB0"}) == "/dev/ttyUSB0"
+
+
+def test_overo_uart_is_the_default() -> None:
+    assert _resolved(None, {}) == DEFAULT_PORT == "/dev/ttyS0"
 
 
 def test_a_path_opens_a_link_on_a_serial_transport_at_the_asked_rate() -> None:

@@ -7,7 +7,6 @@ import math
 import pytest
 
 from ego.controller import Robot as WebotsRobot
-from ego.controller import devices as views
 from ego.devices.motors import MAX_SPEED_RAD_S
 from ego.devices.position_control import (
     GAIN_PER_S,
@@ -41,22 +40,22 @@ def test_position_speed_is_in_whole_steps_per_second() -> None:
     assert position_speed(0.0, 0.0, math.pi) == 0
 
 
-def test_the_webots_motor_asks_the_core_for_its_speed(monkeypatch: pytest.MonkeyPatch) -> None:
-    asked: list[tuple[float, float, float]] = []
-
-    def fake(target: float, current: float, velocity: float) -> int:
-        asked.append((target, current, velocity))
-        return 123
-
-    monkeypatch.setattr(views, "position_speed", fake)
+def test_the_webots_motor_drives_at_the_cores_position_speed() -> None:
+    """After each step the Motor sends what position_speed gives for the wheel's angle."""
     robot = WebotsRobot(options=RunOptions(port="sim", seed=1, basic_time_step_ms=16))
     try:
         motor = robot.getMotor("right wheel motor")
         motor.setVelocity(2.0)
         motor.setPosition(1.5)
         assert robot.core.encoders.sampling_period() == 16  # the robot's basic time step
-        assert robot.step(16) == 0
-        assert asked and asked[-1][0] == 1.5 and asked[-1][2] == 2.0
-        assert robot.core.motors.speed[1] == 123
+        speeds = []
+        for _ in range(40):
+            assert robot.step(16) == 0
+            current = robot.core.encoders.radians[1]
+            assert robot.core.motors.speed[1] == position_speed(1.5, current, 2.0)
+            speeds.append(robot.core.motors.speed[1])
+        # Far from 1.5 rad it turns at the set 2 rad/s; as it nears the target it slows.
+        assert speeds[0] == position_speed(1.5, 0.0, 2.0) > 0
+        assert min(speeds) < speeds[0]
     finally:
         robot.cleanup()

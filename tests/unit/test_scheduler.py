@@ -1,4 +1,4 @@
-"""The step clock on a fake clock: absolute deadlines, overruns, the switch interval."""
+"""The step clock on a fake clock: absolute deadlines, overruns; the switch interval left alone."""
 
 from __future__ import annotations
 
@@ -36,9 +36,7 @@ def fake() -> FakeTime:
 
 @pytest.fixture
 def clock(fake: FakeTime) -> Iterator[StepClock]:
-    step_clock = StepClock(
-        spin_s=0.0005, clock=fake.clock, sleep=fake.sleep, switch_interval_s=None
-    )
+    step_clock = StepClock(spin_s=0.0005, clock=fake.clock, sleep=fake.sleep)
     yield step_clock
     step_clock.close()
 
@@ -79,16 +77,12 @@ def test_an_overrun_is_counted_and_the_next_step_is_not_rushed(
     assert fake.now - resumed == pytest.approx(0.010, abs=1e-4)
 
 
-def test_open_clocks_keep_the_switch_interval_short_until_the_last_closes() -> None:
+def test_a_clock_leaves_the_switch_interval_alone() -> None:
+    """One path: only tune_for_stepping (ego run, ego demo) changes the process's setting."""
     before = sys.getswitchinterval()
-    first = StepClock(switch_interval_s=0.0002)
-    second = StepClock(switch_interval_s=0.0002)
-    try:
-        assert sys.getswitchinterval() == pytest.approx(0.0002)
-        first.close()
-        assert sys.getswitchinterval() == pytest.approx(0.0002)
-        first.close()  # closing twice must not release the second clock's hold
-        assert sys.getswitchinterval() == pytest.approx(0.0002)
-    finally:
-        second.close()
-    assert sys.getswitchinterval() == pytest.approx(before)
+    clock = StepClock()
+    clock.wait(1)
+    clock.close()
+    assert sys.getswitchinterval() == before
+    with pytest.raises(TypeError):
+        StepClock(switch_interval_s=0.0002)  # type: ignore[call-arg]

@@ -29,12 +29,12 @@ def play(
     secret = load_secret(secret_file) if secret_file else None
     with DashboardServer(feed, host, port, secret) as server:
         feed.server = server
-        feed.start()
-        print(f"ego replay: {len(recording.samples)} steps, {recording.duration_s:.1f} s of "
-              f"{recording.robot.get('firmware', '?')} robot; dashboard at {server.url}",
-              file=sys.stderr, flush=True)  # fmt: skip
         end = None if duration_s is None else time.monotonic() + duration_s
         try:
+            feed.start()
+            print(f"ego replay: {len(recording.samples)} steps, {recording.duration_s:.1f} s "
+                  f"of {recording.robot.get('firmware', '?')} robot; dashboard at {server.url}",
+                  file=sys.stderr, flush=True)  # fmt: skip
             while end is None or time.monotonic() < end:
                 time.sleep(0.1)
         except KeyboardInterrupt:

@@ -83,7 +83,8 @@ class ReplayFeed:
     # -- playing ------------------------------------------------------------------------
 
     def start(self) -> None:
-        self._thread = threading.Thread(target=self._play, name="ego-replay", daemon=True)
+        # Not a daemon: close() (its owner's, in a finally) ends and joins it.
+        self._thread = threading.Thread(target=self._play, name="ego-replay")
         self._thread.start()
 
     def close(self) -> None:

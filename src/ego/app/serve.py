@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 from ego.app.cli_options import add_dashboard_options, error_line
 from ego.backends import open_port, takes_option
 from ego.core.channel import Channel
+from ego.core.closing import close_each
 from ego.core.ports import DEFAULT_CAMERA_DEVICE
 from ego.core.safety import TERMINATING_SIGNALS
 from ego.errors import EgoError
@@ -134,11 +135,11 @@ class ServedRobot:
     closers: list[Callable[[], None]] = field(default_factory=list)
     #: The emulated world behind a simulated robot (its ground truth), else None.
     world: Any = None
+    #: The robot's name in a failure's log line: its port.
+    name: str = "robot"
 
     def close(self) -> None:
-        for close in self.closers:
-            with contextlib.suppress(Exception):
-                close()
+        close_each(self.name, self.closers, log)
 
 
 def open_robot(
@@ -159,7 +160,7 @@ def open_robot(
         options["secret"] = secret
     opened = open_port(resolved, firmware=Firmware.choose(firmware), **options)
     world = getattr(opened.ground_truth, "world", None)
-    robot = ServedRobot(opened.channel, closers=[opened.close], world=world)
+    robot = ServedRobot(opened.channel, closers=[opened.close], world=world, name=resolved)
     device = camera or os.environ.get("EGO_CAMERA")
     # Serve the backend's camera: a simulated one always, a V4L2 device when named or
     # present (a robot without its camera board serves none rather than fail).

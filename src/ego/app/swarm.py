@@ -16,7 +16,7 @@ output and error line by line, each line headed by its robot's name (``[epuck0] 
 
 from __future__ import annotations
 
-import contextlib
+import logging
 import os
 import subprocess
 import sys
@@ -27,9 +27,12 @@ from dataclasses import dataclass, field
 from typing import IO, Any
 
 from ego.backends import Opened, find_backend
+from ego.core.closing import close_each
 from ego.serial.protocol import Firmware
 
 __all__ = ["MAX_ROBOTS", "Swarm", "robot_name", "robot_seed"]
+
+log = logging.getLogger(__name__)
 
 #: The names of a swarm's robots: epuck0, epuck1...
 NAME_PREFIX = "epuck"
@@ -112,9 +115,8 @@ class Swarm:
             self._closers.pop()()
         for node in self.nodes:
             node.close()
-        for opened in self.opened:
-            with contextlib.suppress(Exception):
-                opened.close()
+        for index, opened in enumerate(self.opened):
+            close_each(robot_name(index), [opened.close], log)
         if self.session is not None:
             self.session.close()
         self.nodes, self.opened, self.session = [], [], None
@@ -157,6 +159,8 @@ class Swarm:
             _end_all(processes)
             for relay in relays:
                 relay.join(5)
+                if relay.is_alive():  # a child's own child still holds the pipe open
+                    log.warning("%s: its output stays open after its process ended", relay.name)
 
 
 def _relay(process: subprocess.Popen[bytes], prefix: str) -> list[threading.Thread]:
@@ -164,7 +168,7 @@ def _relay(process: subprocess.Popen[bytes], prefix: str) -> list[threading.Thre
     pairs = ((process.stdout, sys.stdout), (process.stderr, sys.stderr))
     threads = [
         threading.Thread(target=_copy_lines, args=(source, to, prefix),
-                         name=f"ego-swarm-relay {prefix.strip()}", daemon=True)
+                         name=f"ego-swarm-relay {prefix.strip()}")
         for source, to in pairs
         if source is not None
     ]  # fmt: skip
@@ -182,11 +186,16 @@ def _copy_lines(source: IO[bytes], to: IO[str], prefix: str) -> None:
 
 
 def _end_all(processes: Sequence[subprocess.Popen[bytes]]) -> None:
-    """Terminate the processes still running, and give each up to 5 s to end."""
+    """Terminate the processes still running, give each up to 5 s to end, then kill it:
+    once all are gone their pipes close and the relays (not daemons) end and are joined."""
     for process in processes:
         if process.poll() is None:
             process.terminate()
     deadline = time.monotonic() + 5
     for process in processes:
-        with contextlib.suppress(subprocess.TimeoutExpired):
+        try:
             process.wait(max(0.1, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            log.warning("%s did not end within 5 s of SIGTERM: killed", process.args)
+            process.kill()
+            process.wait()

@@ -32,7 +32,13 @@ from typing import Any
 from ego.backends import Opened
 from ego.core.safety import stop_requests
 from ego.core.scheduler import StepClock
-from ego.errors import LinkError, LinkLostError, RecordingError, UnsupportedDeviceError
+from ego.errors import (
+    FirmwareMismatchError,
+    LinkError,
+    RecordingError,
+    ReplayEndedError,
+    UnsupportedDeviceError,
+)
 from ego.recording.reader import Recording
 from ego.serial.firmware import FirmwareInfo, gctronic_profile
 from ego.serial.link import LinkStats
@@ -44,15 +50,6 @@ __all__ = ["SPEEDS", "ReplayBackend", "ReplayChannel", "ReplayDivergedError", "R
 EXCHANGE_TOPIC = "/ego/exchange"
 #: The paces a replay plays at, as multiples of real time (the dashboard's player's too).
 SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)
-
-
-class ReplayEndedError(LinkLostError):
-    """The recording has no more steps: the run is over, as it was then."""
-
-    def __init__(self, message: str, *, expected: bool = False) -> None:
-        super().__init__(message)
-        #: True at the recording's end: the run is over, as it was then, not broken.
-        self.expected = expected
 
 
 class ReplayDivergedError(LinkError):
@@ -128,8 +125,7 @@ class ReplayChannel:
         exchanges = self.recording.exchanges
         if self._next >= len(exchanges):
             last = exchanges[-1].step if exchanges else 0
-            raise ReplayEndedError(f"{self.name}: the recording ends after step {last}",
-                                   expected=True)  # fmt: skip
+            raise ReplayEndedError(f"{self.name}: the recording ends after step {last}")
         recorded = exchanges[self._next]
         asked = [request.command for request in batch.requests]
         then = [request.command for request in parse_batch(recorded.tx, self.profile).requests]
@@ -207,7 +203,7 @@ class ReplayBackend:
         recording = Recording.open(Path(path))
         channel = ReplayChannel(recording, _reply_times_ns(recording))
         if firmware is not None and channel.info.firmware is not firmware:
-            raise UnsupportedDeviceError(
+            raise FirmwareMismatchError(
                 f"{port} recorded a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
         clock = None if speed == 1.0 else paced_clock(speed)

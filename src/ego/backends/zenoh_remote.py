@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 from ego.backends import Opened
 from ego.backends.remote.channel import info_from
 from ego.backends.remote.connection import error_from_reply
-from ego.errors import LinkLostError, PortNotFoundError
+from ego.errors import FirmwareMismatchError, LinkLostError
 from ego.serial.link import LinkStats
 from ego.zenoh_net.keys import check_name, robot_key
 from ego.zenoh_net.sessions import ZenohSettings, open_session
@@ -186,7 +186,7 @@ class ZenohBackend:
             raise
         if firmware is not None and channel.info.firmware is not firmware:
             channel.close()
-            raise PortNotFoundError(
+            raise FirmwareMismatchError(
                 f"{port} serves a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
         return Opened(channel, remote=True, ground_truth=_Truth(channel))

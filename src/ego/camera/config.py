@@ -38,7 +38,7 @@ import os
 import re
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import TYPE_CHECKING, Final
+from typing import Final, Protocol
 
 from ego.camera.convert import ROTATIONS
 from ego.camera.source import CONTROLS
@@ -50,9 +50,6 @@ from ego.errors import (
     SettingOutOfRangeError,
     UnknownSettingError,
 )
-
-if TYPE_CHECKING:
-    from ego.camera.device import Camera
 
 __all__ = [
     "MAX_CONFIG_BYTES",
@@ -150,36 +147,45 @@ def parse_configuration(
                 path, number, f"{key} is set twice (first on line {lines[key]})"
             )
         lines[key] = number
-        parsed: object
-        if key == "auto_white_balance":
-            lowered = value.lower()
-            if lowered not in _TRUE | _FALSE:
-                raise ConfigSyntaxError(
-                    path, number, f"auto_white_balance must be on or off, not {value!r}"
-                )
-            parsed = lowered in _TRUE
-        elif key == "fov_rad":
-            if not _DECIMAL.fullmatch(value) or len(value) > 32:
-                raise ConfigSyntaxError(path, number, f"fov_rad must be a number, not {value!r}")
-            parsed = float(value)
-            if not 0.0 < parsed < math.pi:
-                raise SettingOutOfRangeError(path, number, f"fov_rad {value} is outside (0, pi)")
-        else:
-            parsed = _parse_int(path, number, key, value)
-            if key == "rotation" and parsed not in ROTATIONS:
-                raise SettingOutOfRangeError(
-                    path, number, f"rotation {parsed} is not one of 0, 90, 180, 270"
-                )
-            if key in CONTROLS:
-                spec = CONTROLS[key]
-                if not spec.minimum <= parsed <= spec.maximum:
-                    raise SettingOutOfRangeError(
-                        path, number, f"{key} {parsed} is outside {spec.minimum}..{spec.maximum}"
-                    )
-        values[key] = parsed
-
+        values[key] = _parse_value(path, number, key, value)
     rotation = values.get("rotation", current_rotation)
     assert isinstance(rotation, int)
+    _check_size(path, values, lines, rotation)
+    return CameraConfiguration(**values)  # type: ignore[arg-type]
+
+
+def _parse_value(path: str, number: int, key: str, value: str) -> object:
+    """The value of ``key = value`` on line ``number``, checked against the key's range."""
+    if key == "auto_white_balance":
+        lowered = value.lower()
+        if lowered not in _TRUE | _FALSE:
+            raise ConfigSyntaxError(
+                path, number, f"auto_white_balance must be on or off, not {value!r}"
+            )
+        return lowered in _TRUE
+    if key == "fov_rad":
+        if not _DECIMAL.fullmatch(value) or len(value) > 32:
+            raise ConfigSyntaxError(path, number, f"fov_rad must be a number, not {value!r}")
+        fov = float(value)
+        if not 0.0 < fov < math.pi:
+            raise SettingOutOfRangeError(path, number, f"fov_rad {value} is outside (0, pi)")
+        return fov
+    parsed = _parse_int(path, number, key, value)
+    if key == "rotation" and parsed not in ROTATIONS:
+        raise SettingOutOfRangeError(
+            path, number, f"rotation {parsed} is not one of 0, 90, 180, 270"
+        )
+    if key in CONTROLS:
+        spec = CONTROLS[key]
+        if not spec.minimum <= parsed <= spec.maximum:
+            raise SettingOutOfRangeError(
+                path, number, f"{key} {parsed} is outside {spec.minimum}..{spec.maximum}"
+            )
+    return parsed
+
+
+def _check_size(path: str, values: dict[str, object], lines: dict[str, int], rotation: int) -> None:
+    """The width and height the file gives, within the sizes served at ``rotation``."""
     low, high = size_range(rotation)
     for axis, key in enumerate(("width", "height")):
         size = values.get(key)
@@ -189,7 +195,6 @@ def parse_configuration(
                 lines[key],
                 f"{key} {size} is outside {low[axis]}..{high[axis]} at rotation {rotation}",
             )
-    return CameraConfiguration(**values)  # type: ignore[arg-type]
 
 
 def read_configuration(
@@ -211,7 +216,25 @@ def read_configuration(
     return parse_configuration(text, str(file), current_rotation=current_rotation)
 
 
-def apply_configuration(camera: Camera, path: str | os.PathLike[str]) -> None:
+class Configurable(Protocol):
+    """What a configuration file sets: a :class:`~ego.camera.Camera` is one (described
+    here, not imported, so that the camera may import this module)."""
+
+    rotation: int
+    fov_rad: float
+
+    @property
+    def width(self) -> int: ...
+
+    @property
+    def height(self) -> int: ...
+
+    def set_size(self, width: int, height: int) -> object: ...
+
+    def set_control(self, name: str, value: int) -> object: ...
+
+
+def apply_configuration(camera: Configurable, path: str | os.PathLike[str]) -> None:
     """Apply a configuration file to ``camera``.
 
     The file is checked whole before anything changes; its typed errors give the line. A

@@ -274,6 +274,22 @@ def _text(field: ctypes.Array[ctypes.c_uint8]) -> str:
     return bytes(field).split(b"\0", 1)[0].decode("ascii", "replace")
 
 
+#: Why a video device would not open, for the errors ENOENT, EBUSY, EACCES.
+_OPEN_REASONS = {
+    errno.ENOENT: "no such video device",
+    errno.EBUSY: "the device is busy: another program is using it",
+    errno.EACCES: "permission denied (is the user in the 'video' group?)",
+}
+
+
+def _clamped(query: v4l2_queryctrl, value: int) -> int:
+    """``value`` within the control's range, on its step, as the driver would take it."""
+    clamped = min(max(int(value), query.minimum), query.maximum)
+    if query.step > 1:
+        clamped -= (clamped - query.minimum) % query.step
+    return int(clamped)
+
+
 class V4L2Source:
     """Frames from a V4L2 capture device, streamed through memory-mapped buffers.
 
@@ -357,11 +373,7 @@ class V4L2Source:
             self._fd = self._sys.open(self.device, os.O_RDWR | os.O_NONBLOCK)
         except OSError as exc:
             code_ = exc.errno or errno.EIO
-            reason = {
-                errno.ENOENT: "no such video device",
-                errno.EBUSY: "the device is busy: another program is using it",
-                errno.EACCES: "permission denied (is the user in the 'video' group?)",
-            }.get(code_, os.strerror(code_))
+            reason = _OPEN_REASONS.get(code_) or os.strerror(code_)
             raise CameraCaptureError(code_, f"cannot open {self.device}: {reason}") from exc
         try:
             return self._start(self._fd, width, height, PixelFormat(pixel_format), code)
@@ -464,9 +476,7 @@ class V4L2Source:
             raise UnsupportedControlError(f"{self.device} has no {name} control") from exc
         if query.flags & CTRL_FLAG_DISABLED:
             raise UnsupportedControlError(f"{self.device}'s {name} control is disabled")
-        clamped = min(max(int(value), query.minimum), query.maximum)
-        if query.step > 1:
-            clamped -= (clamped - query.minimum) % query.step
+        clamped = _clamped(query, value)
         if clamped != value:
             log.info(
                 "%s: %s %d clamped to %d (device range %d..%d)",

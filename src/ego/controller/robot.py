@@ -9,23 +9,15 @@ import time
 from typing import ClassVar
 
 from ego.controller.devices import (
-    LED,
-    Accelerometer,
-    Camera,
     Device,
-    DistanceSensor,
-    LightSensor,
     Motor,
-    PositionSensor,
     encoder_steps,
-    view_class,
-    webots_camera_size,
     whole_steps,
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
-from ego.controller.radio import RADIO_DEVICES, Emitter, Receiver, radio_available
+from ego.controller.lookup import DeviceLookup
 from ego.core.robot import Robot as CoreRobot
-from ego.errors import EgoError, UnknownDeviceError, UnsupportedDeviceError
+from ego.errors import EgoError, UnsupportedDeviceError
 from ego.faces.default_robot import current_context
 from ego.faces.runtime import RunOptions
 
@@ -38,7 +30,7 @@ EPUCK_MODEL = "GCtronic e-puck"
 #: What Webots prints for a second ``Robot()`` in one controller process.
 ONE_ROBOT_ONLY = "Error: only one Robot instance can be created per controller process."
 
-class Robot:
+class Robot(DeviceLookup):
     """The e-puck as a Webots controller sees it.
 
     >>> from controller import Robot                     # doctest: +SKIP
@@ -84,6 +76,8 @@ class Robot:
         self.core = self._core
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
+        # The keyboard's reader thread ends with the robot, however the run closes it.
+        self._core.add_closer(self._stop_inputs)
         context.webots_robot = self
         for callback in options.on_robot:
             callback(self._core)
@@ -101,115 +95,12 @@ class Robot:
             motor.step_update()
         return result
 
-    def getDevice(self, name: str) -> Device | None:
-        """The device called ``name`` (``ps0``, ``left wheel motor``, ``camera``...).
-
-        A name the e-puck has not (``gps``): Webots' warning on stderr and None, as in
-        Webots; under ``ego run --strict``, UnknownDeviceError listing the valid names.
-        """
-        device = self._devices.get(name)
-        if device is None:
-            cls = view_class(name) if name in self._core.device_names else None
-            if name in RADIO_DEVICES and radio_available():
-                cls = Emitter if name == "emitter" else Receiver
-            if cls is None and self._ground_truth(name):
-                from ego.controller.absent import ground_truth_class
-
-                cls = ground_truth_class(name)
-            if cls is None:
-                if not self._options.strict:
-                    print(
-                        f'Device "{name}" was not found on robot "{self.getName()}"',
-                        file=sys.stderr,
-                    )
-                    return None
-                raise UnknownDeviceError(
-                    f"no device named {name!r}; valid names: {', '.join(self._device_names())}"
-                )
-            if cls is Motor:
-                motor = Motor(
-                    self._core,
-                    name,
-                    basic_time_step_ms=self.getBasicTimeStep(),
-                    strict=self._options.strict,
-                )
-                self._motors.append(motor)
-                device = motor
-            else:
-                device = cls(self._core, name, strict=self._options.strict)
-                if cls is Camera:
-                    webots_camera_size(self._core)
-            self._devices[name] = device
-        return device
-
     def _ground_truth(self, name: str) -> bool:
         """Whether the emulator's world declares ``name`` (gps, compass, touch sensor)."""
         emulator = self._core.emulator
         world = getattr(emulator, "world", None)
         declared = getattr(world, "declared_devices", None)
         return bool(declared is not None and name in declared())
-
-    def _device_names(self, cls: type[Device] = Device) -> list[str]:
-        """The names ``getDevice`` serves under the connected firmware, of class ``cls``."""
-        return [
-            name
-            for name in self._core.device_names
-            if (found := view_class(name)) is not None and issubclass(found, cls)
-        ]
-
-    def _deprecated(self, getter: str, name: str, cls: type[Device]) -> Device | None:
-        """Webots' deprecated typed getters: its notice, then ``getDevice`` (Webots' warning
-        and None for a name the e-puck has not; the device whatever its class, as Webots
-        does not check it). Under ``--strict`` a device of another class is refused."""
-        print(
-            f"DEPRECATION: Robot.{getter} is deprecated, please use Robot.getDevice instead.",
-            file=sys.stderr,
-        )
-        device = self.getDevice(name)
-        if self._options.strict and device is not None and not isinstance(device, cls):
-            raise UnknownDeviceError(
-                f"{name!r} is a {type(device).__name__}, not a {cls.__name__}; valid names "
-                f"for a {cls.__name__}: {', '.join(self._device_names(cls)) or 'none'}"
-            )
-        return device
-
-    def getDistanceSensor(self, name: str) -> DistanceSensor | None:
-        return self._deprecated("getDistanceSensor", name, DistanceSensor)  # type: ignore[return-value]
-
-    def getLightSensor(self, name: str) -> LightSensor | None:
-        return self._deprecated("getLightSensor", name, LightSensor)  # type: ignore[return-value]
-
-    def getMotor(self, name: str) -> Motor | None:
-        return self._deprecated("getMotor", name, Motor)  # type: ignore[return-value]
-
-    def getLED(self, name: str) -> LED | None:
-        return self._deprecated("getLed", name, LED)  # type: ignore[return-value]
-
-    def getCamera(self, name: str) -> Camera | None:
-        return self._deprecated("getCamera", name, Camera)  # type: ignore[return-value]
-
-    def getAccelerometer(self, name: str) -> Accelerometer | None:
-        return self._deprecated("getAccelerometer", name, Accelerometer)  # type: ignore[return-value]
-
-    def getPositionSensor(self, name: str) -> PositionSensor | None:
-        return self._deprecated("getPositionSensor", name, PositionSensor)  # type: ignore[return-value]
-
-    def getEmitter(self, name: str) -> Emitter | None:
-        """The radio emitter (see ego.controller.radio), deprecated as in Webots."""
-        return self._deprecated("getEmitter", name, Emitter)  # type: ignore[return-value]
-
-    def getReceiver(self, name: str) -> Receiver | None:
-        """The radio receiver (see ego.controller.radio), deprecated as in Webots."""
-        return self._deprecated("getReceiver", name, Receiver)  # type: ignore[return-value]
-
-    # Deprecated getters of devices the e-puck has not: the same notice, then None.
-    def _absent_getter(self, name: str) -> None:
-        return self.getDevice(name)  # type: ignore[return-value]
-
-    getGPS = getCompass = getGyro = getInertialUnit = getTouchSensor = _absent_getter
-    getSpeaker = getDisplay = getPen = getLidar = _absent_getter
-    getRangeFinder = getRadar = getConnector = getBrake = getAltimeter = _absent_getter
-    getSkin = getVacuumGripper = _absent_getter
 
     def getBasicTimeStep(self) -> float:
         return float(self._options.basic_time_step_ms)
@@ -232,15 +123,6 @@ class Robot:
 
     def setCustomData(self, data: str) -> None:
         self._custom_data = str(data)
-
-    def getNumberOfDevices(self) -> int:
-        return len(self._device_names())
-
-    def getDeviceByIndex(self, index: int) -> Device | None:
-        names = self._device_names()
-        if not 0 <= index < len(names):
-            raise UnknownDeviceError(f"device index {index} is outside 0..{len(names) - 1}")
-        return self.getDevice(names[index])
 
     def getKeyboard(self) -> Keyboard:
         """The terminal's keyboard (see ego.controller.inputs)."""
@@ -358,6 +240,9 @@ class Robot:
         if not self._core.battery.has_values:
             return math.nan
         return self._core.battery.value
+
+    def _stop_inputs(self) -> None:
+        self.keyboard.disable()
 
     def cleanup(self) -> None:
         """Stop the robot and close the link (also done at exit); the terminal back."""

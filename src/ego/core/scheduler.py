@@ -18,7 +18,6 @@ from __future__ import annotations
 import ctypes
 import logging
 import sys
-import threading
 import time
 from collections.abc import Callable
 from typing import Protocol
@@ -62,7 +61,6 @@ class StepClock:
         spin_s: float | None = None,
         clock: Callable[[], float] = time.perf_counter,
         sleep: Callable[[float], None] = time.sleep,
-        switch_interval_s: float | None = None,
     ) -> None:
         #: How long before the deadline the sleep ends and the spin begins. None: learnt
         #: from how late this thread's sleeps wake (:class:`SpinGauge`); a number: fixed.
@@ -74,12 +72,6 @@ class StepClock:
         self.overruns = 0
         self.worst_overrun_s = 0.0
         self._report = OverrunReport()
-        # Another Python thread (a camera capture, say) keeps the interpreter lock for up to
-        # the switch interval, 5 ms by default, before a woken step may run: a 1 ms step
-        # needs it much shorter. Only when asked; restored when the last such clock closes.
-        self._shortened = switch_interval_s is not None
-        if switch_interval_s is not None:
-            _shorten_switch_interval(switch_interval_s)
 
     def begin(self) -> None:
         """Anchor the first deadline at the start of the first step."""
@@ -116,9 +108,6 @@ class StepClock:
         line = self._report.flush(self._clock())
         if line is not None:
             log.warning("%s", line)
-        if self._shortened:
-            self._shortened = False
-            _restore_switch_interval()
 
 
 class SpinGauge:
@@ -208,26 +197,3 @@ def _run_in_realtime() -> None:
             f"--realtime: cannot run the controller on SCHED_FIFO ({exc}); it needs root, "
             "CAP_SYS_NICE, or 'ulimit -r 1' (rtprio 1 in /etc/security/limits.conf)"
         ) from exc
-
-
-_lock = threading.Lock()
-_holders = 0
-_saved_interval = 0.0
-
-
-def _shorten_switch_interval(interval_s: float) -> None:
-    global _holders, _saved_interval
-    with _lock:
-        if _holders == 0:
-            _saved_interval = sys.getswitchinterval()
-        _holders += 1
-        if sys.getswitchinterval() > interval_s:
-            sys.setswitchinterval(interval_s)
-
-
-def _restore_switch_interval() -> None:
-    global _holders
-    with _lock:
-        _holders -= 1
-        if _holders == 0:
-            sys.setswitchinterval(_saved_interval)

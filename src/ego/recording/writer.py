@@ -84,6 +84,8 @@ class Recorder:
         self._writer.start()
         robot.tap_link(self._exchange)
         robot.add_step_listener(self._step)
+        # The robot's close ends the writer (after the stop it sends is recorded).
+        robot.add_closer(self._finish)
 
     # -- the step thread: hand over only ------------------------------------------------
 
@@ -166,6 +168,12 @@ class Recorder:
 
     def close(self) -> None:
         """Finish the file (its summary and index); waits for the writer."""
+        self._finish()
+        if self.failure is not None:
+            raise EgoError(f"recording to {self.path} failed: {self.failure}")
+
+    def _finish(self) -> None:
+        """Detach from the robot, let the writer drain the queue and join it; idempotent."""
         if self._closed:
             return
         self._closed = True
@@ -179,8 +187,6 @@ class Recorder:
             self._writer.join(30)
         else:
             self._file.close()
-        if self.failure is not None:
-            raise EgoError(f"recording to {self.path} failed: {self.failure}")
 
 
 def _b64(data: bytes) -> str:

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Any
 
 from ego.backends import Opened
 from ego.backends.serial_line import robot_i2c
-from ego.errors import PortNotFoundError
+from ego.errors import FirmwareMismatchError
 from ego.serial.protocol import Firmware
 
 if TYPE_CHECKING:
@@ -46,7 +46,7 @@ class RemoteBackend:
         channel = RemoteChannel.from_url(port, secret, settings=link_settings, **connection)
         if firmware is not None and channel.info.firmware is not firmware:
             channel.close()
-            raise PortNotFoundError(
+            raise FirmwareMismatchError(
                 f"{port} serves a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
         return Opened(channel, channel.frame_source, remote=True, i2c=i2c)

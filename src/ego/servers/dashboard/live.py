@@ -123,6 +123,7 @@ class RobotDashboard:
         self.feed, self.server = feed, server
         robot.add_step_guard(feed.desk.guard)
         robot.add_step_listener(feed.on_step)
+        robot.add_closer(self.close)  # the robot's close ends the server's thread
         self.out.write(f"ego: dashboard at {server.url}\n")
         self.out.flush()
 

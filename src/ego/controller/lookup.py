@@ -1,0 +1,157 @@
+"""Webots' device lookup for the controller face's Robot: getDevice and its deprecated getters."""
+
+from __future__ import annotations
+
+import sys
+from typing import TYPE_CHECKING
+
+from ego.controller.devices import (
+    LED,
+    Accelerometer,
+    Camera,
+    Device,
+    DistanceSensor,
+    LightSensor,
+    Motor,
+    PositionSensor,
+    view_class,
+    webots_camera_size,
+)
+from ego.controller.radio import RADIO_DEVICES, Emitter, Receiver, radio_available
+from ego.errors import UnknownDeviceError
+
+if TYPE_CHECKING:
+    from ego.core.robot import Robot as CoreRobot
+    from ego.faces.runtime import RunOptions
+
+__all__ = ["DeviceLookup"]
+
+
+class DeviceLookup:
+    """The part of :class:`ego.controller.Robot` that finds its devices by name."""
+
+    _core: CoreRobot
+    _options: RunOptions
+    _devices: dict[str, Device]
+    _motors: list[Motor]
+
+    def getName(self) -> str:
+        raise NotImplementedError
+
+    def getBasicTimeStep(self) -> float:
+        raise NotImplementedError
+
+    def _ground_truth(self, name: str) -> bool:
+        raise NotImplementedError
+
+    def getDevice(self, name: str) -> Device | None:
+        """The device called ``name`` (``ps0``, ``left wheel motor``, ``camera``...).
+
+        A name the e-puck has not (``gps``): Webots' warning on stderr and None, as in
+        Webots; under ``ego run --strict``, UnknownDeviceError listing the valid names.
+        """
+        device = self._devices.get(name)
+        if device is None:
+            cls = view_class(name) if name in self._core.device_names else None
+            if name in RADIO_DEVICES and radio_available():
+                cls = Emitter if name == "emitter" else Receiver
+            if cls is None and self._ground_truth(name):
+                from ego.controller.absent import ground_truth_class
+
+                cls = ground_truth_class(name)
+            if cls is None:
+                if not self._options.strict:
+                    print(
+                        f'Device "{name}" was not found on robot "{self.getName()}"',
+                        file=sys.stderr,
+                    )
+                    return None
+                raise UnknownDeviceError(
+                    f"no device named {name!r}; valid names: {', '.join(self._device_names())}"
+                )
+            if cls is Motor:
+                motor = Motor(
+                    self._core,
+                    name,
+                    basic_time_step_ms=self.getBasicTimeStep(),
+                    strict=self._options.strict,
+                )
+                self._motors.append(motor)
+                device = motor
+            else:
+                device = cls(self._core, name, strict=self._options.strict)
+                if cls is Camera:
+                    webots_camera_size(self._core)
+            self._devices[name] = device
+        return device
+
+    def _device_names(self, cls: type[Device] = Device) -> list[str]:
+        """The names ``getDevice`` serves under the connected firmware, of class ``cls``."""
+        return [
+            name
+            for name in self._core.device_names
+            if (found := view_class(name)) is not None and issubclass(found, cls)
+        ]
+
+    def _deprecated(self, getter: str, name: str, cls: type[Device]) -> Device | None:
+        """Webots' deprecated typed getters: its notice, then ``getDevice`` (Webots' warning
+        and None for a name the e-puck has not; the device whatever its class, as Webots
+        does not check it). Under ``--strict`` a device of another class is refused."""
+        print(
+            f"DEPRECATION: Robot.{getter} is deprecated, please use Robot.getDevice instead.",
+            file=sys.stderr,
+        )
+        device = self.getDevice(name)
+        if self._options.strict and device is not None and not isinstance(device, cls):
+            raise UnknownDeviceError(
+                f"{name!r} is a {type(device).__name__}, not a {cls.__name__}; valid names "
+                f"for a {cls.__name__}: {', '.join(self._device_names(cls)) or 'none'}"
+            )
+        return device
+
+    def getDistanceSensor(self, name: str) -> DistanceSensor | None:
+        return self._deprecated("getDistanceSensor", name, DistanceSensor)  # type: ignore[return-value]
+
+    def getLightSensor(self, name: str) -> LightSensor | None:
+        return self._deprecated("getLightSensor", name, LightSensor)  # type: ignore[return-value]
+
+    def getMotor(self, name: str) -> Motor | None:
+        return self._deprecated("getMotor", name, Motor)  # type: ignore[return-value]
+
+    def getLED(self, name: str) -> LED | None:
+        return self._deprecated("getLed", name, LED)  # type: ignore[return-value]
+
+    def getCamera(self, name: str) -> Camera | None:
+        return self._deprecated("getCamera", name, Camera)  # type: ignore[return-value]
+
+    def getAccelerometer(self, name: str) -> Accelerometer | None:
+        return self._deprecated("getAccelerometer", name, Accelerometer)  # type: ignore[return-value]
+
+    def getPositionSensor(self, name: str) -> PositionSensor | None:
+        return self._deprecated("getPositionSensor", name, PositionSensor)  # type: ignore[return-value]
+
+    def getEmitter(self, name: str) -> Emitter | None:
+        """The radio emitter (see ego.controller.radio), deprecated as in Webots."""
+        return self._deprecated("getEmitter", name, Emitter)  # type: ignore[return-value]
+
+    def getReceiver(self, name: str) -> Receiver | None:
+        """The radio receiver (see ego.controller.radio), deprecated as in Webots."""
+        return self._deprecated("getReceiver", name, Receiver)  # type: ignore[return-value]
+
+    # Deprecated getters of devices the e-puck has not: the same notice, then None.
+    def _absent_getter(self, name: str) -> None:
+        return self.getDevice(name)  # type: ignore[return-value]
+
+    getGPS = getCompass = getGyro = getInertialUnit = getTouchSensor = _absent_getter
+    getSpeaker = getDisplay = getPen = getLidar = _absent_getter
+    getRangeFinder = getRadar = getConnector = getBrake = getAltimeter = _absent_getter
+    getSkin = getVacuumGripper = _absent_getter
+
+    def getNumberOfDevices(self) -> int:
+        return len(self._device_names())
+
+    def getDeviceByIndex(self, index: int) -> Device | None:
+        names = self._device_names()
+        if not 0 <= index < len(names):
+            raise UnknownDeviceError(f"device index {index} is outside 0..{len(names) - 1}")
+        return self.getDevice(names[index])
