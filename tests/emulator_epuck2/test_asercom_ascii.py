@@ -18,9 +18,7 @@ def say(port: serial.Serial, line: bytes) -> bytes:
 
 def test_version_names_v2_and_the_hardware_word(port: serial.Serial) -> None:
     # Asercom2.c:1543-1559; DataEEPROM.c:5-7 returns 0xFFF7.
-    assert say(port, b"V\r") == (
-        b"v,Version 2.0 January 2018 GCtronic\r\nHW version: FFF7\r\n"
-    )
+    assert say(port, b"V\r") == (b"v,Version 2.0 January 2018 GCtronic\r\nHW version: FFF7\r\n")
 
 
 def test_lowercase_letters_are_accepted(port: serial.Serial) -> None:
