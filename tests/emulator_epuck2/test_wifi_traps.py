@@ -79,18 +79,22 @@ def test_a_second_client_waits_in_the_backlog(wifi: Epuck2Emulator, client: Wifi
 
 
 def test_a_stop_sent_just_before_closing_is_lost(wifi: Epuck2Emulator) -> None:
-    # 266-276: state 6 sends its 0x03 before uart_get_data_ptr hands the command to the
-    # main processor, and a send error goes straight back to accept().
+    # 199-276: states 4, 5 and 6 send before the next read, and a send error goes back
+    # to accept() without reading; state 6 even sends its 0x03 before
+    # uart_get_data_ptr hands a command it has read to the main processor. Whichever
+    # state the reset finds, the stop never reaches the motors.
     radio, address = wifi.radio, wifi.wifi_address
     assert radio is not None and address is not None
-    c = WifiClient(address)
-    c.send(command(0, left=400, right=400))
-    c.reply()
-    time.sleep(0.15)  # the 0x03 replies pile up unread: closing resets the connection
-    c.send(command(0))
-    c.close()
-    assert radio.wait_for(ACCEPT, 5.0)
-    assert wifi.world.speeds == (400, 400)
+    for trial in range(4):
+        c = WifiClient(address)
+        c.send(command(0, left=400 + trial, right=400 + trial))
+        c.reply()
+        time.sleep(0.15)  # the 0x03 replies pile up unread: closing resets the connection
+        c.send(command(0))
+        c.close()
+        assert radio.wait_for(ACCEPT, 5.0)
+        assert wifi.world.speeds == (400 + trial, 400 + trial)
+        time.sleep(0.013 * trial)  # meet the radio's 10 ms loop at another phase
 
 
 def test_a_stop_answered_before_closing_stops_the_robot(wifi: Epuck2Emulator) -> None:
@@ -104,3 +108,34 @@ def test_a_stop_answered_before_closing_stops_the_robot(wifi: Epuck2Emulator) ->
     c.close()
     assert radio.wait_for(ACCEPT, 5.0)
     assert wifi.world.speeds == (0, 0)
+
+
+def test_closing_frees_a_radio_stuck_in_a_split_command() -> None:
+    from firmware_sim.world import World
+
+    emu = Epuck2Emulator(World(seed=5), wifi=True, port=0)
+    assert emu.radio is not None and emu.wifi_address is not None
+    c = WifiClient(emu.wifi_address)
+    try:
+        c.send(command(0)[:5])  # the radio now blocks in recv(..., MSG_WAITALL)
+        assert emu.radio.wait_for(READ, 5.0)
+        time.sleep(0.05)
+        emu.close()  # must stop and join its thread (the autouse check looks)
+    finally:
+        c.close()
+        emu.close()
+
+
+def test_closing_frees_a_radio_stuck_sending_to_a_client_that_does_not_read() -> None:
+    from firmware_sim.world import World
+
+    emu = Epuck2Emulator(World(seed=6), wifi=True, port=0)
+    assert emu.wifi_address is not None
+    c = WifiClient(emu.wifi_address)
+    try:
+        c.send(command(0x01))  # images stream while nobody reads: the send blocks
+        time.sleep(0.3)
+        emu.close()
+    finally:
+        c.close()
+        emu.close()
