@@ -89,6 +89,11 @@ class Epuck2Emulator:
         """(host, port) of the radio's TCP server, None in a serial mode."""
         return self.radio.address if self.radio is not None else None
 
+    def remote_key(self, data: int, address: int = 0) -> None:
+        """A TV remote's RC5 key reaches the IR receiver (see Asercom2.rc5)."""
+        with self._lock:
+            self.firmware.rc5(address, data)
+
     def close(self) -> None:
         """Stop and join every thread, close the port or socket; idempotent."""
         if self._closed:

@@ -3,7 +3,6 @@ code calls (motors, LEDs, sound, sensors), with the ground truth tests compare a
 
 from __future__ import annotations
 
-import threading
 from collections import deque
 from dataclasses import dataclass
 
@@ -62,7 +61,6 @@ class Epuck2Robot:
         self.world = world
         fit_world(world)  # the 1100 steps/s clamp and the e-puck2's stepping rate
         rng = np.random.default_rng(None if seed is None else [seed, _STREAM])
-        self.lock = threading.RLock()
         self.selector = selector
         self.button = False
         self.sd_card = sd_card
