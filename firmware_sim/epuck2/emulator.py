@@ -70,7 +70,7 @@ class Epuck2Emulator:
         self.radio: Radio | None = None
         self.serial: SerialPort | None = None
         if wifi:
-            self.robot.imu.magnetometer_on = True  # main.c:850, before run_asercom2
+            self.robot.imu.magnetometer_on = True  # main.c:852, before run_asercom2
             self.radio = Radio(self.firmware, self._lock, port=port, host=host)
             self.radio.start()
         else:

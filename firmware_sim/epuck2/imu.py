@@ -5,7 +5,7 @@ Chip set-up (MAIN:src/sensors/imu.c:332-334): accelerometer +-2 g, gyro +-250 de
 16384 counts a g (``GRAVITY -16384``, MAIN:src/epuck1x/a_d/advance_ad_scan/e_acc.h:17) and
 32768/250 = 131.072 counts per deg/s (MAIN:src/sensors/mpu9250.c:10-16).
 
-The firmware negates every accelerometer axis as it reads the chip (mpu9250.c:259-262), so
+The firmware negates every accelerometer axis as it reads the chip (mpu9250.c:259-263), so
 ``acc_raw`` reads -1 g (-16384) on z at rest; the start-up calibration (e_acc_calibr,
 MAIN:src/epuck1x/Asercom2.c:152/157 -> imu.c calibrate_acc) stores the resting readings
 as offsets. The e-puck1-compatible values then follow e_acc.c:17-50 exactly (arithmetic
@@ -38,7 +38,7 @@ EARTH_DOWN_UT = 43.0
 
 
 class AccRaw(NamedTuple):
-    """``imu_values.acc_raw``: the chip's counts, each axis negated (mpu9250.c:259-262)."""
+    """``imu_values.acc_raw``: the chip's counts, each axis negated (mpu9250.c:259-263)."""
 
     x: int
     y: int
@@ -70,14 +70,14 @@ def e_acc_spheric(x: int, y: int, z: int) -> tuple[float, float, float]:
 class Imu:
     """The IMU of one robot in ``world``; ``magnetometer_on`` as the firmware left it."""
 
-    #: The offsets calibrate_acc stores at rest on a level floor (imu.c:466-477).
+    #: The offsets calibrate_acc stores at rest on a level floor (imu.c:467-478).
     ACC_OFFSET = AccRaw(0, 0, -COUNTS_PER_G)
 
     def __init__(self, world: World, rng: np.random.Generator, temperature_c: float) -> None:
         self.world = world
         self._rng = rng
         self.temperature_c = temperature_c
-        #: Whether mpu9250_magnetometer_setup has run (selector 15 at start, main.c:850,
+        #: Whether mpu9250_magnetometer_setup has run (selector 15 at start, main.c:852,
         #: or binary -0x0F with 1, Asercom2.c:654-655); until then the external-sensor
         #: registers the firmware reads the field from hold 0.
         self.magnetometer_on = False
