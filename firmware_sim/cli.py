@@ -44,6 +44,17 @@ def _hex_word(text: str) -> int:
     return value
 
 
+def _tcp_port(text: str) -> int:
+    """An argparse type: a TCP port number, 0 (any free one) to 65535."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if not 0 <= value <= 0xFFFF:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a TCP port (0..65535)")
+    return value
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--robot",
@@ -62,7 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="e-puck2: asercom v2 over Bluetooth (selector 3, paced at 115200 baud)",
     )  # fmt: skip
     parser.add_argument(
-        "--wifi-port", type=int, default=1000, metavar="PORT",
+        "--wifi-port", type=_tcp_port, default=1000, metavar="PORT",
         help="e-puck2 --wifi: the TCP port on 127.0.0.1 (default 1000, the firmware's; "
         "0 picks a free one)",
     )  # fmt: skip

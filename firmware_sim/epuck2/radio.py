@@ -53,10 +53,18 @@ class Radio:
                  host: str = "127.0.0.1") -> None:  # fmt: skip
         self.f407 = f407
         self._fw_lock = lock
+        if not 0 <= port <= 0xFFFF:
+            raise ValueError(f"TCP port {port} is outside 0..65535")
         self._server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
         self._server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        self._server.bind((host, port))
-        self._server.listen(1)  # socket_e-puck2.c:110
+        try:
+            self._server.bind((host, port))
+            self._server.listen(1)  # socket_e-puck2.c:110
+        except OSError as exc:
+            self._server.close()
+            hint = " (ports below 1024 need privileges; 0 picks a free one)" if port < 1024 else ""
+            raise OSError(f"cannot serve the e-puck2's WiFi on {host}:{port}: "
+                          f"{exc.strerror}{hint}") from exc  # fmt: skip
         self.address: tuple[str, int] = self._server.getsockname()
         self._client: socket.socket | None = None
         self._stop = threading.Event()
