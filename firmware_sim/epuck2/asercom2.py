@@ -15,6 +15,7 @@ a new line, which then runs to the next ``\\r`` or ``\\n``.
 from __future__ import annotations
 
 import struct
+from collections import deque
 from collections.abc import Callable
 
 from firmware_sim.epuck2.ascii import AsciiCommands
@@ -57,7 +58,7 @@ class Asercom2:
         self._ir_last = 0  # ir_last_move, a local of run_asercom2 that starts at 0
         #: Binary batches answered, and ASCII lines run (ground truth).
         self.batches = 0
-        self.lines: list[bytes] = []
+        self.lines: deque[bytes] = deque(maxlen=10_000)
 
     def rc5(self, address: int, data: int, check: int = 0) -> None:
         """A TV remote's RC5 frame reaches the IR receiver (Asercom2.c:167-224).

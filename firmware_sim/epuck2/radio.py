@@ -82,6 +82,7 @@ class Radio:
         self._last = bytearray(ACTUATORS_BUFF_LEN)
         self._tx = bytearray(UART_TX_BUFF_SIZE)
         self._tx[0], self._tx[1] = 0xF8, 0xF7  # uart_e-puck2.c:89-91
+        self._filled = bytes(UART_RX_BUFF_SIZE)
         self._filled = self._poll()  # the bridge polls once at boot (uart_e-puck2.c:96)
         self._thread = threading.Thread(target=self._run, name="epuck2-radio", daemon=True)
 

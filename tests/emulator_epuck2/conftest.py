@@ -1,12 +1,11 @@
 """Fixtures: the emulated e-puck2 on a real pty (USB, Bluetooth) or a real loopback TCP
-port (WiFi), and a check that none of its threads or pty directories outlive a test."""
+port (WiFi), and a check that none of its threads outlive a test."""
 
 from __future__ import annotations
 
-import tempfile
+import os
 import threading
 from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 import serial
@@ -22,16 +21,11 @@ def _threads() -> set[threading.Thread]:
     return {t for t in threading.enumerate() if t.name in THREADS and t.is_alive()}
 
 
-def _dirs() -> set[Path]:
-    return set(Path(tempfile.gettempdir()).glob("ego-epuck2-*"))
-
-
 @pytest.fixture(autouse=True)
 def no_leaked_epuck2() -> Iterator[None]:
-    threads, dirs = _threads(), _dirs()
+    threads = _threads()
     yield
     assert not _threads() - threads, "e-puck2 emulator threads left running"
-    assert not _dirs() - dirs, "e-puck2 pty directories left behind"
 
 
 @pytest.fixture
@@ -39,6 +33,8 @@ def usb() -> Iterator[Epuck2Emulator]:
     """An e-puck2 in selector 8 (asercom v2 over USB) in a quiet world."""
     with Epuck2Emulator(World(seed=1, noise=False), seed=1) as emu:
         yield emu
+    assert emu.pty_path is not None
+    assert not os.path.exists(os.path.dirname(emu.pty_path)), "its pty directory stayed"
 
 
 @pytest.fixture

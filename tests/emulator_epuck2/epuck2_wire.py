@@ -96,12 +96,26 @@ def ask_serial(port: serial.Serial, data: bytes, size: int, timeout_s: float = 5
     return bytes(port.read(size))
 
 
+def sync(port: serial.Serial) -> None:
+    """Wait until the firmware has run everything sent so far (-'E' answers 4 bytes)."""
+    assert len(ask_serial(port, batch("E"), 4)) == 4
+
+
+def say(port: serial.Serial, line: bytes) -> bytes:
+    """Send an ASCII line and read its answer: up to a first \\r\\n, then what follows
+    until the line has been quiet for 0.2 s."""
+    port.write(line)
+    port.timeout = 5.0
+    return bytes(port.read_until(b"\r\n")) + read_quiet(port, 0.2)
+
+
 def read_quiet(port: serial.Serial, quiet_s: float = 0.3) -> bytes:
     """Everything that arrives until the line has been quiet for ``quiet_s``."""
-    port.timeout = quiet_s
+    previous, port.timeout = port.timeout, quiet_s
     out = b""
     while chunk := port.read(4096):
         out += chunk
+    port.timeout = previous
     return out
 
 

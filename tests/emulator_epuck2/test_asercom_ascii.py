@@ -6,14 +6,9 @@ from __future__ import annotations
 import struct
 
 import serial
-from epuck2_wire import ask_serial, batch, read_quiet
+from epuck2_wire import ask_serial, batch, read_quiet, say
 
 from firmware_sim.epuck2 import Epuck2Emulator
-
-
-def say(port: serial.Serial, line: bytes) -> bytes:
-    port.write(line)
-    return read_quiet(port, 0.15)
 
 
 def test_version_names_v2_and_the_hardware_word(port: serial.Serial) -> None:
@@ -61,7 +56,7 @@ def test_a_missing_number_keeps_the_old_value(port: serial.Serial, usb: Epuck2Em
 
 def test_r_gets_no_answer(port: serial.Serial) -> None:
     # 1466-1473: the reply and the reset are commented out.
-    assert say(port, b"R\r") == b""
+    port.write(b"R\r")
     assert say(port, b"C\r") == b"c,8\r\n"
 
 
@@ -121,9 +116,10 @@ def test_unknown_letter_is_not_found(port: serial.Serial) -> None:
 
 def test_k_calibrates_in_two_lines(port: serial.Serial) -> None:
     port.write(b"K\r")
-    first = read_quiet(port, 0.2)
-    assert first == b"k, Starting calibration - Remove any object in sensors range\r\n"
     port.timeout = 5
+    first = port.read_until(b"\n")
+    assert first == b"k, Starting calibration - Remove any object in sensors range\r\n"
+    assert read_quiet(port, 0.2) == b"", "the calibration takes its time"
     assert port.read_until(b"\n") == b"k, Calibration finished\r\n"
 
 

@@ -8,7 +8,7 @@ import struct
 
 import pytest
 import serial
-from epuck2_wire import ask_serial, batch, neg, parse_sensors, read_quiet
+from epuck2_wire import ask_serial, batch, neg, parse_sensors, read_quiet, sync
 
 from firmware_sim.epuck2 import Epuck2Emulator
 from firmware_sim.world import Pose
@@ -93,18 +93,18 @@ def test_odd_led_sets_only_its_red_channel_at_ten_percent(
     # e_led.c:31-37: set_rgb_led(n, value*10, 0, 0): green and blue are cleared.
     port.write(batch(0x0A, bytes([50, 60, 70] * 4)))
     port.write(batch("L", bytes([1, 1])))
-    read_quiet(port, 0.1)
+    sync(port)
     assert usb.robot.leds.rgb[0] == [10, 0, 0]
     assert usb.robot.leds.rgb[1] == [50, 60, 70]
     port.write(batch("L", bytes([3, 2])))  # toggle: lit (50) -> off
-    read_quiet(port, 0.1)
+    sync(port)
     assert usb.robot.leds.rgb[1] == [0, 60, 70]
 
 
 def test_binary_l_8_and_9_are_body_and_front(port: serial.Serial, usb: Epuck2Emulator) -> None:
     # Asercom2.c:862-872.
     port.write(batch("L", bytes([8, 1]), "L", bytes([9, 1])))
-    read_quiet(port, 0.1)
+    sync(port)
     assert (usb.robot.leds.body, usb.robot.leds.front) == (True, True)
     assert usb.robot.leds.red == [False] * 4
 
@@ -141,7 +141,7 @@ def test_accelerometer_raw_is_centred_on_2048(port: serial.Serial) -> None:
 
 def test_gyro_follows_the_turning_rate(port: serial.Serial, usb: Epuck2Emulator) -> None:
     port.write(batch("D", struct.pack("<hh", 500, -500)))  # spin clockwise
-    read_quiet(port, 0.05)
+    sync(port)
     _, _, z = struct.unpack("<3h", ask_serial(port, batch("g"), 6))
     expected = math.degrees(usb.world.velocity()[2]) * 32768 / 250  # imu.c:333, +-250 dps
     assert expected < -10000

@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import serial
-from epuck2_wire import WifiClient, ask_serial, batch, command, parse_sensors, read_quiet
+from epuck2_wire import WifiClient, ask_serial, batch, command, parse_sensors, read_quiet, say
 
 import firmware_sim.epuck2
 from firmware_sim.epuck2 import Epuck2Emulator
@@ -87,8 +87,7 @@ def test_command_line_serves_usb_on_the_pty_it_prints(tmp_path: Path) -> None:
     try:
         with serial.Serial(path, timeout=0.2) as port:
             read_quiet(port, 0.05)
-            port.write(b"V\r")
-            assert read_quiet(port, 0.3).startswith(b"v,Version 2.0")
+            assert say(port, b"V\r").startswith(b"v,Version 2.0")
     finally:
         assert _stop(proc) == 0
     assert not Path(path).exists()

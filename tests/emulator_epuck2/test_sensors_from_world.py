@@ -7,7 +7,7 @@ import math
 import struct
 
 import serial
-from epuck2_wire import ask_serial, batch, parse_sensors
+from epuck2_wire import ask_serial, batch, parse_sensors, sync
 
 from firmware_sim.epuck2 import Epuck2Emulator
 from firmware_sim.world import Pose
@@ -37,6 +37,7 @@ def test_light_is_brighter_towards_the_lamp(port: serial.Serial, usb: Epuck2Emul
 
 def test_steps_follow_the_wheels(port: serial.Serial, usb: Epuck2Emulator) -> None:
     port.write(batch("D", struct.pack("<hh", 500, -500)))
+    sync(port)
     usb.world.advance(usb.world.clock() + 0.3)
     left, right = struct.unpack("<hh", ask_serial(port, batch("Q"), 4))
     truth = usb.world.step_counts()
