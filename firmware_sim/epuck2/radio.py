@@ -75,8 +75,8 @@ class Radio:
         self.state = 2
         #: Connections accepted so far.
         self.accepted = 0
-        #: Every 19-byte actuator payload the bridge sent the main processor (ground truth).
-        self.polls: deque[bytes] = deque(maxlen=10_000)
+        self._polls: deque[bytes] = deque(maxlen=10_000)
+        self._polls_lock = threading.Lock()
         self._valid = False
         self._buff = bytearray(ACTUATORS_BUFF_LEN)
         self._last = bytearray(ACTUATORS_BUFF_LEN)
@@ -103,6 +103,12 @@ class Radio:
         for sock in (client, self._server):
             if sock is not None:
                 sock.close()
+
+    def polls(self) -> list[bytes]:
+        """Every 19-byte actuator payload the bridge has sent the main processor, oldest
+        first (ground truth; the last 10,000)."""
+        with self._polls_lock:
+            return list(self._polls)
 
     def wait_for(self, state: int, timeout_s: float) -> bool:
         """Wait until socket_task is in ``state`` (for tests); whether it got there."""
@@ -242,7 +248,8 @@ class Radio:
         payload = bytes(self._tx[2:21])
         with self._fw_lock:
             emissions = self.f407.feed(bytes(self._tx))
-        self.polls.append(payload)
+        with self._polls_lock:
+            self._polls.append(payload)
         reply = b"".join(e.data for e in emissions)
         if len(reply) != RESPONSE_SIZE:
             log.warning("e-puck2 radio: the main processor answered %d bytes", len(reply))

@@ -3,6 +3,7 @@ code calls (motors, LEDs, sound, sensors), with the ground truth tests compare a
 
 from __future__ import annotations
 
+import threading
 from collections import deque
 from dataclasses import dataclass
 
@@ -76,8 +77,8 @@ class Epuck2Robot:
         #: behaviors.c's obstacle avoidance, switched by the -0x09 settings bit 1 (its
         #: steering of the wheels is not modelled).
         self.obstacle_avoidance = False
-        #: Sounds started and stopped, oldest first (ground truth).
-        self.sounds: deque[SoundEvent] = deque(maxlen=10_000)
+        self._sounds: deque[SoundEvent] = deque(maxlen=10_000)
+        self._sounds_lock = threading.Lock()
 
     # -- motors (MAIN:src/epuck1x/motor_led/advance_one_timer/e_motors.c) ---------------
 
@@ -100,11 +101,18 @@ class Epuck2Robot:
 
     def play(self, number: int) -> None:
         """Start sound ``number`` of :data:`SOUNDS` (a melody restarts: ML_FORCE_CHANGE)."""
-        self.sounds.append(SoundEvent(self.world.clock(), SOUNDS[number]))
+        with self._sounds_lock:
+            self._sounds.append(SoundEvent(self.world.clock(), SOUNDS[number]))
 
     def stop_sound(self) -> None:
         """e_close_sound(); stopCurrentMelody()."""
-        self.sounds.append(SoundEvent(self.world.clock(), "stop"))
+        with self._sounds_lock:
+            self._sounds.append(SoundEvent(self.world.clock(), "stop"))
+
+    def sounds(self) -> list[SoundEvent]:
+        """Sounds started and stopped, oldest first (ground truth; the last 10,000)."""
+        with self._sounds_lock:
+            return list(self._sounds)
 
     def sound_names(self) -> list[str]:
-        return [event.name for event in self.sounds]
+        return [event.name for event in self.sounds()]

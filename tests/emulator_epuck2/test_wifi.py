@@ -125,7 +125,7 @@ def test_commands_are_applied_one_a_loop_up_to_four_queued(
     client.send(b"".join(command(0, left=101 + i) for i in range(4)))
     for _ in range(8):
         client.reply()
-    lefts = {struct.unpack("<h", p[1:3])[0] for p in wifi.radio.polls}
+    lefts = {struct.unpack("<h", p[1:3])[0] for p in wifi.radio.polls()}
     assert {101, 102, 103, 104} <= lefts
 
 
@@ -139,7 +139,7 @@ def test_five_queued_commands_are_flushed_to_the_last(
     client.send(b"".join(command(0, left=201 + i) for i in range(5)))
     for _ in range(6):
         client.reply()
-    lefts = {struct.unpack("<h", p[1:3])[0] for p in wifi.radio.polls}
+    lefts = {struct.unpack("<h", p[1:3])[0] for p in wifi.radio.polls()}
     assert 205 in lefts
     assert not lefts & {201, 202, 203, 204}
 
