@@ -55,28 +55,20 @@ class Asercom2:
         self._pending: tuple[int, Handler] | None = None
         self._args = bytearray()
         self._out: list[Emission] = []
-        self._ir_last = 0  # ir_last_move, a local of run_asercom2 that starts at 0
         #: Binary batches answered, and ASCII lines run (ground truth).
         self.batches = 0
         self.lines: deque[bytes] = deque(maxlen=10_000)
 
     def rc5(self, address: int, data: int, check: int = 0) -> None:
-        """A TV remote's RC5 frame reaches the IR receiver (Asercom2.c:167-224).
+        """A TV remote's RC5 frame reaches the IR receiver: G and -0x08 report it.
 
-        The firmware looks at the receiver only while it waits for a command's first
-        byte; on address 0 or 8 a key 1..9 that differs from the last one drives
-        (SPEED_IR 600, Asercom2.c:58), 5 stops, 0 plays a sample, others stop.
+        It never drives: the firmware's remote-control driving (Asercom2.c:167-290) runs
+        only while e_getchar_uart1/2 return 0, and both block in chSequentialStreamRead
+        until a byte comes (MAIN:src/epuck1x/uart/e_uart_char.c:16-18, 58-63); only a
+        USB link that is not configured returns 0 (e_uart_char.c:64-66), and then there
+        is no host to see it.
         """
         self.robot.rc5 = (check & 0xFF, address & 0xFF, data & 0xFF)
-        if self._mode != _IDLE or address not in (0, 8) or data == self._ir_last:
-            return
-        if data == 0:
-            self.state.sound_ready = True
-            self.robot.play(5)  # e_play_sound(11028, 8016)
-        else:
-            self.state.speedl, self.state.speedr = _RC5_SPEEDS.get(data, (0, 0))
-        self._ir_last = data
-        self.robot.set_speeds(self.state.speedl, self.state.speedr)
 
     @property
     def hung(self) -> bool:
@@ -275,12 +267,6 @@ class Asercom2:
     def _i2c_read(self, args: bytes) -> None:  # 1017-1031: no device modelled, reads 0
         self._reply.append(0)
 
-
-#: Asercom2.c:173-219: (left, right) for the remote's keys; key 0 keeps the speeds.
-_RC5_SPEEDS = {
-    1: (300, 600), 2: (600, 600), 3: (600, 300), 4: (-600, 600), 5: (0, 0),
-    6: (600, -600), 7: (-300, -600), 8: (-600, -600), 9: (-600, -300),
-}  # fmt: skip
 
 #: -'w' reads 24 + 3 + 8 bytes (Asercom2.c:995-1003).
 _W_BYTES = 35

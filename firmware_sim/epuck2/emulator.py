@@ -90,7 +90,8 @@ class Epuck2Emulator:
         return self.radio.address if self.radio is not None else None
 
     def remote_key(self, data: int, address: int = 0) -> None:
-        """A TV remote's RC5 key reaches the IR receiver (see Asercom2.rc5)."""
+        """A TV remote's RC5 key reaches the IR receiver; it is reported, it does not
+        drive (see Asercom2.rc5)."""
         with self._lock:
             self.firmware.rc5(address, data)
 
