@@ -75,7 +75,8 @@ class Epuck2Emulator:
             self.radio.start()
         else:
             baud = UART_BAUD if bluetooth else None
-            self.serial = SerialPort(self.firmware, self._lock, baud=baud, latency_s=latency_s)
+            self.serial = SerialPort(self.firmware, self._lock, baud=baud, latency_s=latency_s,
+                                     blocking_writes=not bluetooth)  # fmt: skip
             self.serial.start()
         self._closed = False
 

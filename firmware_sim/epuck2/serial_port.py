@@ -44,7 +44,7 @@ class SerialPort:
     """``firmware`` behind a pty at :attr:`path`; ``baud`` None means unpaced (USB)."""
 
     def __init__(self, firmware: Asercom2, lock: threading.RLock, *, baud: int | None,
-                 latency_s: float = 0.0) -> None:  # fmt: skip
+                 latency_s: float = 0.0, blocking_writes: bool = False) -> None:  # fmt: skip
         if baud is not None and baud <= 0:
             raise ValueError(f"baud rate {baud} must be positive")
         if not 0.0 <= latency_s <= 10.0:
@@ -53,6 +53,10 @@ class SerialPort:
         self._fw_lock = lock
         self.byte_s = 0.0 if baud is None else 10.0 / baud
         self.latency_s = latency_s
+        #: USB: chSequentialStreamWrite waits while the host does not read, and so does the
+        #: firmware (e_uart_char.c:69-74). UART: bytes the radio cannot pass on are lost.
+        self.blocking_writes = blocking_writes
+        self._write_blocked = False
         self._dir = tempfile.mkdtemp(prefix="ego-epuck2-")
         self.path = os.path.join(self._dir, "ttyEPUCK2")
         self._master, self._slave = os.openpty()
@@ -97,6 +101,8 @@ class SerialPort:
             raise
 
     def _timeout(self, now: float) -> float:
+        if self._write_blocked:
+            return 0.05  # select wakes us when the host reads
         due = [now + 0.05]
         if self._out:
             due.append(self._out[0][0])
@@ -105,7 +111,8 @@ class SerialPort:
         return max(0.0, min(due) - now)
 
     def _tick(self) -> None:
-        readable, _, _ = select.select([self._master, self._wake_r], [], [],
+        writers = [self._master] if self._write_blocked else []
+        readable, _, _ = select.select([self._master, self._wake_r], writers, [],
                                        self._timeout(time.monotonic()))  # fmt: skip
         if self._master in readable:
             try:
@@ -124,7 +131,8 @@ class SerialPort:
 
     def _process(self, now: float) -> None:
         """Feed the firmware every byte that has arrived while it is free to read."""
-        while self._inbox and self._inbox[0][0] <= now and self._busy_until <= now:
+        while (self._inbox and self._inbox[0][0] <= now and self._busy_until <= now
+               and not self._write_blocked):  # fmt: skip
             arrived, byte = self._inbox.popleft()
             with self._fw_lock:
                 emissions = self.firmware.feed(bytes([byte]))
@@ -145,9 +153,18 @@ class SerialPort:
         self._out_free = start + len(data) * self.byte_s
 
     def _flush(self, now: float) -> None:
+        self._write_blocked = False
         while self._out and self._out[0][0] <= now:
-            _, chunk = self._out.popleft()
+            due, chunk = self._out.popleft()
             try:
-                os.write(self._master, chunk)
+                written = os.write(self._master, chunk)
             except BlockingIOError:  # nobody reads: the host's buffer is full
+                written = 0
+            if written == len(chunk):
+                continue
+            if not self.blocking_writes:
                 log.debug("e-puck2 serial: output overflow, %d bytes lost", len(chunk))
+                continue
+            self._out.appendleft((due, chunk[written:]))  # the firmware waits to write
+            self._write_blocked = True
+            return

@@ -103,3 +103,16 @@ def test_the_emulator_never_imports_ego() -> None:
             elif isinstance(node, ast.ImportFrom):
                 names = [node.module or ""]
             assert not any(n == "ego" or n.startswith("ego.") for n in names), source
+
+
+def test_usb_replies_wait_for_a_host_that_reads_late(
+    port: serial.Serial,
+) -> None:
+    # e_uart_char.c:69-74: chSequentialStreamWrite on the USB port waits for the host,
+    # so the firmware stalls instead of losing bytes.
+    port.write(batch("I") * 40)
+    time.sleep(0.5)  # far more than the pty holds piles up meanwhile
+    port.timeout = 5.0
+    data = port.read(40 * 3203)
+    assert len(data) == 40 * 3203
+    assert read_quiet(port, 0.2) == b""
