@@ -44,7 +44,43 @@ def _hex_word(text: str) -> int:
     return value
 
 
+def _tcp_port(text: str) -> int:
+    """An argparse type: a TCP port number, 0 (any free one) to 65535."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if not 0 <= value <= 0xFFFF:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a TCP port (0..65535)")
+    return value
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--robot",
+        choices=("epuck", "epuck2"),
+        default="epuck",
+        help="the robot: an e-puck's dsPIC (default), or a GCtronic e-puck2's main "
+        "processor (asercom v2 over USB) or radio (--wifi, --bluetooth); the e-puck2 uses "
+        "--world, --seed, --latency-ms and the options below",
+    )
+    parser.add_argument(
+        "--wifi", action="store_true",
+        help="e-puck2: the radio's WiFi TCP protocol (selector 15) instead of a pty",
+    )  # fmt: skip
+    parser.add_argument(
+        "--bluetooth", action="store_true",
+        help="e-puck2: asercom v2 over Bluetooth (selector 3, paced at 115200 baud)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--wifi-port", type=_tcp_port, default=1000, metavar="PORT",
+        help="e-puck2 --wifi: the TCP port on 127.0.0.1 (default 1000, the firmware's; "
+        "0 picks a free one)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--ground-module", dest="ground_module_epuck2", action="store_true",
+        help="e-puck2: a ground-sensor module is fitted (default: none)",
+    )  # fmt: skip
     parser.add_argument(
         "--firmware",
         choices=(*FIRMWARES, *FIRMWARE_ALIASES),
@@ -156,6 +192,10 @@ def build_parser(prog: str = "python -m firmware_sim") -> argparse.ArgumentParse
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.robot == "epuck2":
+        from firmware_sim.epuck2.cli import run as run_epuck2
+
+        return run_epuck2(args)
     try:
         faults = [parse_fault(text) for text in args.fault]
         emulator = Emulator(

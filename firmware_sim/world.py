@@ -224,6 +224,11 @@ class World:
         #: The robot's DEF name in a world file, if it has one.
         self.robot_name: str | None = None
         self.battery_raw = BATTERY_RAW
+        #: The motor driver: the clamp of a commanded speed (steps/s) and the rate a wheel
+        #: then really steps at. The e-puck1's by default; another robot's firmware model
+        #: (firmware_sim.epuck2) puts its own here.
+        self.max_speed_steps = MAX_SPEED_STEPS
+        self.motor_rate: Callable[[int], float] = stepping_rate
         #: Closest distance (m) between the body and any wall or block so far.
         self.closest_approach_m = math.inf
         self.distance_travelled_m = 0.0
@@ -265,7 +270,7 @@ class World:
         """The body's velocity now: vx, vy (m/s, world frame) and its turn rate (rad/s)."""
         with self._lock:
             b = self._body
-            left, right = (stepping_rate(v) * METRES_PER_STEP for v in b.speed_steps)
+            left, right = (self.motor_rate(v) * METRES_PER_STEP for v in b.speed_steps)
             v = (left + right) / 2
             return v * math.cos(b.theta_rad), v * math.sin(b.theta_rad), (right - left) / AXLE_M
 
@@ -285,11 +290,11 @@ class World:
             return tuple(self._body.leds)
 
     def set_speeds(self, left: int, right: int) -> None:
-        """Commanded wheel speeds; the firmware clamps them to +-1000 steps/s."""
+        """Commanded wheel speeds; the firmware clamps them to +-max_speed_steps steps/s."""
         with self._lock:
             self.advance()
             self._body.speed_steps = [
-                max(-MAX_SPEED_STEPS, min(MAX_SPEED_STEPS, v)) for v in (left, right)
+                max(-self.max_speed_steps, min(self.max_speed_steps, v)) for v in (left, right)
             ]
 
     def set_led(self, index: int, value: int) -> None:
@@ -310,6 +315,12 @@ class World:
             self.advance()
             self._body.steps = [float(left), float(right)]
 
+    def step_counts(self) -> tuple[float, float]:
+        """The step counters as turned so far (steps, not wrapped; noisy like the rest)."""
+        with self._lock:
+            self.advance()
+            return (self._body.steps[0], self._body.steps[1])
+
     def steps_int16(self) -> tuple[int, int]:
         """The step counters as the firmware holds them: int16, wrapping at +-32768."""
         with self._lock:
@@ -329,7 +340,7 @@ class World:
                 return
             self._t = now
             b = self._body
-            left, right = (stepping_rate(v) for v in b.speed_steps)
+            left, right = (self.motor_rate(v) for v in b.speed_steps)
             ground_left, ground_right = self.wheels.ground(left, right)  # less the slip
             vl = ground_left * METRES_PER_STEP
             vr = ground_right * METRES_PER_STEP
