@@ -33,6 +33,7 @@ from ego.servers.socket.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, Server
 
 if TYPE_CHECKING:
     from ego.camera.source import FrameSource
+    from ego.core.ground_truth import GroundTruth
 
 __all__ = ["ServedRobot", "add_arguments", "open_robot", "run"]
 
@@ -132,8 +133,8 @@ class ServedRobot:
     channel: Channel
     camera: FrameSource | None = None
     closers: list[Callable[[], None]] = field(default_factory=list)
-    #: The emulated world behind a simulated robot (its ground truth), else None.
-    world: Any = None
+    #: What the simulator behind a simulated robot knows of it (its world), else None.
+    world: GroundTruth | None = None
 
     def close(self) -> None:
         for close in self.closers:
@@ -158,8 +159,7 @@ def open_robot(
     if secret is not None and takes_option(resolved, "secret"):
         options["secret"] = secret
     opened = open_port(resolved, firmware=Firmware.choose(firmware), **options)
-    world = getattr(opened.ground_truth, "world", None)
-    robot = ServedRobot(opened.channel, closers=[opened.close], world=world)
+    robot = ServedRobot(opened.channel, closers=[opened.close], world=opened.ground_truth)
     device = camera or os.environ.get("EGO_CAMERA")
     # Serve the backend's camera: a simulated one always, a V4L2 device when named or
     # present (a robot without its camera board serves none rather than fail).

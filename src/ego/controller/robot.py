@@ -144,10 +144,9 @@ class Robot:
 
     def _ground_truth(self, name: str) -> bool:
         """Whether the emulator's world declares ``name`` (gps, compass, touch sensor)."""
-        emulator = self._core.emulator
-        world = getattr(emulator, "world", None)
-        declared = getattr(world, "declared_devices", None)
-        return bool(declared is not None and name in declared())
+        truth = self._core.ground_truth
+        world = truth.true_world if truth is not None else None
+        return world is not None and name in world.declared_devices()
 
     def _device_names(self, cls: type[Device] = Device) -> list[str]:
         """The names ``getDevice`` serves under the connected firmware, of class ``cls``."""

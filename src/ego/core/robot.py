@@ -21,7 +21,9 @@ from ego.devices.accelerometer import Accelerometer
 from ego.devices.base import MAX_PERIOD_MS, Device, Sensor, check_int
 from ego.devices.battery import Battery
 from ego.devices.encoders import Encoders
+from ego.devices.families import make_families, pick
 from ego.devices.floor import FloorSensors
+from ego.devices.i2c_step import run_i2c_step
 from ego.devices.leds import Leds
 from ego.devices.light import LightSensors
 from ego.devices.microphones import Microphones
@@ -34,11 +36,12 @@ from ego.errors import (
     UnknownDeviceError,
 )
 from ego.i2c.bus import I2CBus, given_bus
-from ego.i2c.side import OveroI2C, run_i2c_step
+from ego.i2c.side import OveroI2C
 from ego.serial.protocol import Firmware
 
 if TYPE_CHECKING:
     from ego.camera import Camera, FrameSource
+    from ego.core.ground_truth import GroundTruth
     from ego.core.scene import Scene
     from ego.serial.protocol import Batch
 
@@ -117,29 +120,20 @@ class Robot:
         self.i2c = OveroI2C(self._opened.i2c, self.port)
         self._parts = _Parts(self.link, self.clock, self._opened, self.i2c)
         self._finalizer = weakref.finalize(self, self._parts.close)
-        profile = self.link.profile
-        self.motors = Motors(profile)
-        self.leds = Leds(profile)
-        self.encoders = Encoders(profile)
-        self.accelerometer = Accelerometer(profile)
-        self.proximity = ProximitySensors(profile)
-        self.floor = FloorSensors(profile)
-        self.light = LightSensors(profile)
-        self.microphones = Microphones(profile)
-        self.battery = Battery(profile)
+        # One of each family the device table names (ego.devices.table), by its name.
+        self._families = made = make_families(self.link.profile)
+        self.motors = pick(made, "motors", Motors)
+        self.leds = pick(made, "leds", Leds)
+        self.encoders = pick(made, "encoders", Encoders)
+        self.accelerometer = pick(made, "accelerometer", Accelerometer)
+        self.proximity = pick(made, "proximity", ProximitySensors)
+        self.floor = pick(made, "floor", FloorSensors)
+        self.light = pick(made, "light", LightSensors)
+        self.microphones = pick(made, "microphones", Microphones)
+        self.battery = pick(made, "battery", Battery)
         self.proximity.bind_calibration(self.calibrate_proximity)
         #: The device families, in the order Webots names their devices.
-        self.families: tuple[Device, ...] = (
-            self.motors,
-            self.leds,
-            self.encoders,
-            self.accelerometer,
-            self.proximity,
-            self.floor,
-            self.light,
-            self.microphones,
-            self.battery,
-        )
+        self.families: tuple[Device, ...] = tuple(made.values())
         #: What each step's transaction runs over (ego.core.transaction).
         self._step_parts = tuple(part for family in self.families for part in family.parts)
         for part in self._step_parts:
@@ -176,8 +170,14 @@ class Robot:
         return self._opened.remote
 
     @property
-    def emulator(self) -> Any:
-        """The emulator behind a simulated robot (its world is the ground truth), else None."""
+    def ground_truth(self) -> GroundTruth | None:
+        """What the simulator behind this robot knows of it and its world (its true pose,
+        the world's layout: :mod:`ego.core.ground_truth`); None on a real robot."""
+        return self._opened.ground_truth
+
+    @property
+    def emulator(self) -> GroundTruth | None:
+        """The former name of :attr:`ground_truth`, kept for existing code."""
         return self._opened.ground_truth
 
     @property
@@ -216,12 +216,22 @@ class Robot:
 
         found = find(name)
         if found is not None and found.webots_device and found.family != CAMERA:
-            family: Device = getattr(self, found.family)
-            if name in family.member_names:
+            family = self._families.get(found.family)
+            if family is not None and name in family.member_names:
                 return family
         raise UnknownDeviceError(
             f"no device named {name!r}; valid names: {', '.join(self.device_names)}"
         )
+
+    def family(self, name: str) -> Device:
+        """The family the device table calls ``name``: ``robot.family("proximity")`` is
+        ``robot.proximity``; a family added to the table is reached so."""
+        found = self._families.get(name)
+        if found is None:
+            raise UnknownDeviceError(
+                f"no device family {name!r}; valid families: {', '.join(self._families)}"
+            )
+        return found
 
     @property
     def device_names(self) -> tuple[str, ...]:
@@ -232,7 +242,8 @@ class Robot:
         served = sorted(
             (rank[id(family)], s.index, s.name)
             for s in DEVICES
-            if s.family != CAMERA and s.name in (family := getattr(self, s.family)).member_names
+            if (family := self._families.get(s.family)) is not None
+            and s.name in family.member_names
         )
         return (*(name for _, _, name in served), *(s.name for s in DEVICES if s.family == CAMERA))
 

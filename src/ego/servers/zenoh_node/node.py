@@ -50,6 +50,7 @@ if TYPE_CHECKING:
     import zenoh
 
     from ego.core.channel import Channel
+    from ego.core.ground_truth import GroundTruth
     from ego.serial.protocol import Batch
 
 __all__ = ["MAX_BATCH_BYTES", "ControlLease", "RobotNode"]
@@ -93,7 +94,7 @@ class RobotNode:
         name: str,
         *,
         deadline_s: float = 0.5,
-        world: Any = None,
+        world: GroundTruth | None = None,
     ) -> None:
         self.name = check_name(name)
         self.session = session
