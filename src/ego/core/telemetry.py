@@ -165,11 +165,11 @@ def _battery(robot: Robot) -> int | None:
 
 def describe_robot(robot: Robot, table: DeviceTable = TABLE) -> dict[str, Any]:
     """What does not change during a run: the robot's port, firmware and devices."""
-    sampled = [f.name for f in table.sampled]
+    served = {type(family).table_family for family in robot.families if family.member_names}
     return describe_firmware(
         robot.link.info, robot.port, remote=robot.remote,
         proximity_count=len(robot.proximity.member_names), led_count=len(robot.leds.values),
-        families=[f for f in sampled if robot.family(f).member_names], table=table,
+        families=[f.name for f in table.sampled if f.name in served], table=table,
     )  # fmt: skip
 
 

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
 from ego.core.validate import check_int  # re-exported: the families' integer check
-from ego.devices.table import TABLE
+from ego.devices.table import TABLE, DeviceTable
 from ego.errors import DeviceError, UnknownDeviceError, UnsupportedDeviceError
 from ego.i2c.side import NO_I2C, OveroI2C
 from ego.serial.protocol import Command, Profile, Request
@@ -120,10 +120,12 @@ class Device:
     #: one (Webots reads it through the robot: ``batterySensorGetValue``).
     webots_device: ClassVar[bool] = True
 
-    def __init_subclass__(cls, **kwargs: object) -> None:
+    def __init_subclass__(cls, table: DeviceTable = TABLE, **kwargs: object) -> None:
+        """A family class takes its names from ``table`` (the device table; a test's copy
+        is given as ``class Tof(ArraySensor, table=copy)``)."""
         super().__init_subclass__(**kwargs)
         if cls.table_family:
-            cls.names = TABLE.names_of(cls.table_family)
+            cls.names = table.names_of(cls.table_family)
 
     def __init__(self, profile: Profile) -> None:
         self._profile = profile
