@@ -1,10 +1,11 @@
 """The ``sim`` backend of ego: the emulator behind a Robot, declared as an entry point.
 
 This module is the one place where the emulator meets the library (it hands ego a
-channel on the emulator's pty, the rendered camera, and the emulator itself as ground
-truth); every other module of ``firmware_sim`` is written apart from ego, which is what
-makes the emulator a check on the library. ego finds it through the ``ego.backends``
-entry point group (pyproject.toml) and never imports ``firmware_sim``.
+channel on the emulator's pty, the rendered camera, and the emulator's world as ego's
+typed ground truth, :class:`EmulatorTruth`); every other module of ``firmware_sim`` is
+written apart from ego, which is what makes the emulator a check on the library. ego
+finds it through the ``ego.backends`` entry point group (pyproject.toml) and never
+imports ``firmware_sim``.
 """
 
 from __future__ import annotations
@@ -13,9 +14,13 @@ import errno
 from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from ego.backends import Opened
 from ego.backends.serial_line import open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
+from ego.core.ground_truth import Box, Layout, TruePose
 from ego.errors import CameraCaptureError, CameraError, WorldFileError
 from ego.i2c.bus import given_bus
 from ego.serial.link import LinkSettings
@@ -28,7 +33,7 @@ from firmware_sim.server import Emulator
 from firmware_sim.virtual_time import VirtualClock
 from firmware_sim.world import World
 
-__all__ = ["SimBackend", "SimulatedCamera", "load_world"]
+__all__ = ["EmulatorTruth", "SimBackend", "SimulatedCamera", "WorldTruth", "load_world"]
 
 
 def load_world(spec: str, seed: int | None) -> World:
@@ -71,6 +76,70 @@ class SimulatedCamera:
 
     def __repr__(self) -> str:
         return repr(self.source)
+
+
+class WorldTruth:
+    """The emulator's world as ego's :class:`~ego.core.ground_truth.TrueWorld`."""
+
+    def __init__(self, world: World) -> None:
+        self._world = world
+
+    def layout(self) -> Layout:
+        world = self._world
+        half_x, half_y = world.arena.half_extents
+        boxes = tuple(
+            Box(block.x_m, block.y_m, *block.half_extents, block.yaw_rad, block.rgb)
+            for block in world.blocks
+        )
+        return Layout(half_x, half_y, boxes, (world.lamp.x_m, world.lamp.y_m))
+
+    def floor_reflectance(
+        self, x_m: NDArray[np.float64], y_m: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        return np.asarray(self._world.floor_reflectance(x_m, y_m), dtype=np.float64)
+
+    def declared_devices(self) -> frozenset[str]:
+        return self._world.declared_devices()
+
+    def touching(self) -> bool:
+        return self._world.touching()
+
+    @property
+    def camera_size(self) -> tuple[int, int] | None:
+        return self._world.camera_size
+
+    @property
+    def distance_travelled_m(self) -> float:
+        return self._world.distance_travelled_m
+
+    @property
+    def closest_approach_m(self) -> float:
+        return self._world.closest_approach_m
+
+
+class EmulatorTruth:
+    """The ground truth of a robot on the emulator (ego.core.ground_truth.GroundTruth).
+
+    Beside ego's protocol it keeps the emulator's own objects for those who know them
+    (tests, fault injection): :attr:`emulator` (None for a world given alone) and
+    :attr:`world`.
+    """
+
+    def __init__(self, world: World, emulator: Emulator | None = None) -> None:
+        self.world = world
+        self.emulator = emulator
+        self._true_world = WorldTruth(world)
+
+    def pose(self) -> TruePose:
+        pose = self.world.snapshot()
+        return TruePose(pose.x_m, pose.y_m, pose.theta_rad)
+
+    @property
+    def true_world(self) -> WorldTruth:
+        return self._true_world
+
+    def __repr__(self) -> str:
+        return f"<EmulatorTruth of {self.emulator or self.world!r}>"
 
 
 class VirtualPacer:
@@ -137,8 +206,9 @@ class SimBackend:
             pacer = VirtualPacer(clock)
         camera = lambda: SimulatedCamera(SimulatedSource(world))  # noqa: E731
         i2c = None if emulator.i2c is None else given_bus(emulator.i2c)
+        truth = EmulatorTruth(world, emulator)
         return Opened(
-            channel, camera, emulator, [emulator.stop], i2c=i2c, scene=Scene(world), pacer=pacer
+            channel, camera, truth, [emulator.stop], i2c=i2c, scene=Scene(world), pacer=pacer
         )
 
     @staticmethod

@@ -11,9 +11,27 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-from firmware_sim import World
+import ego
+from firmware_sim import Emulator, World
+from firmware_sim.ego_backend import EmulatorTruth
 
-__all__ = ["assert_stopped", "ego_command", "is_stopped", "run_async", "spawn", "wait_until"]
+__all__ = [
+    "assert_stopped",
+    "ego_command",
+    "emulator_of",
+    "is_stopped",
+    "run_async",
+    "spawn",
+    "wait_until",
+]
+
+
+def emulator_of(robot: ego.Robot) -> Emulator:
+    """The emulator behind ``Robot("sim")`` (its history, its faults, its I2C bus): the
+    sim backend's ground truth keeps it beside what ego reads through the protocol."""
+    truth = robot.ground_truth
+    assert isinstance(truth, EmulatorTruth) and truth.emulator is not None, truth
+    return truth.emulator
 
 
 @contextlib.contextmanager

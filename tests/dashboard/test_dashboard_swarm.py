@@ -64,7 +64,7 @@ def swarm_dashboard(tmp_path: Path) -> Iterator[tuple[str, list[Any]]]:
         for world in worlds:
             opened = backend.open("sim", firmware=Firmware.WEBOTS, world=world)
             stack.callback(opened.close)
-            channels.append(WatchedChannel(opened.channel, world=world))
+            channels.append(WatchedChannel(opened.channel, world=opened.ground_truth))
         feed = SwarmFeed(NAMES, channels)
         server = stack.enter_context(DashboardServer(feed, "127.0.0.1", 0))
         feed.server = server

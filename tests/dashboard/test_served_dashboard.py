@@ -24,6 +24,7 @@ from ego.servers.dashboard.served import ServedFeed, WatchedChannel
 from ego.servers.dashboard.server import DashboardServer
 from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator
+from firmware_sim.ego_backend import EmulatorTruth
 
 
 @pytest.fixture
@@ -34,7 +35,7 @@ def served() -> Iterator[tuple[Emulator, DashboardServer, list[tuple[int, int]]]
         emu = stack.enter_context(Emulator("webots", seed=1))
         link = Link(SerialTransport(emu.path), settings=FAST_LINK)
         stack.callback(link.close)
-        watched = WatchedChannel(link, world=emu.world)
+        watched = WatchedChannel(link, world=EmulatorTruth(emu.world, emu))
         feed = ServedFeed(watched, emu.path)
         board = stack.enter_context(DashboardServer(feed, "127.0.0.1", 0))
         feed.server = board

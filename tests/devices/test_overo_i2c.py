@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import ego_command
+from helpers import ego_command, emulator_of
 
 import ego
 from ego.backends.serial_line import robot_i2c
@@ -112,7 +112,7 @@ def test_the_floor_is_read_over_i2c_on_the_overo_and_follows_the_world() -> None
         assert robot.step(STEP_MS) == 0
         left, middle, right = robot.floor.values
         assert middle < 500 < min(left, right)  # the track's line under the middle sensor
-        emulator = robot.emulator
+        emulator = emulator_of(robot)
         assert emulator.i2c.transfers >= 2  # the probe and a reading
         assert all("M" not in record.commands for record in emulator.history)
 
@@ -130,7 +130,7 @@ def test_a_rev_1_3_accelerometer_reads_gravity_over_i2c() -> None:
     """Asercom.c:268-276: `a` answers zeros in Overo mode on a rev 1.3; the LSM330 is read
     (``--firmware gctronic``: the revision is not asked, the chip is probed)."""
     with ego.Robot("sim", firmware="gctronic", rev13=True, seed=1) as robot:
-        _gravity_over_i2c(robot, robot.emulator)
+        _gravity_over_i2c(robot, emulator_of(robot))
 
 
 def test_a_rev_1_3_told_by_its_battery_reply_reads_it_over_i2c_too() -> None:
@@ -155,14 +155,14 @@ def test_an_older_robot_on_the_overo_keeps_its_analog_accelerometer_on_the_line(
         assert robot.step(STEP_MS) == 0
         assert robot.accelerometer.values[2] == pytest.approx(2800, abs=10)  # 0 g 2000, 800/g
         assert robot.accelerometer.acceleration_mps2[2] == pytest.approx(9.81, abs=0.2)
-        assert any("a" in record.commands for record in robot.emulator.history)
+        assert any("a" in record.commands for record in emulator_of(robot).history)
 
 
 def test_a_chip_that_stops_answering_disables_its_family() -> None:
     with ego.Robot("sim", firmware="gctronic", seed=1) as robot:
         robot.floor.enable(STEP_MS)
         assert robot.step(STEP_MS) == 0
-        del robot.emulator.i2c.chips[0x60]  # the module unplugged mid-run
+        del emulator_of(robot).i2c.chips[0x60]  # the module unplugged mid-run
         with pytest.raises(UnsupportedDeviceError, match=r"ground module at 0x60 .* stopped"):
             robot.step(STEP_MS)
         assert not robot.floor.enabled

@@ -7,6 +7,8 @@ carries on; the controller's next step still returns 0.
 
 from __future__ import annotations
 
+from helpers import emulator_of
+
 import ego
 
 STEP_MS = 32
@@ -25,7 +27,7 @@ def test_the_builtin_emulator_is_reachable_from_the_robot(builtin_sim_robot: ego
     robot.encoders.enable(STEP_MS)
     run(robot, 1)
     assert robot.emulator.world.speeds == (200, 200)
-    assert robot.emulator.history[-1].commands == "DEQ"
+    assert emulator_of(robot).history[-1].commands == "DEQ"
     robot.motors.set_speed(0, 0)
 
 
@@ -46,7 +48,7 @@ def test_after_a_reset_the_next_step_succeeds_and_actuators_are_reapplied(
     before = robot.encoders.values
     assert world.speeds == (400, -400)
 
-    robot.emulator.inject("reset")
+    emulator_of(robot).inject("reset")
     assert robot.step(STEP_MS) == 0
 
     assert robot.link.stats.restarts == 1
@@ -73,7 +75,7 @@ def test_a_reset_while_standing_still_does_not_start_the_motors(
     robot.motors.set_speed(0, 0)
     run(robot, 2)
 
-    robot.emulator.inject("reset")
+    emulator_of(robot).inject("reset")
     assert robot.step(STEP_MS) == 0
 
     assert robot.link.stats.restarts == 1

@@ -6,6 +6,7 @@ from __future__ import annotations
 import time
 
 import pytest
+from helpers import emulator_of
 
 import ego
 from ego.core.transaction import run_step
@@ -73,9 +74,9 @@ def test_one_batch_a_step_with_setters_before_reads(builtin_sim_robot: ego.Robot
     robot.encoders.set(10, 20)
     robot.leds.set(1, 1)
     robot.motors.set_speed(50, 50)
-    before = len(robot.emulator.history)
+    before = len(emulator_of(robot).history)
     robot.step(16)
-    (record,) = list(robot.emulator.history)[before:]
+    (record,) = list(emulator_of(robot).history)[before:]
     letters = record.commands
     assert letters.index("Q") > letters.index("P")
     reads = [letters.index(c) for c in "NQE" if c in letters]

@@ -15,6 +15,7 @@ from ego.serial.transport import SerialTransport
 from ego.servers.zenoh_node.node import RobotNode
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 from firmware_sim import Emulator
+from firmware_sim.ego_backend import EmulatorTruth
 
 
 def free_endpoint() -> str:
@@ -49,7 +50,8 @@ def served_node(
         endpoint = free_endpoint()
         session = open_session(ZenohSettings(listen=[endpoint], connect=[]))
         stack.callback(session.close)
-        node = RobotNode(link, session, name, deadline_s=deadline_s, world=emu.world).start()
+        node = RobotNode(link, session, name, deadline_s=deadline_s,
+                         world=EmulatorTruth(emu.world, emu)).start()
         stack.callback(node.close)
         yield Node(emu, node, endpoint)
 

@@ -70,7 +70,8 @@ class _Progress:
             "".join(_bar(v) for v in robot.proximity.values) if robot.proximity.has_values else "-"
         )
         left, right = robot.motors.speed
-        world = robot.emulator.world if robot.emulator is not None else None
+        truth = robot.ground_truth
+        world = truth.true_world if truth is not None else None
         clearance = f"  closest {world.closest_approach_m * 1000:5.1f} mm" if world else ""
         line = (
             f"t={robot.time_s:5.1f} s  ps0-7 [{ring}]  speed L {left:+5d} R {right:+5d} steps/s"
@@ -119,9 +120,11 @@ def run_demo(
         report.steps = robot.steps
         report.overruns = robot.overruns
         report.controller_time_s = robot.time_s
-        if robot.emulator is not None:
-            report.distance_m = robot.emulator.world.distance_travelled_m
-            report.closest_approach_mm = robot.emulator.world.closest_approach_m * 1000
+        truth = robot.ground_truth
+        true_world = truth.true_world if truth is not None else None
+        if true_world is not None:
+            report.distance_m = true_world.distance_travelled_m
+            report.closest_approach_mm = true_world.closest_approach_m * 1000
     if progress.tty:
         out.write("\n")
     out.write(

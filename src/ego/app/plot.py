@@ -12,6 +12,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ego.devices.table import TABLE, DeviceTable
 from ego.recording.reader import Recording
 
 if TYPE_CHECKING:
@@ -19,16 +20,24 @@ if TYPE_CHECKING:
 
 __all__ = ["plot_recording", "sensors_figure"]
 
-#: Each family the sensors figure shows: its key, title, unit, and its lines' names.
-_FAMILIES: tuple[tuple[str, str, str, Callable[[int], str]], ...] = (
-    ("proximity", "proximity", "raw counts", lambda i: f"ps{i}" if i < 8 else f"IR{i}"),
-    ("light", "light (lower is brighter)", "raw counts", lambda i: f"ls{i}"),
-    ("floor", "floor", "raw counts", lambda i: f"gs{i}"),
-    ("accelerometer", "accelerometer", "m/s²", lambda i: "xyz"[i]),
-    ("encoders", "encoders", "steps", lambda i: ("left", "right")[i]),
-    ("microphones", "microphones", "amplitude", lambda i: f"mic{i}"),
-    ("speed", "wheel speeds asked", "steps/s", lambda i: ("left", "right")[i]),
-)
+_Panel = tuple[str, str, str, Callable[[int], str]]
+#: After the table's families, the sensors figure shows the wheel speeds asked.
+_SPEED: _Panel = ("speed", "wheel speeds asked", "steps/s", lambda i: ("left", "right")[i])
+
+
+def _panels(table: DeviceTable) -> list[_Panel]:
+    """Each family the sensors figure may show (the table's sampled ones, then the wheel
+    speeds): its key, title, unit, and its lines' names."""
+    panels: list[_Panel] = []
+    for family in table.sampled:
+        series = family.series
+        assert series is not None  # the sampled families are those with a series
+        panels.append((family.name, series.title, series.unit, _line_names(series.lines)))
+    return [*panels, _SPEED]
+
+
+def _line_names(lines: tuple[str, ...]) -> Callable[[int], str]:
+    return lambda i: lines[i] if i < len(lines) else str(i)
 
 
 def plot_recording(path: str | Path, out: str | Path = ".") -> list[Path]:
@@ -84,16 +93,16 @@ def plot_recording(path: str | Path, out: str | Path = ".") -> list[Path]:
     return written
 
 
-def sensors_figure(samples: list[dict[str, Any]]) -> Figure:
-    """Every family the samples hold, one panel each against controller time, with a
-    legend naming its lines (ps0..ps7, left/right...) and its unit on the y axis."""
+def sensors_figure(samples: list[dict[str, Any]], table: DeviceTable = TABLE) -> Figure:
+    """Every family of ``table`` the samples hold, one panel each against controller time,
+    with a legend naming its lines (ps0..ps7, left/right...) and its unit on the y axis."""
     import matplotlib
 
     matplotlib.use("Agg")  # files only: no display on a robot or a CI machine
     import matplotlib.pyplot as plt
 
     t = [s["t"] for s in samples]
-    sampled = [family for family in _FAMILIES if any(s[family[0]] for s in samples)]
+    sampled = [panel for panel in _panels(table) if any(s.get(panel[0]) for s in samples)]
     fig, axes = plt.subplots(max(1, len(sampled)), 1, figsize=(9, 2.2 * max(1, len(sampled))),
                              sharex=True, squeeze=False)  # fmt: skip
     for ax, (key, title, unit, name) in zip(axes[:, 0], sampled, strict=False):

@@ -14,6 +14,7 @@ import time
 from typing import Any
 
 from ego.backends.replay import SPEEDS
+from ego.devices.table import TABLE
 from ego.errors import RecordingError
 from ego.recording.reader import Recording
 from ego.servers.dashboard.control import Reply
@@ -43,7 +44,9 @@ class ReplayFeed:
     # -- the Feed -----------------------------------------------------------------------
 
     def hello(self) -> dict[str, Any]:
-        return {"mode": "replay", "robot": self.recording.robot, "world": self.recording.world}
+        # A recording made before the page was told the series draws with today's table's.
+        robot = {"series": TABLE.describe_series(), **self.recording.robot}
+        return {"mode": "replay", "robot": robot, "world": self.recording.world}
 
     def state(self, client: object) -> dict[str, Any]:
         with self._lock:

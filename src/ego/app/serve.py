@@ -34,6 +34,7 @@ from ego.servers.socket.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, Server
 
 if TYPE_CHECKING:
     from ego.camera.source import FrameSource
+    from ego.core.ground_truth import GroundTruth
 
 __all__ = ["ServedRobot", "add_arguments", "open_robot", "run"]
 
@@ -133,8 +134,8 @@ class ServedRobot:
     channel: Channel
     camera: FrameSource | None = None
     closers: list[Callable[[], None]] = field(default_factory=list)
-    #: The emulated world behind a simulated robot (its ground truth), else None.
-    world: Any = None
+    #: What the simulator behind a simulated robot knows of it (its world), else None.
+    world: GroundTruth | None = None
     #: The robot's name in a failure's log line: its port.
     name: str = "robot"
 
@@ -159,8 +160,9 @@ def open_robot(
     if secret is not None and takes_option(resolved, "secret"):
         options["secret"] = secret
     opened = open_port(resolved, firmware=Firmware.choose(firmware), **options)
-    world = getattr(opened.ground_truth, "world", None)
-    robot = ServedRobot(opened.channel, closers=[opened.close], world=world, name=resolved)
+    robot = ServedRobot(
+        opened.channel, closers=[opened.close], world=opened.ground_truth, name=resolved
+    )
     device = camera or os.environ.get("EGO_CAMERA")
     # Serve the backend's camera: a simulated one always, a V4L2 device when named or
     # present (a robot without its camera board serves none rather than fail).

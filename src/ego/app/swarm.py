@@ -87,7 +87,8 @@ class Swarm:
                 opened = backend.open("sim", firmware=Firmware(self.firmware), world=world)
                 self.opened.append(opened)
                 node = RobotNode(opened.channel, self.session, robot_name(index),
-                                 deadline_s=self.deadline_s, world=world)  # fmt: skip
+                                 deadline_s=self.deadline_s,
+                                 world=opened.ground_truth)  # fmt: skip
                 self.nodes.append(node.start())
         except BaseException:
             self.close()

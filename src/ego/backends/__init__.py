@@ -41,6 +41,7 @@ from ego.serial.protocol import Firmware
 if TYPE_CHECKING:
     from ego.camera import FrameSource
     from ego.core.channel import Channel
+    from ego.core.ground_truth import GroundTruth
     from ego.core.scene import Scene
     from ego.core.scheduler import Pacer
     from ego.i2c.bus import I2CAccess
@@ -67,8 +68,8 @@ class Opened:
     channel: Channel
     #: Makes the robot's camera source when it is first used; None: this robot has none.
     camera: Callable[[], FrameSource] | None = None
-    #: The simulator behind a simulated robot (its world is the ground truth), else None.
-    ground_truth: Any = None
+    #: What the simulator behind a simulated robot knows of it, else None.
+    ground_truth: GroundTruth | None = None
     #: Releases what the backend started beside the channel (an emulator thread).
     closers: list[Callable[[], None]] = field(default_factory=list)
     #: Whether the robot is driven over a network (Webots' MODE_REMOTE_CONTROL).

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 from ego.backends import Opened
 from ego.backends.remote.channel import info_from
 from ego.backends.remote.connection import error_from_reply
+from ego.core.ground_truth import TruePose
 from ego.errors import FirmwareMismatchError, LinkLostError
 from ego.serial.link import LinkStats
 from ego.zenoh_net.keys import check_name, robot_key
@@ -194,13 +195,19 @@ class ZenohBackend:
 
 class _Truth:
     """What a controller of an emulated robot node knows of its true pose (for the radio's
-    signal strength): the pose the node sent with the last reply."""
+    signal strength): the pose the node sent with the last reply; not the whole world
+    (ego.core.ground_truth.GroundTruth)."""
 
     def __init__(self, channel: ZenohChannel) -> None:
         self.channel = channel
 
-    def pose(self) -> list[float] | None:
-        return self.channel.truth
+    def pose(self) -> TruePose | None:
+        sent = self.channel.truth
+        return None if sent is None else TruePose(*(float(v) for v in sent[:3]))
+
+    @property
+    def true_world(self) -> None:
+        return None
 
 
 def node_names(session: zenoh.Session, pattern: str, timeout_s: float = 1.0) -> list[str]:

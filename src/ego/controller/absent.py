@@ -10,13 +10,14 @@ exists, and says that a real robot has no simulation to supervise.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 from ego.controller.devices import Device
 from ego.controller.node_types import NODE_TYPES
 from ego.errors import UnsupportedDeviceError
 
 if TYPE_CHECKING:
+    from ego.core.ground_truth import GroundTruth
     from ego.core.robot import Robot as CoreRobot
 
 __all__ = [
@@ -54,8 +55,11 @@ class _GroundTruth(Device):
         super().__init__(core, name, strict=strict)
         self._period = 0
 
-    def _world(self) -> Any:
-        return self._core.emulator.world
+    def _truth(self) -> GroundTruth:
+        truth = self._core.ground_truth
+        if truth is None:  # made only where the world declares it: a simulated robot
+            raise UnsupportedDeviceError(f"{self._name!r}: a real robot has no ground truth")
+        return truth
 
     def enable(self, samplingPeriod: int) -> None:
         self._period = int(samplingPeriod)
@@ -70,15 +74,20 @@ class _GroundTruth(Device):
         """GPS: x, y, z (m); Compass: north in the robot's frame. NaN while disabled."""
         if not self._period:
             return [math.nan] * 3
-        world = self._world()
-        values = world.gps_position() if isinstance(self, GPS) else world.compass_vector()
-        return [float(v) for v in values]
+        pose = self._truth().pose()
+        if pose is None:
+            return [math.nan] * 3
+        if isinstance(self, GPS):  # the centre, Webots' ENU frame (x east, y north, z up)
+            return [pose.x_m, pose.y_m, 0.0]
+        # North (+y) in the robot's frame (x forward, y left, z up), as Webots' Compass.
+        return [math.sin(pose.theta_rad), math.cos(pose.theta_rad), 0.0]
 
     def getValue(self) -> float:
         """TouchSensor: 1.0 when the body touches a wall or a box (NaN while disabled)."""
         if not self._period:
             return math.nan
-        return 1.0 if self._world().touching() else 0.0
+        world = self._truth().true_world
+        return 1.0 if world is not None and world.touching() else 0.0
 
     value = property(lambda self: self.getValue())
 

@@ -102,10 +102,11 @@ def webots_camera_size(core: CoreRobot) -> None:
     Webots world sets them), else Webots' e-puck's 52x39 (the E-GO face keeps 640x480)."""
     from ego.faces.default_robot import current_context
 
-    world = getattr(core.emulator, "world", None)
+    truth = core.ground_truth
+    world = truth.true_world if truth is not None else None
     size = (
         current_context().options.camera_size
-        or getattr(world, "camera_size", None)
+        or (world.camera_size if world is not None else None)
         or WEBOTS_CAMERA_SIZE
     )
     if (core.camera.width, core.camera.height) != size:

@@ -69,13 +69,9 @@ def _radio(core: CoreRobot) -> Radio:
 
 
 def _true_pose(core: CoreRobot) -> list[float] | None:
-    ground = core.emulator
-    world = getattr(ground, "world", None)
-    if world is not None:
-        pose = world.snapshot()
-        return [pose.x_m, pose.y_m, pose.theta_rad]
-    read = getattr(ground, "pose", None)
-    return read() if callable(read) else None
+    truth = core.ground_truth
+    pose = truth.pose() if truth is not None else None
+    return None if pose is None else [pose.x_m, pose.y_m, pose.theta_rad]
 
 
 def _check_channel(channel: object) -> int:

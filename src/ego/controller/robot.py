@@ -97,10 +97,9 @@ class Robot(DeviceLookup):
 
     def _ground_truth(self, name: str) -> bool:
         """Whether the emulator's world declares ``name`` (gps, compass, touch sensor)."""
-        emulator = self._core.emulator
-        world = getattr(emulator, "world", None)
-        declared = getattr(world, "declared_devices", None)
-        return bool(declared is not None and name in declared())
+        truth = self._core.ground_truth
+        world = truth.true_world if truth is not None else None
+        return world is not None and name in world.declared_devices()
 
     def getBasicTimeStep(self) -> float:
         return float(self._options.basic_time_step_ms)

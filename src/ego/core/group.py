@@ -9,7 +9,10 @@ from __future__ import annotations
 import concurrent.futures
 from collections.abc import Iterable
 from types import TracebackType
-from typing import Any, Generic, Protocol, TypeVar
+from typing import TYPE_CHECKING, Any, Generic, Protocol, TypeVar
+
+if TYPE_CHECKING:
+    from ego.core.robot import Robot
 
 __all__ = ["RobotGroup", "Steppable", "open_group", "step_all"]
 
@@ -96,7 +99,7 @@ def step_all(robots: Iterable[Steppable], ms: int) -> int:
         return group.step(ms)
 
 
-def open_group(pattern: str, **options: Any) -> tuple[list[Any], RobotGroup[Any]]:
+def open_group(pattern: str, **options: Any) -> tuple[list[Robot], RobotGroup[Robot]]:
     """The robots a Zenoh key expression names (``zenoh://lab/*``: every node under
     ``lab``, found by their liveliness), opened, and a group stepping them in lockstep.
     Close the robots yourself (``for robot in robots: robot.close()``) and the group.
@@ -113,14 +116,14 @@ def open_group(pattern: str, **options: Any) -> tuple[list[Any], RobotGroup[Any]
     settings = ZenohSettings(connect=options.get("zenoh_connect"),
                              config_file=options.get("zenoh_config"))  # fmt: skip
     settings.connect = settings.connect or [DEFAULT_ENDPOINT]
-    session: Any = open_session(settings)
+    session: Any = open_session(settings)  # zenoh.Session: its close() is untyped
     try:
         names = node_names(session, pattern.removeprefix(f"{SCHEME}://"))
     finally:
         session.close()
     if not names:
         raise PortNotFoundError(f"no robot node matches {pattern}")
-    robots: list[Any] = []
+    robots: list[Robot] = []
     try:
         for name in names:
             robots.append(Robot(f"{SCHEME}://{name}", **options))

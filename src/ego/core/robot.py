@@ -25,6 +25,7 @@ from ego.serial.protocol import Firmware
 
 if TYPE_CHECKING:
     from ego.camera import FrameSource
+    from ego.core.ground_truth import GroundTruth
     from ego.core.scene import Scene
     from ego.serial.protocol import Batch
 
@@ -132,8 +133,14 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         return self._opened.remote
 
     @property
-    def emulator(self) -> Any:
-        """The emulator behind a simulated robot (its world is the ground truth), else None."""
+    def ground_truth(self) -> GroundTruth | None:
+        """What the simulator behind this robot knows of it and its world (its true pose,
+        the world's layout: :mod:`ego.core.ground_truth`); None on a real robot."""
+        return self._opened.ground_truth
+
+    @property
+    def emulator(self) -> GroundTruth | None:
+        """The former name of :attr:`ground_truth`, kept for existing code."""
         return self._opened.ground_truth
 
     @property

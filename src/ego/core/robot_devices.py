@@ -8,6 +8,7 @@ from ego.devices.accelerometer import Accelerometer
 from ego.devices.base import Device, Sensor
 from ego.devices.battery import Battery
 from ego.devices.encoders import Encoders
+from ego.devices.families import make_families, pick
 from ego.devices.floor import FloorSensors
 from ego.devices.leds import Leds
 from ego.devices.light import LightSensors
@@ -41,33 +42,25 @@ class DeviceWiring:
     microphones: Microphones
     battery: Battery
     families: tuple[Device, ...]
+    _families: dict[str, Device]
     _step_parts: tuple[Device, ...]
 
     def _wire_devices(self) -> None:
         """One object per family, for the channel's profile, its sensors bound to the I2C bus."""
-        profile = self.link.profile
-        self.motors = Motors(profile)
-        self.leds = Leds(profile)
-        self.encoders = Encoders(profile)
-        self.accelerometer = Accelerometer(profile)
-        self.proximity = ProximitySensors(profile)
-        self.floor = FloorSensors(profile)
-        self.light = LightSensors(profile)
-        self.microphones = Microphones(profile)
-        self.battery = Battery(profile)
+        # One of each family the device table names (ego.devices.table), by its name.
+        self._families = made = make_families(self.link.profile)
+        self.motors = pick(made, "motors", Motors)
+        self.leds = pick(made, "leds", Leds)
+        self.encoders = pick(made, "encoders", Encoders)
+        self.accelerometer = pick(made, "accelerometer", Accelerometer)
+        self.proximity = pick(made, "proximity", ProximitySensors)
+        self.floor = pick(made, "floor", FloorSensors)
+        self.light = pick(made, "light", LightSensors)
+        self.microphones = pick(made, "microphones", Microphones)
+        self.battery = pick(made, "battery", Battery)
         self.proximity.bind_calibration(self.calibrate_proximity)
         #: The device families, in the order Webots names their devices.
-        self.families = (
-            self.motors,
-            self.leds,
-            self.encoders,
-            self.accelerometer,
-            self.proximity,
-            self.floor,
-            self.light,
-            self.microphones,
-            self.battery,
-        )
+        self.families = tuple(made.values())
         #: What each step's transaction runs over (ego.core.transaction).
         self._step_parts = tuple(part for family in self.families for part in family.parts)
         for part in self._step_parts:
@@ -84,12 +77,22 @@ class DeviceWiring:
 
         found = find(name)
         if found is not None and found.webots_device and found.family != CAMERA:
-            family: Device = getattr(self, found.family)
-            if name in family.member_names:
+            family = self._families.get(found.family)
+            if family is not None and name in family.member_names:
                 return family
         raise UnknownDeviceError(
             f"no device named {name!r}; valid names: {', '.join(self.device_names)}"
         )
+
+    def family(self, name: str) -> Device:
+        """The family the device table calls ``name``: ``robot.family("proximity")`` is
+        ``robot.proximity``; a family added to the table is reached so."""
+        found = self._families.get(name)
+        if found is None:
+            raise UnknownDeviceError(
+                f"no device family {name!r}; valid families: {', '.join(self._families)}"
+            )
+        return found
 
     @property
     def device_names(self) -> tuple[str, ...]:
@@ -100,7 +103,8 @@ class DeviceWiring:
         served = sorted(
             (rank[id(family)], s.index, s.name)
             for s in DEVICES
-            if s.family != CAMERA and s.name in (family := getattr(self, s.family)).member_names
+            if (family := self._families.get(s.family)) is not None
+            and s.name in family.member_names
         )
         return (*(name for _, _, name in served), *(s.name for s in DEVICES if s.family == CAMERA))
 

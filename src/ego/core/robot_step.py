@@ -10,8 +10,8 @@ from typing import TYPE_CHECKING
 
 from ego.core.transaction import run_step
 from ego.devices.base import MAX_PERIOD_MS, Device, check_int
+from ego.devices.i2c_step import run_i2c_step
 from ego.errors import LinkLostError, ReplayEndedError
-from ego.i2c.side import run_i2c_step
 
 if TYPE_CHECKING:
     from ego.camera import Camera

@@ -6,8 +6,13 @@ JSON-ready values (the same keys in the dashboard's messages and in a recording'
 controller has not enabled (or that the firmware lacks) gives ``None``: the dashboard
 says "off", a recording stores null, and nothing is ever made up.
 
+The families a sample holds, and how the page and the plots show them, are the device
+table's (:data:`ego.devices.table.TABLE`: its families with a ``Series``); each family
+says what it shows (``Device.readings``). A table may be handed in instead (a test's copy).
+
 :func:`describe_world` gives the emulator's world (walls, boxes, lamp, floor image) once,
-read through its public attributes only: ego never imports the emulator.
+read through the typed ground truth (:mod:`ego.core.ground_truth`): ego never imports the
+emulator.
 """
 
 from __future__ import annotations
@@ -19,9 +24,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ego.core.odometry import Odometry, Pose2D
+from ego.devices.table import TABLE, DeviceTable
 from ego.errors import EgoError
 
 if TYPE_CHECKING:
+    from ego.core.ground_truth import GroundTruth
     from ego.core.robot import Robot
     from ego.serial.firmware import FirmwareInfo
     from ego.serial.link import LinkStats
@@ -37,48 +44,39 @@ __all__ = [
     "world_pose",
 ]
 
-#: The families a sample holds, by Robot attribute, in the order the dashboard lists them.
-SENSOR_FAMILIES = ("proximity", "light", "floor", "accelerometer", "encoders", "microphones")
+#: The families a sample holds, by Robot attribute, in the order the dashboard lists them:
+#: the device table's.
+SENSOR_FAMILIES: tuple[str, ...] = tuple(f.name for f in TABLE.sampled)
 
 
-def _values(family: Any) -> list[float] | None:
+def _readings(robot: Robot, family: str) -> list[float] | None:
     """A family's last sample, or None when it has none (disabled or not served)."""
     try:
-        if not family.has_values:
-            return None
-        return [round(float(v), 4) for v in family.values]
+        values = robot.family(family).readings()
     except EgoError:
         return None
+    return None if values is None else [round(float(v), 4) for v in values]
 
 
-def _accelerometer(robot: Robot) -> list[float] | None:
-    try:
-        if not robot.accelerometer.has_values:
-            return None
-        return [round(v, 4) for v in robot.accelerometer.acceleration_mps2]
-    except EgoError:  # spherical mode: no vector to draw
-        return None
-
-
-def world_pose(world: Any) -> list[float] | None:
-    """An emulated world's ground-truth pose [x m, y m, theta rad]; None without one."""
-    if world is None:
-        return None
-    pose = world.snapshot()
-    return [round(pose.x_m, 5), round(pose.y_m, 5), round(pose.theta_rad, 5)]
+def world_pose(truth: GroundTruth | None) -> list[float] | None:
+    """A simulated robot's ground-truth pose [x m, y m, theta rad]; None without one."""
+    pose = truth.pose() if truth is not None else None
+    return None if pose is None else pose.rounded()
 
 
 def true_pose(robot: Robot) -> list[float] | None:
     """The emulator's ground-truth pose of ``robot``; None on a real robot."""
-    return world_pose(getattr(robot.emulator, "world", None))
+    return world_pose(robot.ground_truth)
 
 
 class Sampler:
     """One step's readings as a sample (the keys above), with the odometry kept across
     steps: from the encoders when they were read, else from the wheel speeds asked."""
 
-    def __init__(self, start: list[float] | None = None) -> None:
+    def __init__(self, start: list[float] | None = None, table: DeviceTable = TABLE) -> None:
         self.odometry = Odometry(Pose2D(*start) if start is not None else None)
+        #: The families a sample holds readings of (the table's, in its order).
+        self.families = tuple(f.name for f in table.sampled)
 
     def sample(
         self, *, t_s: float, step: int, step_ms: float, wall_ms: float, overruns: int | None,
@@ -97,7 +95,7 @@ class Sampler:
             "step_ms": round(step_ms, 3),
             "wall_ms": round(wall_ms, 3),
             "overruns": overruns,
-            **{family: readings.get(family) for family in SENSOR_FAMILIES},
+            **{family: readings.get(family) for family in self.families},
             "speed": speed,
             "leds": leds,
             "battery": battery,
@@ -118,9 +116,9 @@ class Telemetry:
     """Samples one robot step after step: :meth:`sample` after a step, or :meth:`track`
     when no sample is wanted (the odometry still follows every step)."""
 
-    def __init__(self, robot: Robot) -> None:
+    def __init__(self, robot: Robot, table: DeviceTable = TABLE) -> None:
         self.robot = robot
-        self.sampler = Sampler(true_pose(robot))
+        self.sampler = Sampler(true_pose(robot), table)
         self._last_time_s = robot.time_s
         self._last_wall = time.monotonic()
 
@@ -146,12 +144,7 @@ class Telemetry:
         """The robot's state after its last step, as JSON-ready values."""
         robot = self.robot
         step_ms, wall_ms = self._step_times()
-        readings = {
-            family: _values(getattr(robot, family))
-            for family in SENSOR_FAMILIES
-            if family != "accelerometer"
-        }
-        readings["accelerometer"] = _accelerometer(robot)
+        readings = {family: _readings(robot, family) for family in self.sampler.families}
         camera = robot.open_camera
         size = [camera.width, camera.height] if camera and camera.sampling_period else None
         return self.sampler.sample(
@@ -170,19 +163,22 @@ def _battery(robot: Robot) -> int | None:
         return None
 
 
-def describe_robot(robot: Robot) -> dict[str, Any]:
+def describe_robot(robot: Robot, table: DeviceTable = TABLE) -> dict[str, Any]:
     """What does not change during a run: the robot's port, firmware and devices."""
+    served = {type(family).table_family for family in robot.families if family.member_names}
     return describe_firmware(
         robot.link.info, robot.port, remote=robot.remote,
         proximity_count=len(robot.proximity.member_names), led_count=len(robot.leds.values),
-        families=[f for f in SENSOR_FAMILIES if getattr(robot, f).member_names],
+        families=[f.name for f in table.sampled if f.name in served], table=table,
     )  # fmt: skip
 
 
 def describe_firmware(
     info: FirmwareInfo, port: str, *, remote: bool, proximity_count: int, led_count: int,
-    families: list[str],
+    families: list[str], table: DeviceTable = TABLE,
 ) -> dict[str, Any]:  # fmt: skip
+    """The robot as the page is first told it; ``series``: how it draws each family the
+    table samples (the page hard-codes none)."""
     return {
         "port": port,
         "firmware": info.firmware.value,
@@ -192,27 +188,25 @@ def describe_firmware(
         "proximity_count": proximity_count,
         "led_count": led_count,
         "families": families,
+        "series": table.describe_series(),
     }
 
 
-def describe_world(world: Any, floor_cells: int = 160) -> dict[str, Any] | None:
-    """An emulated world for drawing (None: a real robot's, there is none): arena half
+def describe_world(truth: GroundTruth | None, floor_cells: int = 160) -> dict[str, Any] | None:
+    """A simulated world for drawing (None: a real robot's, there is none): arena half
     extents, boxes, lamp, and the floor as a grey image ``floor_cells`` across."""
-    if world is None:
+    world = truth.true_world if truth is not None else None
+    if truth is None or world is None:
         return None
     from ego.camera.encode import encode_png  # OpenCV: imported only for an emulated world
 
-    arena = world.arena
-    half_x = float(arena.half_size_m)
-    half_y = float(getattr(arena, "half_y_m", None) or half_x)
-    boxes = []
-    for block in world.blocks:
-        hx = float(block.half_size_m)
-        hy = getattr(block, "half_y_m", None)
-        boxes.append({
-            "x": block.x_m, "y": block.y_m, "hx": hx, "hy": float(hy if hy is not None else hx),
-            "yaw": float(getattr(block, "yaw_rad", 0.0)), "rgb": list(block.rgb),
-        })  # fmt: skip
+    layout = world.layout()
+    half_x, half_y = float(layout.half_x_m), float(layout.half_y_m)
+    boxes = [
+        {"x": box.x_m, "y": box.y_m, "hx": float(box.half_x_m), "hy": float(box.half_y_m),
+         "yaw": float(box.yaw_rad), "rgb": list(box.rgb)}
+        for box in layout.boxes
+    ]  # fmt: skip
     cols = floor_cells
     rows = max(1, round(cols * half_y / half_x))
     xs = np.linspace(-half_x, half_x, cols)
@@ -221,12 +215,11 @@ def describe_world(world: Any, floor_cells: int = 160) -> dict[str, Any] | None:
     reflectance = np.asarray(world.floor_reflectance(grid_x, grid_y), dtype=float)
     grey = np.clip(reflectance * 255, 0, 255).astype(np.uint8)
     png = encode_png(np.repeat(grey[:, :, None], 3, axis=2))
-    lamp = world.lamp
     return {
         "half_x": half_x,
         "half_y": half_y,
         "boxes": boxes,
-        "lamp": [float(lamp.x_m), float(lamp.y_m)],
+        "lamp": [float(layout.lamp_m[0]), float(layout.lamp_m[1])],
         "floor_png": "data:image/png;base64," + base64.b64encode(png).decode("ascii"),
-        "start": world_pose(world),
+        "start": world_pose(truth),
     }

@@ -29,6 +29,7 @@ __all__ = [
     "Accelerometer",
     "AccelerometerMode",
     "Spherical",
+    "counts_to_mps2",
 ]
 
 ACC_ZERO_COUNTS = 2000
@@ -43,6 +44,17 @@ NO_DATA_WHY = (
     "the accelerometer answered all zeros, which the stock firmware in Overo mode sends "
     "for an e-puck rev 1.3 (its accelerometer is an LSM330 on I2C, which the Overo owns)"
 )
+
+
+def counts_to_mps2(
+    counts: Sequence[float], zero_counts: float, counts_per_g: float
+) -> tuple[float, float, float]:
+    """Raw x, y, z counts in m/s^2 with Webots' conversion (docs/protocol.md, "a"): x is
+    negated. The one place the counts become an acceleration (the family and a served
+    robot's dashboard both use it)."""
+    x, y, z = counts
+    k = GRAVITY_MPS2 / counts_per_g
+    return (-k * (x - zero_counts), k * (y - zero_counts), k * (z - zero_counts))
 
 
 class AccelerometerMode(str, enum.Enum):
@@ -70,7 +82,7 @@ class Accelerometer(Sensor):
     """
 
     family = "accelerometer"
-    names: ClassVar[tuple[str, ...]] = ("accelerometer",)
+    table_family = "accelerometer"
     command = Command.ACCELEROMETER_RAW
     _commands: ClassVar[dict[AccelerometerMode, Command]] = {
         AccelerometerMode.RAW: Command.ACCELEROMETER_RAW,
@@ -145,15 +157,20 @@ class Accelerometer(Sensor):
         0 g and the counts per g are the connected firmware's figures for this robot, or
         the LSM330's when it is read over I2C.
         """
-        x, y, z = self.values
+        counts = self.values
         chip = self._via  # the chip last read, even once disabled
         zero, per_g = (
             chip.acc_scale
             if chip is not None and chip.acc_scale is not None
             else (self.profile.acc_zero_counts, self.profile.acc_counts_per_g)
         )
-        k = GRAVITY_MPS2 / per_g
-        return (-k * (x - zero), k * (y - zero), k * (z - zero))
+        return counts_to_mps2(counts, zero, per_g)
+
+    def readings(self) -> list[float] | None:
+        """The acceleration in m/s^2; None before a sample, or in spherical mode (no vector)."""
+        if not self.has_values or self.mode is not AccelerometerMode.RAW:
+            return None
+        return list(self.acceleration_mps2)
 
     @property
     def spherical(self) -> Spherical:

@@ -31,12 +31,13 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
 from ego.core.validate import check_int  # re-exported: the families' integer check
+from ego.devices.table import TABLE, DeviceTable
 from ego.errors import DeviceError, UnknownDeviceError, UnsupportedDeviceError
+from ego.i2c.side import NO_I2C, OveroI2C
 from ego.serial.protocol import Command, Profile, Request
 
 if TYPE_CHECKING:
     from ego.i2c.chips import Chip
-    from ego.i2c.side import OveroI2C
 
 __all__ = [
     "FINE",
@@ -108,7 +109,10 @@ class Device:
     :attr:`parts`; every other family is its own only part.
     """
 
-    #: The Webots names of the devices in this family (``ps0``..``ps7``).
+    #: The family the device table calls this one (its rows' ``family``, the Robot
+    #: attribute: "proximity"); its :attr:`names` are the table's, never written here.
+    table_family: ClassVar[str] = ""
+    #: The Webots names of the devices in this family (``ps0``..``ps7``), from the table.
     names: ClassVar[tuple[str, ...]] = ()
     #: Short family name for messages.
     family: ClassVar[str] = "device"
@@ -116,12 +120,24 @@ class Device:
     #: one (Webots reads it through the robot: ``batterySensorGetValue``).
     webots_device: ClassVar[bool] = True
 
+    def __init_subclass__(cls, table: DeviceTable = TABLE, **kwargs: object) -> None:
+        """A family class takes its names from ``table`` (the device table; a test's copy
+        is given as ``class Tof(ArraySensor, table=copy)``)."""
+        super().__init_subclass__(**kwargs)
+        if cls.table_family:
+            cls.names = table.names_of(cls.table_family)
+
     def __init__(self, profile: Profile) -> None:
         self._profile = profile
 
     @property
     def profile(self) -> Profile:
         return self._profile
+
+    def readings(self) -> list[float] | None:
+        """What a telemetry sample shows of this family (its ``Series``' lines), or None
+        while it has nothing to show (disabled, not sampled yet, or not served)."""
+        return None
 
     def set_profile(self, profile: Profile) -> None:
         """The firmware changed (re-detected after a restart)."""
@@ -246,11 +262,7 @@ class Sensor(Device, abc.ABC):
         self._via = via  # only once the way is sure: a refused enable changes nothing
 
     def _side(self) -> OveroI2C:
-        if self._i2c is None:
-            from ego.i2c.side import NO_I2C
-
-            return NO_I2C
-        return self._i2c
+        return NO_I2C if self._i2c is None else self._i2c
 
     def i2c_hint(self) -> str:
         """Why the I2C bus did not serve this family, where the profile has it there."""
@@ -286,7 +298,7 @@ class Sensor(Device, abc.ABC):
 
     def plan(self, now_ms: int) -> list[Request]:
         if self.i2c_chip is not None:
-            return []  # read over I2C, beside the batch (ego.i2c.side.run_i2c_step)
+            return []  # read over I2C, beside the batch (ego.devices.i2c_step.run_i2c_step)
         return [Request(self.current_command())] if self.is_due(now_ms) else []
 
     def current_command(self) -> Command:
@@ -389,6 +401,9 @@ class ArraySensor(Sensor):
         """Every member's last sample, in name order."""
         self.require_values()
         return self._values
+
+    def readings(self) -> list[float] | None:
+        return [float(v) for v in self._values] if self.has_values else None
 
     def value(self, name: str) -> int:
         """One member's last sample."""

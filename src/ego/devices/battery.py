@@ -11,7 +11,6 @@ timeout for a reply that never comes.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from typing import ClassVar
 
 from ego.devices.base import Sensor, Verdict, out_of_range
 from ego.errors import UnsupportedDeviceError
@@ -29,7 +28,7 @@ class Battery(Sensor):
     """
 
     family = "battery"
-    names: ClassVar[tuple[str, ...]] = ("battery",)
+    table_family = "battery"
     command = Command.BATTERY
     webots_device = False
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import ClassVar
 
 from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict, check_int
 from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
@@ -35,7 +34,7 @@ class CounterReset(Device):
     """The actuator side of the encoders: ``P`` overwrites the dsPIC's step counters."""
 
     family = "encoders"
-    names: ClassVar[tuple[str, ...]] = ("left wheel sensor", "right wheel sensor")
+    table_family = "encoders"
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)
@@ -53,7 +52,7 @@ class StepCounters(Sensor):
     """The sensor side of the encoders: ``Q``, kept as totals beyond the firmware's int16."""
 
     family = "encoders"
-    names: ClassVar[tuple[str, ...]] = ("left wheel sensor", "right wheel sensor")
+    table_family = "encoders"
     command = Command.GET_STEPS
 
     def __init__(self, profile: Profile, reset: CounterReset) -> None:
@@ -136,7 +135,7 @@ class Encoders(ActingFamily):
     """
 
     family = "encoders"
-    names: ClassVar[tuple[str, ...]] = ("left wheel sensor", "right wheel sensor")
+    table_family = "encoders"
 
     def __init__(self, profile: Profile) -> None:
         self.reset_part = CounterReset(profile)
@@ -158,6 +157,9 @@ class Encoders(ActingFamily):
         """Left and right totals in steps."""
         self.counters.require_values()
         return (self.counters.total[0], self.counters.total[1])
+
+    def readings(self) -> list[float] | None:
+        return [float(v) for v in self.values] if self.has_values else None
 
     @property
     def radians(self) -> tuple[float, float]:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import ClassVar
 
 from ego.devices.base import FINE, ArraySensor, Verdict
 from ego.serial.protocol import Command, Request
@@ -28,7 +27,7 @@ class FloorSensors(ArraySensor):
     """
 
     family = "floor sensors"
-    names: ClassVar[tuple[str, ...]] = ("gs0", "gs1", "gs2")
+    table_family = "floor"
     command = Command.FLOOR
     #: What an unacknowledged I2C read gives.
     NO_MODULE = 0xFFFF

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import enum
-from typing import ClassVar
 
 from ego.devices.base import Actuator, check_int
 from ego.errors import UnsupportedDeviceError
@@ -29,7 +28,7 @@ class Leds(Actuator):
     """
 
     family = "LEDs"
-    names: ClassVar[tuple[str, ...]] = tuple(f"led{i}" for i in range(10))
+    table_family = "leds"
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from typing import ClassVar
-
 from ego.devices.base import ArraySensor
 from ego.serial.protocol import Command
 
@@ -21,5 +19,5 @@ class LightSensors(ArraySensor):
     """
 
     family = "light sensors"
-    names: ClassVar[tuple[str, ...]] = tuple(f"ls{i}" for i in range(8))
+    table_family = "light"
     command = Command.LIGHT

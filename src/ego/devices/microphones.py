@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING
 
 from ego.devices.base import MAX_PERIOD_MS, ArraySensor, Verdict, check_int, out_of_range
 from ego.errors import DeviceError
@@ -35,7 +35,7 @@ class Microphones(ArraySensor):
     """
 
     family = "microphones"
-    names: ClassVar[tuple[str, ...]] = ("mic0", "mic1", "mic2")
+    table_family = "microphones"
     command = Command.MIC_AMPLITUDE
 
     def __init__(self, profile: Profile) -> None:

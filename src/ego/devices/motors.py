@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import ClassVar
 
 from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict, check_int
 from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
@@ -47,7 +46,7 @@ class WheelSpeeds(Device):
     """
 
     family = "motors"
-    names: ClassVar[tuple[str, ...]] = ("left wheel motor", "right wheel motor")
+    table_family = "motors"
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)
@@ -101,7 +100,7 @@ class SpeedReadback(Sensor):
     measured), sampled at its period when enabled."""
 
     family = "motors"
-    names: ClassVar[tuple[str, ...]] = ("left wheel motor", "right wheel motor")
+    table_family = "motors"
     command = Command.GET_SPEED
 
     def __init__(self, profile: Profile, wheels: WheelSpeeds) -> None:
@@ -135,7 +134,7 @@ class Motors(ActingFamily):
     """
 
     family = "motors"
-    names: ClassVar[tuple[str, ...]] = ("left wheel motor", "right wheel motor")
+    table_family = "motors"
 
     def __init__(self, profile: Profile) -> None:
         self.wheels = WheelSpeeds(profile)

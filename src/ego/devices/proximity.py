@@ -21,7 +21,7 @@ class ProximitySensors(ArraySensor):
     """
 
     family = "proximity sensors"
-    names: ClassVar[tuple[str, ...]] = tuple(f"ps{i}" for i in range(10))
+    table_family = "proximity"
     command = Command.PROXIMITY
     #: Calibrated IR can dip below 0 (docs/protocol.md: parse signed); far below is corruption.
     value_range: ClassVar[tuple[int, int]] = (-1024, 4095)

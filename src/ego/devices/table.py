@@ -17,21 +17,38 @@ selector (over Bluetooth) also serves led8, led9.
 
 The battery has a row but no tag: Webots reads it through the robot
 (``batterySensorGetValue``), not as a device.
+
+Beside the devices, the table holds one :class:`FamilySpec` a family: the class that
+serves it (``robot.<name>``, made by ``ego.Robot`` from here), where Webots lists it, the
+wire command that reads it, and how a telemetry sample, the dashboard and a recording's
+plot show it (:class:`Series`). Every consumer derives from the table: a family's
+``names`` (:class:`ego.devices.base.Device`), the sample's keys (ego.core.telemetry), the
+families the dashboard may switch and plots (served to the page), the recording's schema
+and plots. Adding a sensor is a row here, its family's module and the emulator's model.
+A :class:`DeviceTable` is a value: :meth:`DeviceTable.extended` gives a copy with more
+rows (tests hand it to the consumers, which take a ``table``).
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Any
 
 from ego.errors import UnknownDeviceError
-from ego.serial.protocol import Firmware
+from ego.serial.protocol import Command, Firmware
 
 __all__ = [
     "BATTERY",
     "CAMERA",
     "DEVICES",
     "FAMILIES",
+    "TABLE",
     "DeviceSpec",
+    "DeviceTable",
+    "FamilySpec",
+    "Series",
     "find",
     "names_of",
     "spec",
@@ -102,49 +119,186 @@ _ROWS: tuple[_Row, ...] = (
     ("camera", CAMERA, 0, "Camera", "pixels", _BOTH),
 )
 
-#: Every device with a tag, in tag order (``DEVICES[tag - 1].tag == tag``).
-DEVICES: tuple[DeviceSpec, ...] = tuple(
-    DeviceSpec(name, tag, family, index, kind, units, firmwares)
-    for tag, (name, family, index, kind, units, firmwares) in enumerate(_ROWS, start=1)
-)
-#: The battery: a raw count or a low flag (``robot.battery``); Webots has no device for it.
-BATTERY = DeviceSpec("battery", None, "battery", 0, "BatterySensor", _RAW, _GCTRONIC)
 
-_BY_NAME: dict[str, DeviceSpec] = {s.name: s for s in (*DEVICES, BATTERY)}
+@dataclass(frozen=True, slots=True)
+class Series:
+    """How a sample shows a family: the plots' title, unit and lines (the page's and
+    ``ego plot``'s), and the unit a Webots user reads it in, if another (unit, factor)."""
+
+    title: str
+    unit: str
+    #: Each line's name, by index in the family's values.
+    lines: tuple[str, ...]
+    webots: tuple[str, float] | None = None
+
+    def describe(self, key: str) -> dict[str, Any]:
+        """As the dashboard's page is told it (JSON)."""
+        found: dict[str, Any] = {"key": key, "title": self.title, "unit": self.unit,
+                                 "lines": list(self.lines)}  # fmt: skip
+        if self.webots is not None:
+            found["webots"] = {"unit": self.webots[0], "per": self.webots[1]}
+        return found
+
+
+@dataclass(frozen=True, slots=True)
+class FamilySpec:
+    """One family of :class:`ego.Robot`, as the table knows it."""
+
+    #: The attribute of ``ego.Robot`` (``robot.proximity``), its rows' ``family`` and its
+    #: key in a telemetry sample.
+    name: str
+    #: The class that serves it, ``module:Class`` (ego.devices.families imports it).
+    cls: str
+    #: Its place in Webots' list of the robot's devices (``getDeviceByIndex``).
+    webots_rank: int
+    #: The wire command whose reply is its reading (None: not read, an actuator).
+    command: Command | None = None
+    #: How a sample shows it; None: not among a sample's readings (the motors, LEDs and
+    #: battery have keys of their own).
+    series: Series | None = None
+
+
+_STEP_RAD = 2 * math.pi / 1000  # 1000 steps a wheel turn (ego.serial.protocol.STEPS_PER_TURN)
+_SIDES = ("left", "right")
+
+#: The families, in the order a sample, the dashboard and the plots list them.
+_FAMILY_ROWS: tuple[FamilySpec, ...] = (
+    FamilySpec("proximity", "ego.devices.proximity:ProximitySensors", 4, Command.PROXIMITY,
+               Series("proximity", _RAW, (*(f"ps{i}" for i in range(8)), "IR8", "IR9"))),
+    FamilySpec("light", "ego.devices.light:LightSensors", 6, Command.LIGHT,
+               Series("light", f"{_RAW}, lower is brighter", tuple(f"ls{i}" for i in range(8)))),
+    FamilySpec("floor", "ego.devices.floor:FloorSensors", 5, Command.FLOOR,
+               Series("floor", _RAW, ("gs0", "gs1", "gs2"))),
+    FamilySpec("accelerometer", "ego.devices.accelerometer:Accelerometer", 3,
+               Command.ACCELEROMETER_RAW, Series("accelerometer", "m/s²", ("x", "y", "z"))),
+    FamilySpec("encoders", "ego.devices.encoders:Encoders", 2, Command.GET_STEPS,
+               Series("encoders", "steps", _SIDES, ("rad", _STEP_RAD))),
+    FamilySpec("microphones", "ego.devices.microphones:Microphones", 7, Command.MIC_AMPLITUDE,
+               Series("microphones", "amplitude, ADC counts", ("mic0", "mic1", "mic2"))),
+    FamilySpec("motors", "ego.devices.motors:Motors", 0),
+    FamilySpec("leds", "ego.devices.leds:Leds", 1),
+    FamilySpec("battery", "ego.devices.battery:Battery", 8, Command.BATTERY),
+)  # fmt: skip
+
+
+class DeviceTable:
+    """The devices and families of a robot: rows looked up by name, tag and family."""
+
+    def __init__(
+        self, rows: Iterable[_Row], battery: DeviceSpec, families: Iterable[FamilySpec]
+    ) -> None:
+        #: Every device with a tag, in tag order (``devices[tag - 1].tag == tag``).
+        self.devices: tuple[DeviceSpec, ...] = tuple(
+            DeviceSpec(name, tag, family, index, kind, units, firmwares)
+            for tag, (name, family, index, kind, units, firmwares) in enumerate(rows, start=1)
+        )
+        #: The battery: a raw count or a low flag (``robot.battery``); no Webots device.
+        self.battery = battery
+        #: The families of ``ego.Robot``, in the order a sample lists them.
+        self.families: tuple[FamilySpec, ...] = tuple(families)
+        self.by_name: dict[str, DeviceSpec] = {s.name: s for s in (*self.devices, battery)}
+        self._rows = tuple(rows)
+
+    def extended(
+        self, rows: Iterable[_Row] = (), families: Iterable[FamilySpec] = ()
+    ) -> DeviceTable:
+        """A copy of this table with ``rows`` appended (their tags follow) and ``families``."""
+        return DeviceTable((*self._rows, *rows), self.battery, (*self.families, *families))
+
+    @property
+    def family_names(self) -> tuple[str, ...]:
+        """The families in the table, in order of their first device (camera included)."""
+        return tuple(dict.fromkeys(s.family for s in self.by_name.values()))
+
+    def find(self, name: object) -> DeviceSpec | None:
+        """The row of the device called ``name``, or None."""
+        return self.by_name.get(name) if isinstance(name, str) else None
+
+    def spec(self, name: str) -> DeviceSpec:
+        """The row of the device called ``name``; UnknownDeviceError listing the names else."""
+        found = self.find(name)
+        if found is None:
+            raise UnknownDeviceError(
+                f"no device named {name!r}; valid names: {', '.join(self.by_name)}"
+            )
+        return found
+
+    def spec_of_tag(self, tag: int) -> DeviceSpec:
+        """The row of the device ``tag`` (as ``wb_robot_get_device`` returns it)."""
+        count = len(self.devices)
+        if isinstance(tag, bool) or not isinstance(tag, int) or not 1 <= tag <= count:
+            raise UnknownDeviceError(
+                f"device tag {tag!r} is not one of 1..{count} "
+                "(the tags wb_robot_get_device returns)"
+            )
+        return self.devices[tag - 1]
+
+    def names_of(self, family: str) -> tuple[str, ...]:
+        """The device names the family ``family`` (a Robot attribute) serves, by index."""
+        rows = sorted(self.by_name.values(), key=lambda s: s.index)
+        names = tuple(s.name for s in rows if s.family == family)
+        if not names:
+            raise UnknownDeviceError(
+                f"no device family {family!r}; valid families: {', '.join(self.family_names)}"
+            )
+        return names
+
+    def family(self, name: str) -> FamilySpec:
+        """The family ``name`` (a Robot attribute); UnknownDeviceError listing them else."""
+        for found in self.families:
+            if found.name == name:
+                return found
+        raise UnknownDeviceError(
+            f"no device family {name!r}; valid families: "
+            f"{', '.join(f.name for f in self.families)}"
+        )
+
+    @property
+    def sampled(self) -> tuple[FamilySpec, ...]:
+        """The families a telemetry sample holds readings of, in its order."""
+        return tuple(f for f in self.families if f.series is not None)
+
+    @property
+    def switchable(self) -> tuple[str, ...]:
+        """What the dashboard's page may switch on and off: the sampled families, camera."""
+        return (*(f.name for f in self.sampled), CAMERA)
+
+    def describe_series(self) -> list[dict[str, Any]]:
+        """The sampled families as the dashboard's page draws them (JSON)."""
+        return [f.series.describe(f.name) for f in self.sampled if f.series is not None]
+
+
+#: The e-puck's table.
+TABLE = DeviceTable(
+    _ROWS,
+    DeviceSpec("battery", None, "battery", 0, "BatterySensor", _RAW, _GCTRONIC),
+    _FAMILY_ROWS,
+)
+#: Every device with a tag, in tag order (``DEVICES[tag - 1].tag == tag``).
+DEVICES: tuple[DeviceSpec, ...] = TABLE.devices
+#: The battery: a raw count or a low flag (``robot.battery``); Webots has no device for it.
+BATTERY = TABLE.battery
+
+_BY_NAME: dict[str, DeviceSpec] = TABLE.by_name
 #: The families in the table, in order of their first device.
-FAMILIES: tuple[str, ...] = tuple(dict.fromkeys(s.family for s in _BY_NAME.values()))
+FAMILIES: tuple[str, ...] = TABLE.family_names
 
 
 def find(name: object) -> DeviceSpec | None:
     """The row of the device called ``name``, or None."""
-    return _BY_NAME.get(name) if isinstance(name, str) else None
+    return TABLE.find(name)
 
 
 def spec(name: str) -> DeviceSpec:
     """The row of the device called ``name``; UnknownDeviceError listing the names else."""
-    found = find(name)
-    if found is None:
-        raise UnknownDeviceError(f"no device named {name!r}; valid names: {', '.join(_BY_NAME)}")
-    return found
+    return TABLE.spec(name)
 
 
 def spec_of_tag(tag: int) -> DeviceSpec:
     """The row of the device ``tag`` (as ``wb_robot_get_device`` returns it)."""
-    if isinstance(tag, bool) or not isinstance(tag, int) or not 1 <= tag <= len(DEVICES):
-        raise UnknownDeviceError(
-            f"device tag {tag!r} is not one of 1..{len(DEVICES)} "
-            "(the tags wb_robot_get_device returns)"
-        )
-    return DEVICES[tag - 1]
+    return TABLE.spec_of_tag(tag)
 
 
 def names_of(family: str) -> tuple[str, ...]:
     """The device names the family ``family`` (a Robot attribute) serves, in index order."""
-    names = tuple(
-        s.name for s in sorted(_BY_NAME.values(), key=lambda s: s.index) if s.family == family
-    )
-    if not names:
-        raise UnknownDeviceError(
-            f"no device family {family!r}; valid families: {', '.join(FAMILIES)}"
-        )
-    return names
+    return TABLE.names_of(family)

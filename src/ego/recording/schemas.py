@@ -13,7 +13,17 @@ import json
 import math
 from typing import Any
 
-__all__ = ["CHANNELS", "SCHEMAS", "log_message", "pose_message", "schema_bytes", "stamp"]
+from ego.devices.table import TABLE, DeviceTable
+
+__all__ = [
+    "CHANNELS",
+    "SCHEMAS",
+    "log_message",
+    "pose_message",
+    "schema_bytes",
+    "sensors_schema",
+    "stamp",
+]
 
 _TIME = {
     "type": "object",
@@ -21,6 +31,24 @@ _TIME = {
 }
 _VECTOR3 = {"type": "object", "properties": {k: {"type": "number"} for k in "xyz"}}
 _QUATERNION = {"type": "object", "properties": {k: {"type": "number"} for k in "xyzw"}}
+
+
+
+def sensors_schema(table: DeviceTable = TABLE) -> dict[str, Any]:
+    """``ego.Sensors``: one step of the robot, with each family the table samples."""
+    readings = {"type": ["array", "null"], "items": {"type": "number"}}
+    return {
+        "title": "ego.Sensors",
+        "description": "One step of the robot (ego.core.telemetry): every family's last sample "
+        "(null when off), the wheel speeds and LEDs asked, odometry, true pose, link counters",
+        "type": "object",
+        "properties": {
+            "t": {"type": "number"},
+            "step": {"type": "integer"},
+            **{family.name: readings for family in table.sampled},
+        },
+    }
+
 
 SCHEMAS: dict[str, dict[str, Any]] = {
     "foxglove.CompressedImage": {
@@ -57,13 +85,7 @@ SCHEMAS: dict[str, dict[str, Any]] = {
             "line": {"type": "integer"},
         },
     },
-    "ego.Sensors": {
-        "title": "ego.Sensors",
-        "description": "One step of the robot (ego.core.telemetry): every family's last sample "
-        "(null when off), the wheel speeds and LEDs asked, odometry, true pose, link counters",
-        "type": "object",
-        "properties": {"t": {"type": "number"}, "step": {"type": "integer"}},
-    },
+    "ego.Sensors": sensors_schema(),
     "ego.Exchange": {
         "title": "ego.Exchange",
         "description": "One batch on the wire: the bytes sent and the reply, base64",

@@ -76,7 +76,7 @@ class Recorder:
             "selector": "" if info.selector is None else str(info.selector),
             "rev13": {None: "", True: "true", False: "false"}[robot.link.profile.rev13],
             "robot": json.dumps(describe_robot(robot)),
-            "world": json.dumps(describe_world(getattr(robot.emulator, "world", None))),
+            "world": json.dumps(describe_world(robot.ground_truth)),
         }
         self._writer = threading.Thread(
             target=self._write, args=(metadata,), name="ego-recorder", daemon=True

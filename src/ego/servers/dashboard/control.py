@@ -22,9 +22,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Protocol
 
+from ego.devices.base import Sampled
+from ego.devices.table import TABLE, DeviceTable
 from ego.serial.protocol import MAX_SPEED_STEPS
 
 if TYPE_CHECKING:
+    from ego.camera import Camera
     from ego.core.robot import Robot
 
 __all__ = ["DRIVE_HOLD_S", "ControlDesk", "KeySink", "Reply", "webots_key"]
@@ -33,9 +36,8 @@ log = logging.getLogger(__name__)
 
 #: How long one drive command moves the robot: the page repeats it while a key is held.
 DRIVE_HOLD_S = 0.4
-#: The sensor families the page may switch on and off (camera included).
-SWITCHABLE = ("proximity", "light", "floor", "accelerometer", "encoders", "microphones",
-              "camera")  # fmt: skip
+#: The sensor families the page may switch on and off (camera included): the table's.
+SWITCHABLE = TABLE.switchable
 #: Webots' key codes for the browser's named keys (KeyboardEvent.key).
 _NAMED_KEYS = {
     "ArrowLeft": 314, "ArrowUp": 315, "ArrowRight": 316, "ArrowDown": 317,
@@ -89,10 +91,14 @@ class ControlDesk:
         clock: Callable[[], float] = time.monotonic,
         *,
         can_act: bool = True,
+        table: DeviceTable = TABLE,
     ) -> None:
         """``can_act`` False: the page may only stop and resume (``ego serve``'s: the
-        controller runs on a PC, and its robot's devices are its own)."""
+        controller runs on a PC, and its robot's devices are its own). ``table``: whose
+        sampled families the page may switch (the device table)."""
         self.key_sink = key_sink
+        #: The families the page may switch on and off (camera included).
+        self.switchable = table.switchable
         self.can_act = can_act
         self._clock = clock
         self._lock = threading.Lock()
@@ -192,11 +198,19 @@ class ControlDesk:
 
     def _sensor(self, message: dict[str, Any]) -> Reply:
         family, on = message.get("family"), message.get("on")
-        if family not in SWITCHABLE or not isinstance(on, bool):
-            return _error(f"sensor needs a family among {', '.join(SWITCHABLE)} and a boolean on")
+        if family not in self.switchable or not isinstance(on, bool):
+            return _error(f"sensor needs a family among {', '.join(self.switchable)} "
+                          "and a boolean on")  # fmt: skip
 
         def switch(robot: Robot) -> None:
-            device = robot.camera if family == "camera" else getattr(robot, str(family))
+            device: Camera | Sampled
+            if family == "camera":
+                device = robot.camera
+            else:
+                found = robot.family(str(family))
+                if not isinstance(found, Sampled):
+                    raise TypeError(f"the {family} cannot be switched on and off")
+                device = found
             if on:
                 device.enable(self.period_ms)
             else:

@@ -55,7 +55,7 @@ class RobotFeed:
         self.server: DashboardServer | None = None
         self._frames = -1
         self._hello = {"mode": "live", "robot": describe_robot(robot),
-                       "world": describe_world(getattr(robot.emulator, "world", None)),
+                       "world": describe_world(robot.ground_truth),
                        "webots": bool(getattr(key_sink, "webots_face", False))}  # fmt: skip
 
     def hello(self) -> dict[str, Any]:

@@ -12,37 +12,35 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ego.core.channel import Channel
 from ego.core.safety import send_stop
 from ego.core.telemetry import Sampler, describe_firmware, describe_world, world_pose
+from ego.devices.table import TABLE
 from ego.serial.protocol import Batch, Command, Request, encode_batch
 from ego.servers.dashboard.control import ControlDesk, Reply
 from ego.servers.dashboard.server import DashboardServer
 
+if TYPE_CHECKING:
+    from ego.core.ground_truth import GroundTruth
+
 __all__ = ["ServedFeed", "SwarmFeed", "WatchedChannel"]
 
-#: What a reply's values are, by command: the sample's key.
-_READINGS = {
-    Command.PROXIMITY: "proximity",
-    Command.LIGHT: "light",
-    Command.FLOOR: "floor",
-    Command.GET_STEPS: "encoders",
-    Command.MIC_AMPLITUDE: "microphones",
-}
-_FAMILY_COMMANDS = (
-    (Command.PROXIMITY, "proximity"), (Command.LIGHT, "light"), (Command.FLOOR, "floor"),
-    (Command.ACCELEROMETER_RAW, "accelerometer"), (Command.GET_STEPS, "encoders"),
-    (Command.MIC_AMPLITUDE, "microphones"),
-)  # fmt: skip
+#: The families a sample holds and the wire command that reads each: the device table's.
+_FAMILY_COMMANDS = tuple((f.command, f.name) for f in TABLE.sampled if f.command is not None)
+#: What a reply's values are, by command: the sample's key (the accelerometer's counts
+#: are converted below).
+_READINGS = {c: name for c, name in _FAMILY_COMMANDS if c is not Command.ACCELEROMETER_RAW}
 GRAVITY_MPS2 = 9.81
 
 
 class WatchedChannel:
     """A channel whose batches a dashboard reads, and whose wheels it may hold stopped."""
 
-    def __init__(self, inner: Channel, on_sample: Any = None, world: Any = None) -> None:
+    def __init__(
+        self, inner: Channel, on_sample: Any = None, world: GroundTruth | None = None
+    ) -> None:
         self.inner = inner
         self.world = world
         self.on_sample = on_sample

@@ -54,6 +54,7 @@ if TYPE_CHECKING:
     import zenoh
 
     from ego.core.channel import Channel
+    from ego.core.ground_truth import GroundTruth
     from ego.serial.protocol import Batch
 
 __all__ = ["MAX_BATCH_BYTES", "RobotNode"]
@@ -97,7 +98,7 @@ class RobotNode:
         name: str,
         *,
         deadline_s: float = 0.5,
-        world: Any = None,
+        world: GroundTruth | None = None,
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.name = check_name(name)

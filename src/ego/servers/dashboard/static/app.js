@@ -15,18 +15,23 @@ const HISTORY_S = 60;      // what the page keeps (the server sends its last min
 const RAD_PER_STEP = 2 * Math.PI / 1000;  // 1000 steps a wheel turn: Webots' rad and rad/s
 const SIDES = ["left", "right"];
 // What the plot can show: its title, its unit, each line's name, and Webots' unit (if any).
-const SERIES = {
-  proximity: { title: "proximity", unit: "raw counts", names: (i) => (i < 8 ? `ps${i}` : `IR${i}`) },
-  light: { title: "light", unit: "raw counts, lower is brighter", names: (i) => `ls${i}` },
-  floor: { title: "floor", unit: "raw counts", names: (i) => `gs${i}` },
-  accelerometer: { title: "accelerometer", unit: "m/s²", names: (i) => "xyz"[i] },
+// The sensor families' series are the device table's, as the server describes them in its
+// hello (robot.series); only what every robot has besides is written here.
+const OWN_SERIES = {
   speed: { title: "wheel speeds", unit: "steps/s", names: (i) => SIDES[i],
     webots: { unit: "rad/s", per: RAD_PER_STEP } },
-  encoders: { title: "encoders", unit: "steps", names: (i) => SIDES[i],
-    webots: { unit: "rad", per: RAD_PER_STEP } },
-  microphones: { title: "microphones", unit: "amplitude, ADC counts", names: (i) => `mic${i}` },
   step: { title: "step time", unit: "ms", names: (i) => ["wall time", "asked"][i] },
 };
+let SERIES = { ...OWN_SERIES };
+
+function tableSeries(described) {
+  const found = {};
+  for (const s of described || []) {
+    found[s.key] = { title: s.title, unit: s.unit, webots: s.webots,
+      names: (i) => (i < s.lines.length ? s.lines[i] : `${i}`) };
+  }
+  return found;
+}
 const COLOURS = ["#2f6fdf", "#e8871e", "#1f9d55", "#d62f2f", "#7b5cd6", "#12a4b4", "#b5651d", "#6b7385", "#c2185b", "#455a64"];
 const TRUTH = "#e8871e", ODOMETRY = "#2f6fdf", WALL = "#4a3c28", SWARM = "#7b5cd6";
 const LABEL_PX = 12;       // the swarm's names on the map, in CSS pixels
@@ -107,6 +112,7 @@ function onHello(message) {
     img.onload = () => { view.floorImage = img; view.mapDirty = true; };
     img.src = message.world.floor_png;
   }
+  SERIES = { ...tableSeries(robot.series), ...OWN_SERIES };
   buildRobot(robot.proximity_count || 8, robot.led_count || 10);
   buildToggles(robot);
   buildSeries();
@@ -245,7 +251,7 @@ function buildRobot(proximityCount, ledCount) {
     el("line", { id: `ray-${i}`, class: "ray", x1: dx * BODY_MM, y1: dy * BODY_MM, x2: dx * BODY_MM, y2: dy * BODY_MM,
       stroke: i >= 8 ? "#7b5cd6" : "#2f6fdf", "stroke-width": 5, "stroke-linecap": "round", "data-value": 0 }, svg);
     const t = el("text", { id: `ray-label-${i}`, x: dx * 100, y: dy * 100 + 3, "text-anchor": "middle", "font-size": 9, fill: "#6b7385" }, svg);
-    t.textContent = SERIES.proximity.names(i);
+    t.textContent = SERIES.proximity ? SERIES.proximity.names(i) : `${i}`;
   }
   for (let i = 0; i < 8; i++) {
     const [dx, dy] = direction(PS_BEARINGS[i]);
@@ -569,7 +575,7 @@ function drawMics(values) {
 
 function buildSeries() {
   const select = $("plot-series");
-  const chosen = select.value || "proximity";
+  const chosen = select.value in SERIES ? select.value : Object.keys(SERIES)[0];
   select.replaceChildren();
   for (const [value, series] of Object.entries(SERIES)) {
     const option = document.createElement("option");
