@@ -27,7 +27,7 @@ def main(port: str, steps: int) -> int:
         if port.startswith("zenoh://"):
             from ego.zenoh_net.radio import Radio
 
-            radio = Radio(robot.link.session, port, lambda: None)  # type: ignore[attr-defined]
+            radio = Radio(robot.channel.session, port, lambda: None)  # type: ignore[attr-defined]
             radio.listen(1)
         robot.proximity.enable(STEP_MS)
         robot.step(STEP_MS)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import logging
-import threading
 import time
 import weakref
 from collections.abc import Callable
@@ -12,7 +11,7 @@ from types import TracebackType
 from typing import TYPE_CHECKING, Any
 
 from ego.backends import Opened, open_port
-from ego.core.channel import Channel, TappedChannel
+from ego.core.channel import Channel, ChannelBase, TappedChannel, as_channel_base
 from ego.core.ports import resolve_port
 from ego.core.safety import install_signal_handlers, register, send_stop
 from ego.core.scheduler import Pacer, StepClock
@@ -102,8 +101,10 @@ class Robot:
             self._opened = Opened(channel)
         if i2c is not None:
             self._opened.i2c = given_bus(i2c)
-        #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.core.channel).
-        self.link: Channel = self._opened.channel
+        #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.core.channel). Its
+        #: lock is held by a step and by a stop from another thread (a dashboard's button),
+        #: so that a stop comes between two steps' batches, never inside a step's recovery.
+        self.channel: ChannelBase = as_channel_base(self._opened.channel)
         self._closed = False
         self._lost = False
         #: Paces the steps: the wall clock, or an emulator's virtual time (``--fast``), or a
@@ -115,9 +116,9 @@ class Robot:
         # when the interpreter exits with it still open.
         #: The robot's own I2C bus, read beside the batch (ego.i2c): opened at first need.
         self.i2c = OveroI2C(self._opened.i2c, self.port)
-        self._parts = _Parts(self.link, self.clock, self._opened, self.i2c)
+        self._parts = _Parts(self.channel, self.clock, self._opened, self.i2c)
         self._finalizer = weakref.finalize(self, self._parts.close)
-        profile = self.link.profile
+        profile = self.channel.profile
         self.motors = Motors(profile)
         self.leds = Leds(profile)
         self.encoders = Encoders(profile)
@@ -154,14 +155,11 @@ class Robot:
         self.steps = 0
         self._listeners: list[Callable[[Robot], None]] = []
         self._guards: list[Callable[[Robot], None]] = []
-        #: Held while a step talks to the robot: another thread that must reach the dsPIC
-        #: at once (a dashboard's stop button) takes it between two steps' batches.
-        self.link_lock = threading.RLock()
         _OPEN_ROBOTS.add(self)
         register(self)
         if handle_signals:
             install_signal_handlers()
-        log.info("robot on %s, firmware %s", self.port, self.link.info.firmware)
+        log.info("robot on %s, firmware %s", self.port, self.channel.info.firmware)
 
     # -- devices ---------------------------------------------------------------------
 
@@ -241,7 +239,7 @@ class Robot:
     def calibrate_proximity(self) -> None:
         """Calibrate the IR proximity sensors (``K``); see ProximitySensors.calibrate."""
         self._require_open()
-        self.link.calibrate_proximity()
+        self.channel.calibrate_proximity()
 
     def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
         """Send one ASCII command to the dsPIC and return its reply lines.
@@ -254,9 +252,9 @@ class Robot:
         otherwise ego's speed check would see a mismatch and send the old speeds again.
         """
         self._require_open()
-        replies = self.link.ascii_command(letter, lines)
+        replies = self.channel.ascii_command(letter, lines)
         if letter.upper() == "S":
-            stop = self.link.profile.ascii_stop
+            stop = self.channel.profile.ascii_stop
             self.motors.stopped_by_firmware(resend=not stop.clears_echo)
             self.leds.switched_off(stop.leds)
         return replies
@@ -290,9 +288,9 @@ class Robot:
         commands: what it sets wins (a dashboard's stop and drive override the controller)."""
         self._guards.append(guard)
 
-    def tap_link(self, tap: Callable[[Batch, bytes], None]) -> None:
+    def tap_channel(self, tap: Callable[[Batch, bytes], None]) -> None:
         """Hand ``tap`` every batch this robot exchanges, with its reply (a recording)."""
-        self.link = TappedChannel(self.link, tap)
+        self.channel = TappedChannel(self.channel, tap)
 
     def remove_step_hooks(self, hook: Callable[[Robot], None]) -> None:
         """Stop calling ``hook`` as a step listener or guard."""
@@ -314,10 +312,10 @@ class Robot:
         for guard in self._guards:
             guard(self)
         try:
-            with self.link_lock:
-                run_step(self._step_parts, self.link, now, self._restarted, self._reply_clock)
+            with self.channel.lock:
+                run_step(self._step_parts, self.channel, now, self._restarted, self._reply_clock)
             # Also where a network channel says its session ended with nothing to send.
-            self.link.waiting_until(time.monotonic() + step_ms / 1000.0)
+            self.channel.waiting_until(time.monotonic() + step_ms / 1000.0)
         except LinkLostError as exc:
             ended = getattr(exc, "expected", False)  # a replay's end: over, not broken
             log.log(logging.INFO if ended else logging.ERROR, "link lost for good: %s", exc)
@@ -337,7 +335,7 @@ class Robot:
         return 0
 
     def _restarted(self) -> None:
-        profile = self.link.profile
+        profile = self.channel.profile
         for family in self.families:
             family.set_profile(profile)
             for part in family.parts:
@@ -353,14 +351,14 @@ class Robot:
         """
         self.motors.stop_request()
         self.leds.all_off()
-        with self.link_lock:
-            send_stop(self.link)
+        with self.channel.lock:
+            send_stop(self.channel)
 
     def send_stop(self) -> None:
         """Send the confirmed stop batch now, from any thread, between two steps' batches
         (ego's view of the actuators is left to the step: a guard keeps them stopped)."""
-        with self.link_lock:
-            send_stop(self.link)
+        with self.channel.lock:
+            send_stop(self.channel)
 
     def close(self) -> None:
         """Stop the motors, LEDs off, then close the port; calling it again does nothing."""
@@ -387,7 +385,7 @@ class Robot:
 
     def __repr__(self) -> str:
         state = "closed" if self._closed else ("lost" if self._lost else "open")
-        return f"<Robot {self.port} {self.link.info.firmware} {state}>"
+        return f"<Robot {self.port} {self.channel.info.firmware} {state}>"
 
 
 # -- stopping robots however the controller ends --------------------------------------
@@ -397,7 +395,7 @@ class Robot:
 class _Parts:
     """What a robot must stop and release, without a reference back to the Robot."""
 
-    link: Channel
+    channel: Channel
     clock: Pacer
     opened: Opened
     i2c: OveroI2C
@@ -408,14 +406,14 @@ class _Parts:
         """Stop the wheels and LEDs (unless the link is lost), then release everything."""
         if not self.lost:
             try:
-                send_stop(self.link)
+                send_stop(self.channel)
             except (EgoError, OSError) as exc:
                 log.error("could not stop the robot's actuators: %s", exc)
         if self.camera is not None:
             self.camera.close()
         self.clock.close()
         self.i2c.close()
-        self.link.close()
+        self.channel.close()
         self.opened.close()
 
 

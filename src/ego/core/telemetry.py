@@ -22,9 +22,8 @@ from ego.core.odometry import Odometry, Pose2D
 from ego.errors import EgoError
 
 if TYPE_CHECKING:
+    from ego.core.channel import FirmwareInfo, LinkStats
     from ego.core.robot import Robot
-    from ego.serial.firmware import FirmwareInfo
-    from ego.serial.link import LinkStats
 
 __all__ = [
     "SENSOR_FAMILIES",
@@ -159,7 +158,7 @@ class Telemetry:
             overruns=robot.overruns, camera=size,
             readings=readings, speed=list(robot.motors.speed),
             leds=[int(v) for v in robot.leds.values], battery=_battery(robot),
-            truth=true_pose(robot), stats=robot.link.stats,
+            truth=true_pose(robot), stats=robot.channel.stats,
         )  # fmt: skip
 
 
@@ -173,7 +172,7 @@ def _battery(robot: Robot) -> int | None:
 def describe_robot(robot: Robot) -> dict[str, Any]:
     """What does not change during a run: the robot's port, firmware and devices."""
     return describe_firmware(
-        robot.link.info, robot.port, remote=robot.remote,
+        robot.channel.info, robot.port, remote=robot.remote,
         proximity_count=len(robot.proximity.member_names), led_count=len(robot.leds.values),
         families=[f for f in SENSOR_FAMILIES if getattr(robot, f).member_names],
     )  # fmt: skip

@@ -10,11 +10,10 @@ the same code a Camera uses.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from ego.core.channel import Channel
+from ego.core.channel import Channel, FirmwareInfo, as_channel_base
 from ego.core.safety import send_stop
 from ego.errors import CameraError, ProtocolError, UnsupportedDeviceError
 from ego.net.messages import (
@@ -28,7 +27,6 @@ from ego.net.messages import (
     Step,
 )
 from ego.net.wire import pack_json
-from ego.serial.firmware import FirmwareInfo
 from ego.serial.protocol import Batch, encode_batch
 
 if TYPE_CHECKING:
@@ -75,12 +73,11 @@ class RobotService:
         frame_source: FrameSource | None = None,
         frame_encoder: FrameEncoder = encode_image,
     ) -> None:
-        self.channel = channel
+        #: Its lock is held while it is in use: the deadman's stop may come from its own
+        #: thread, and must never come between a session's liveness check and its batch.
+        self.channel = as_channel_base(channel)
         self.frame_source = frame_source
         self.frame_encoder = frame_encoder
-        #: Held while the channel is in use: the deadman's stop may come from its own
-        #: thread, and must never interleave with a batch.
-        self.channel_lock = threading.Lock()
         self._camera: tuple[GrantedFormat, PixelFormat] | None = None
 
     def welcome(self) -> dict[str, object]:
@@ -97,7 +94,7 @@ class RobotService:
         batch (a session's stop always comes after its calls, never before one)."""
         if self.uses_camera(call):
             return self._camera_call(call) if live() else None
-        with self.channel_lock:
+        with self.channel.lock:
             if not live():
                 return None
             if isinstance(call, Step):
@@ -124,7 +121,7 @@ class RobotService:
     def stop(self, close_camera: bool) -> None:
         """The confirmed stop batch (ego.core.safety.send_stop); the camera closed if asked."""
         try:
-            with self.channel_lock:
+            with self.channel.lock:
                 send_stop(self.channel)
         finally:
             if close_camera and self.frame_source is not None:

@@ -29,7 +29,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from ego.core.safety import send_stop
 from ego.errors import EgoError, ProtocolError, RobotBusyError
 from ego.net.wire import error_fields, pack_error
 from ego.servers.dashboard.served import WatchedChannel
@@ -152,8 +151,7 @@ class RobotNode:
     def stop(self) -> None:
         """The confirmed stop batch (wheels 0, LEDs off), on the line's worker (or at close)."""
         try:
-            with self.watched.lock:
-                send_stop(self.watched.inner)
+            self.watched.stop()
             self.stops += 1
         except (EgoError, OSError) as exc:
             log.error("robot %s: could not stop: %s", self.name, exc)
@@ -220,11 +218,10 @@ class RobotNode:
         if not self._claim(query, who):
             return
         try:
-            with self.watched.lock:
-                if letter == "K":
-                    got = self.watched.inner.calibrate_proximity()
-                else:
-                    got = self.watched.inner.ascii_command(letter, lines)
+            if letter == "K":
+                got = self.watched.calibrate_proximity()
+            else:
+                got = self.watched.ascii_command(letter, lines)
         except EgoError as exc:
             query.reply_err(pack_error(type(exc).__name__, str(exc), error_fields(exc)))
             return
