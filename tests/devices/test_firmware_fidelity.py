@@ -106,7 +106,7 @@ def test_stock_bluetooth_floor_reply_carries_two_cliff_values(robot_on) -> None:
 
     robot, _ = robot_on([struct.pack("<5H", 500, 600, 700, 11, 12)], "gctronic")
     profile = gctronic_profile(3, False)
-    robot.channel.info = type(robot.channel.info)(profile)
+    robot.channel._info = type(robot.channel.info)(profile)  # as probed in selector 3
     robot.floor.set_profile(profile)
     robot.floor.enable(STEP_MS)
     assert robot.step(STEP_MS) == 0

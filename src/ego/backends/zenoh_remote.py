@@ -100,8 +100,14 @@ class ZenohChannel(ChannelBase):
     def session_of(self, kind: type[T]) -> T | None:
         return self.session if isinstance(self.session, kind) else None
 
+    @property
+    def keepalive_failure(self) -> Exception | None:
+        """Why the keepalive thread stopped putting (the session closed under it...); the
+        next exchange raises LinkLostError naming it. None while it runs."""
+        return self._keeper.failure if self._keeper is not None else None
+
     def _query(self, leaf: str, payload: bytes, *, timeout_s: float, what: str) -> bytes:
-        failure = self._keeper.failure if self._keeper is not None else None
+        failure = self.keepalive_failure
         if failure is not None:
             raise LinkLostError(f"{self.name}: the keepalive failed, so the node may have "
                                 f"stopped the robot: {failure}") from failure  # fmt: skip

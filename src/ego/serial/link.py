@@ -41,7 +41,7 @@ from ego.serial.protocol import (
 )
 from ego.serial.transport import Transport
 
-__all__ = ["Link", "LinkSettings", "LinkStats", "reply_timeout_s"]
+__all__ = ["Link", "LinkSettings", "LinkStats", "drain_line", "read_lines", "reply_timeout_s"]
 
 log = logging.getLogger(__name__)
 
@@ -110,6 +110,23 @@ def read_lines(transport: Transport, lines: int, timeout_s: float) -> list[str]:
         if text:
             replies.append(text)
     return replies
+
+
+def drain_line(transport: Transport, settings: LinkSettings, until: bytes = b"") -> bytes:
+    """Read until ``until`` has arrived (if given, within ``settings.resync_marker_s``),
+    then until the line is quiet (``resync_quiet_s``), all within ``resync_max_s``."""
+    start = time.monotonic()
+    deadline = start + settings.resync_max_s
+    marker_deadline = start + min(settings.resync_marker_s, settings.resync_max_s)
+    drained = bytearray()
+    while until and until not in drained:
+        remaining = marker_deadline - time.monotonic()
+        byte = transport.read(1, remaining) if remaining > 0 else b""
+        if not byte:
+            break
+        drained += byte + transport.pending()
+    remaining = max(0.0, deadline - time.monotonic())
+    return bytes(drained) + transport.drain(settings.resync_quiet_s, remaining)
 
 
 def reply_timeout_s(
@@ -305,19 +322,7 @@ class Link(ChannelBase):
             self._check_banner(stale + self._drain())
 
     def _drain(self, until: bytes = b"") -> bytes:
-        """Read until ``until`` has arrived (if given), then until the line is quiet."""
-        start = time.monotonic()
-        deadline = start + self.settings.resync_max_s
-        marker_deadline = start + min(self.settings.resync_marker_s, self.settings.resync_max_s)
-        drained = bytearray()
-        while until and until not in drained:
-            remaining = marker_deadline - time.monotonic()
-            byte = self.transport.read(1, remaining) if remaining > 0 else b""
-            if not byte:
-                break
-            drained += byte + self.transport.pending()
-        remaining = max(0.0, deadline - time.monotonic())
-        return bytes(drained) + self.transport.drain(self.settings.resync_quiet_s, remaining)
+        return drain_line(self.transport, self.settings, until)
 
     def _resync(self) -> None:
         """End whatever the dsPIC was parsing (a batch, an ASCII line); drain what it sent.

@@ -241,10 +241,15 @@ class RemoteChannel(ChannelBase):
         """Say goodbye (the server stops the robot) and close the socket."""
         self._shutdown(goodbye=True)
 
-    def _shutdown(self, goodbye: bool) -> None:
+    def stop_heartbeat(self) -> None:
+        """Stop the heartbeat and join its thread: a controller that sends nothing more
+        is then taken for a dead one after the server's deadline."""
         beat, self._beat = self._beat, None
         if beat is not None:
             beat.stop()  # joined: no ping goes out after this
+
+    def _shutdown(self, goodbye: bool) -> None:
+        self.stop_heartbeat()
         with self._call_lock:
             conn, self._conn = self._conn, None
             if conn is None:
