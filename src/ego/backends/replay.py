@@ -31,12 +31,13 @@ from typing import Any
 
 from ego.backends import Opened
 from ego.core.channel import ChannelBase, FirmwareInfo
+from ego.core.profile import Firmware
 from ego.core.safety import stop_requests
 from ego.core.scheduler import StepClock
 from ego.errors import LinkError, LinkLostError, RecordingError, UnsupportedDeviceError
 from ego.recording.reader import Recording
 from ego.serial.firmware import gctronic_profile
-from ego.serial.protocol import PROFILES, Batch, Firmware, parse_batch
+from ego.serial.protocol import PROFILES, Batch, parse_batch
 
 __all__ = ["SPEEDS", "ReplayBackend", "ReplayChannel", "ReplayDivergedError", "ReplayEndedError"]
 

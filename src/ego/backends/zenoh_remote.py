@@ -29,7 +29,8 @@ from ego.zenoh_net.sessions import ZenohSettings, open_session
 if TYPE_CHECKING:
     import zenoh
 
-    from ego.serial.protocol import Batch, Firmware
+    from ego.core.profile import Firmware
+    from ego.serial.protocol import Batch
 
 __all__ = ["SCHEME", "ZenohBackend", "ZenohChannel"]
 

@@ -32,7 +32,8 @@ from typing import TYPE_CHECKING, Protocol, TypeVar, runtime_checkable
 from ego.errors import LinkLostError, ShortReplyError
 
 if TYPE_CHECKING:
-    from ego.serial.protocol import Batch, Firmware, Profile
+    from ego.core.profile import Firmware, Profile
+    from ego.serial.protocol import Batch
 
 __all__ = [
     "Channel",

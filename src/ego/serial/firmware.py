@@ -15,8 +15,9 @@ from __future__ import annotations
 import re
 
 from ego.core.channel import FirmwareInfo
+from ego.core.profile import Command, Firmware, Profile
 from ego.errors import ProtocolError
-from ego.serial.protocol import GCTRONIC_BLUETOOTH, PROFILES, Command, Firmware, Profile
+from ego.serial.protocol import GCTRONIC_BLUETOOTH, PROFILES
 
 __all__ = [
     "OVERO_SELECTOR",

@@ -20,6 +20,7 @@ import time
 from dataclasses import dataclass
 
 from ego.core.channel import ChannelBase, FirmwareInfo, LinkStats, reconnect_within
+from ego.core.profile import DEFAULT_BAUD, Firmware, Profile
 from ego.errors import (
     ExtraBytesError,
     LinkLostError,
@@ -30,15 +31,7 @@ from ego.errors import (
     ShortReplyError,
 )
 from ego.serial.probe import probe_firmware
-from ego.serial.protocol import (
-    BANNER_MARKER,
-    DEFAULT_BAUD,
-    PROFILES,
-    Batch,
-    Firmware,
-    Profile,
-    wire_time_s,
-)
+from ego.serial.protocol import BANNER_MARKER, PROFILES, Batch, wire_time_s
 from ego.serial.transport import Transport
 
 __all__ = ["Link", "LinkSettings", "LinkStats", "drain_line", "read_lines", "reply_timeout_s"]

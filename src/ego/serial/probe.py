@@ -12,9 +12,10 @@ import logging
 from typing import Protocol
 
 from ego.core.channel import FirmwareInfo
+from ego.core.profile import Command, Firmware
 from ego.errors import LinkTimeoutError, NotAnEpuckError, ProtocolError
 from ego.serial.firmware import identify, is_gctronic, line_payload, parse_selector
-from ego.serial.protocol import PROFILES, Batch, Command, Firmware, Request, encode_batch
+from ego.serial.protocol import PROFILES, Batch, Request, encode_batch
 from ego.serial.transport import Transport
 
 __all__ = ["Probed", "probe_firmware"]

@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING, Any
 
 from ego.backends.remote.connection import Connection, RemoteStats, error_from_reply
 from ego.core.channel import ChannelBase, FirmwareInfo, reconnect_within
+from ego.core.profile import Firmware, Profile
 from ego.errors import (
     CameraCaptureError,
     CameraError,
@@ -61,7 +62,7 @@ from ego.net.messages import (
 from ego.net.wire import ASCII_REPLY_LINES, MessageType, parse_url, unpack_json
 from ego.serial.firmware import gctronic_profile
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import PROFILES, Batch, Firmware, Profile
+from ego.serial.protocol import PROFILES, Batch
 
 if TYPE_CHECKING:
     from ego.camera.source import GrantedFormat, PixelFormat

@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from ego.core.channel import Channel, ChannelWrapper
+from ego.core.profile import Command, Profile
 from ego.core.safety import send_stop
 from ego.core.telemetry import Sampler, describe_firmware, describe_world, world_pose
 from ego.devices.accelerometer import Accelerometer
@@ -27,7 +28,7 @@ from ego.devices.light import LightSensors
 from ego.devices.microphones import Microphones
 from ego.devices.proximity import ProximitySensors
 from ego.errors import UnsupportedDeviceError
-from ego.serial.protocol import Batch, Command, Profile, Request, encode_batch
+from ego.serial.protocol import Batch, Request, encode_batch
 from ego.servers.dashboard.control import ControlDesk, Reply
 from ego.servers.dashboard.server import DashboardServer
 
