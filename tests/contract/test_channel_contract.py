@@ -17,6 +17,7 @@ import dataclasses
 import socket
 import tempfile
 import threading
+import time
 from collections.abc import Callable, Iterator
 from functools import cache
 from pathlib import Path
@@ -261,6 +262,20 @@ def test_close_is_idempotent_and_final(make_any: AnyFactory) -> None:
             channel.ascii_command("V", 2)
 
 
+#: The threads a channel may start (a network channel's heartbeat, Zenoh's keepalive).
+CHANNEL_THREADS = ("ego-remote-heartbeat", "ego-zenoh-keepalive")
+
+
+def test_close_joins_every_thread_the_channel_started(make_any: AnyFactory) -> None:
+    before = set(threading.enumerate())
+    with make_any("webots") as (channel, _):
+        channel.exchange(read_batch(channel.profile))
+        channel.waiting_until(time.monotonic() + 1.0)  # a keepalive starts here, if any
+        started = [t for t in set(threading.enumerate()) - before if t.name in CHANNEL_THREADS]
+        channel.close()
+        assert [t.name for t in started if t.is_alive()] == []
+
+
 def test_a_channel_on_no_network_session_says_so(make_any: AnyFactory) -> None:
     with make_any("webots") as (channel, _):
         assert isinstance(channel, ChannelBase)
@@ -339,8 +354,6 @@ def test_the_safe_stop_is_confirmed_through_it(make: Factory) -> None:
 
 
 def test_waiting_is_harmless_and_close_is_idempotent(make: Factory) -> None:
-    import time
-
     with make("webots") as (channel, _):
         channel.waiting_until(time.monotonic() + 0.01)
         channel.close()
