@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -28,6 +29,7 @@ from ego.devices.motors import Motors
 from ego.devices.proximity import ProximitySensors
 from ego.errors import (
     CameraError,
+    DeprecatedNameWarning,
     EgoError,
     LinkLostError,
     UnknownDeviceError,
@@ -287,6 +289,13 @@ class Robot:
         """Call ``guard(robot)`` before every step's batch, after the controller's own
         commands: what it sets wins (a dashboard's stop and drive override the controller)."""
         self._guards.append(guard)
+
+    @property
+    def link(self) -> ChannelBase:
+        """The old name of :attr:`channel` (README's examples read ``robot.link.info``)."""
+        warnings.warn("Robot.link is deprecated: it is Robot.channel now",
+                      DeprecatedNameWarning, stacklevel=2)  # fmt: skip
+        return self.channel
 
     def tap_channel(self, tap: Callable[[Batch, bytes], None]) -> None:
         """Hand ``tap`` every batch this robot exchanges, with its reply (a recording)."""
