@@ -21,6 +21,7 @@ change, ``stats`` and :meth:`ChannelBase.session_of` included, and counts nothin
 
 from __future__ import annotations
 
+import abc
 import threading
 import time
 from collections import Counter
@@ -29,7 +30,7 @@ from contextlib import AbstractContextManager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol, TypeVar, runtime_checkable
 
-from ego.errors import LinkLostError, ShortReplyError
+from ego.errors import ExtraBytesError, LinkLostError, ShortReplyError
 
 if TYPE_CHECKING:
     from ego.core.profile import Firmware, Profile
@@ -158,7 +159,7 @@ def reconnect_within(
             time.sleep(0.05)
 
 
-class ChannelBase:
+class ChannelBase(abc.ABC):
     """What every channel does once (see the module's doc); subclasses write the ``_`` methods.
 
     A subclass sets ``_info`` before its first exchange and says its ``name``.
@@ -173,8 +174,9 @@ class ChannelBase:
         self._closed = False
 
     @property
+    @abc.abstractmethod
     def name(self) -> str:
-        raise NotImplementedError
+        """Where the channel goes ("/dev/ttyS0", "tcp://robot:4242"), for messages."""
 
     @property
     def info(self) -> FirmwareInfo:
@@ -208,9 +210,10 @@ class ChannelBase:
             self._check_open()
             reply = self._exchange(batch)
             if len(reply) != batch.reply_size:
+                error = ShortReplyError if len(reply) < batch.reply_size else ExtraBytesError
                 if self._counts:
-                    self._stats.faults["ShortReplyError"] += 1
-                raise ShortReplyError(
+                    self._stats.faults[error.__name__] += 1
+                raise error(
                     f"{self.name}: {len(reply)} reply bytes, the batch asks for {batch.reply_size}"
                 )
             if self._counts:
@@ -233,6 +236,7 @@ class ChannelBase:
 
     def waiting_until(self, deadline_s: float) -> None:
         """The owner waits out a step until ``deadline_s``; nothing to do by default."""
+        return
 
     def close(self) -> None:
         """Release the way to the robot, once; later calls do nothing, later exchanges
@@ -257,17 +261,21 @@ class ChannelBase:
 
     _info: FirmwareInfo
 
+    @abc.abstractmethod
     def _exchange(self, batch: Batch) -> bytes:
-        raise NotImplementedError
+        """Run one batch (under the lock, the channel open); its reply bytes."""
 
+    @abc.abstractmethod
     def _ascii_command(self, letter: str, lines: int) -> list[str]:
-        raise NotImplementedError
+        """One ASCII command (under the lock, the channel open); its reply lines."""
 
+    @abc.abstractmethod
     def _calibrate_proximity(self) -> list[str]:
-        raise NotImplementedError
+        """The ASCII ``K`` (under the lock, the channel open); its reply lines."""
 
     def _close(self) -> None:
-        """Release what the channel holds (called once, under the lock)."""
+        """Release what the channel holds (called once, under the lock); nothing by default."""
+        return
 
 
 class ChannelWrapper(ChannelBase):
