@@ -25,9 +25,13 @@ def main(port: str, steps: int) -> int:
     with ego.Robot(port, handle_signals=False) as robot:
         radio = None
         if port.startswith("zenoh://"):
+            import zenoh
+
             from ego.zenoh_net.radio import Radio
 
-            radio = Radio(robot.link.session, port, lambda: None)  # type: ignore[attr-defined]
+            session = robot.channel.session_of(zenoh.Session)
+            assert session is not None, f"{port} runs on no Zenoh session"
+            radio = Radio(session, port, lambda: None)
             radio.listen(1)
         robot.proximity.enable(STEP_MS)
         robot.step(STEP_MS)

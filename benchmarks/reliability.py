@@ -146,7 +146,7 @@ def _soak(kinds: list[str], rate: float, steps: int, seed: int, label: str) -> S
                 if i % 50 == 0:
                     robot.motors.set_speed(rng.randint(-800, 800), rng.randint(-800, 800))
                     robot.leds.set(rng.randrange(8), 2)
-                stats = robot.link.stats
+                stats = robot.channel.stats
                 before = (stats.retries, stats.restarts, stats.faults["implausible"])
                 t0 = time.perf_counter()
                 try:
@@ -186,8 +186,8 @@ def _soak(kinds: list[str], rate: float, steps: int, seed: int, label: str) -> S
             robot.close()
         result.injected_by_kind = dict(emu.plan.injected)
         result.injected = sum(emu.plan.injected.values())
-        result.guard_rejections = robot.link.stats.faults.get("implausible", 0)
-    batch_timeout = robot.link.timeout_for(_full_batch(robot))
+        result.guard_rejections = robot.channel.stats.faults.get("implausible", 0)
+    batch_timeout = robot.channel.timeout_for(_full_batch(robot))
     result.bound_s = step_bound_s(SOAK_LINK, batch_timeout)
     return result
 
@@ -202,7 +202,7 @@ def _full_batch(robot: ego.Robot) -> Batch:
         Command.GET_STEPS,
         Command.MIC_AMPLITUDE,
     ]
-    return encode_batch([Request(c) for c in letters], robot.link.profile)
+    return encode_batch([Request(c) for c in letters], robot.channel.profile)
 
 
 def run(quick: bool = False) -> list[Table]:

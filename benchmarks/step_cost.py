@@ -92,7 +92,7 @@ def _batch_bytes(port: str) -> tuple[bytes, int]:
 
     seen: list[tuple[bytes, int]] = []
     with ego.Robot(port) as robot:
-        robot.tap_link(lambda batch, reply: seen.append((batch.tx, len(reply))))
+        robot.tap_channel(lambda batch, reply: seen.append((batch.tx, len(reply))))
         robot.proximity.enable(STEP_MS)
         robot.step(STEP_MS)
         robot.motors.set_speed(500, 500)

@@ -43,7 +43,7 @@ def drive(robot, left, right, steps):
 
 # The secret comes from EGO_SECRET_FILE (or EGO_SECRET); secret=... passes it directly.
 with ego.Robot(URL) as robot:
-    print(f"connected to {URL}: {robot.link.info.firmware} firmware", flush=True)
+    print(f"connected to {URL}: {robot.channel.info.firmware} firmware", flush=True)
     robot.encoders.enable(TIME_STEP)
     robot.proximity.enable(TIME_STEP)
     robot.step(TIME_STEP)

@@ -15,7 +15,7 @@ from ego.errors import UnsupportedDeviceError
 
 port = sys.argv[1] if len(sys.argv) > 1 else None  # None: $EGO_PORT, else /dev/ttyS0
 with ego.Robot(port) as robot:
-    info = robot.link.info
+    info = robot.channel.info
     print(f"port:     {robot.port}")
     print(f"firmware: {info.firmware.value} ({info.profile.description})")
     print(f"version:  {info.version}")

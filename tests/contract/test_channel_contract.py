@@ -1,33 +1,63 @@
-"""One contract every Channel passes: the serial Link, and RemoteChannel over TCP, UDP and a
-Unix socket, with and without a shared secret.
+"""One contract every Channel passes: the serial Link, RemoteChannel over TCP, UDP and a
+Unix socket (with and without a shared secret), ZenohChannel over a loopback Zenoh
+session, and ReplayChannel over a real recording.
 
 A channel is what a Robot steps through (ego.core.channel). Each factory below yields a channel
-to an emulated dsPIC, and the emulator, whose world is the ground truth. To add a channel
-(a Bluetooth one, a distributed engine's), add a factory to ``CHANNELS``.
+and the emulator behind it, whose world is the ground truth; a replay has no emulator (None):
+it answers only the batches its run asked, so the tests of the whole contract
+(``ALL_CHANNELS``) ask only :data:`READ` batches, and the tests that look at the emulator's
+world run over the live channels (``CHANNELS``). To add a channel (a Bluetooth one, a
+distributed engine's), add a factory to ``CHANNELS``.
 """
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
+import socket
 import tempfile
+import threading
+import time
 from collections.abc import Callable, Iterator
+from functools import cache
 from pathlib import Path
 
 import pytest
+import zenoh
 
 from ego.backends.remote.channel import RemoteChannel
-from ego.core.channel import Channel
+from ego.backends.replay import ReplayBackend
+from ego.backends.zenoh_remote import ZenohChannel
+from ego.core.channel import Channel, ChannelBase, TappedChannel
+from ego.core.robot import Robot
 from ego.core.safety import send_stop
-from ego.errors import LinkLostError, ProtocolError, UnsupportedDeviceError
+from ego.errors import (
+    LinkLostError,
+    LinkTimeoutError,
+    ProtocolError,
+    ShortReplyError,
+    UnsupportedDeviceError,
+)
+from ego.recording.writer import Recorder
 from ego.serial.link import Link, LinkSettings
-from ego.serial.protocol import PROFILES, Command, Firmware, Request, encode_batch
+from ego.serial.protocol import PROFILES, Batch, Command, Firmware, Profile, Request, encode_batch
 from ego.serial.transport import SerialTransport
 from ego.servers.socket.server import Server, ServerThread
+from ego.servers.zenoh_node.node import RobotNode
+from ego.zenoh_net.sessions import ZenohSettings, open_session
 from firmware_sim import Emulator
 
 SECRET = "contract-secret-0123"
 FAST = LinkSettings(resync_quiet_s=0.02, reconnect_timeout_s=0.5)
 Factory = Callable[[str], contextlib.AbstractContextManager[tuple[Channel, Emulator]]]
+AnyFactory = Callable[[str], contextlib.AbstractContextManager[tuple[Channel, Emulator | None]]]
+#: How many READ batches a replay's recording holds: more than any one test asks.
+RECORDED = 120
+
+
+def read_batch(profile: Profile) -> Batch:
+    """The batch the tests of the whole contract ask: it reads, and moves nothing."""
+    return encode_batch([Request(Command.GET_SPEED), Request(Command.PROXIMITY)], profile)
 
 
 @contextlib.contextmanager
@@ -59,6 +89,60 @@ def remote(kind: str, secret: str | None) -> Factory:
     return factory
 
 
+def free_endpoint() -> str:
+    """A Zenoh TCP endpoint on a loopback port free right now."""
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return f"tcp/127.0.0.1:{probe.getsockname()[1]}"
+
+
+@contextlib.contextmanager
+def zenoh_channel(firmware: str) -> Iterator[tuple[Channel, Emulator]]:
+    """The robot node ``contract`` on its own loopback endpoint, and a controller's channel
+    to it over a second session."""
+    with contextlib.ExitStack() as stack:
+        emu = stack.enter_context(Emulator(firmware, seed=1))
+        link = Link(SerialTransport(emu.path), settings=FAST)
+        stack.callback(link.close)
+        endpoint = free_endpoint()
+        served = open_session(ZenohSettings(listen=[endpoint], connect=[]))
+        stack.callback(served.close)
+        node = RobotNode(link, served, "contract", deadline_s=5.0, world=emu.world).start()
+        stack.callback(node.close)
+        mine = open_session(ZenohSettings(listen=[free_endpoint()], connect=[endpoint]))
+        channel = ZenohChannel("contract", mine)  # it owns, and closes, its session
+        stack.callback(channel.close)
+        yield channel, emu
+
+
+_RECORDINGS = tempfile.TemporaryDirectory(prefix="ego-contract-")
+
+
+@cache
+def recording_of(firmware: str) -> Path:
+    """A real recording (ego.recording.writer) of a robot asked READ ``RECORDED`` times."""
+    path = Path(_RECORDINGS.name) / f"{firmware}.mcap"
+    with Emulator(firmware, seed=1) as emu, Robot(emu.path, link_settings=FAST) as robot:
+        recorder = Recorder(path)
+        recorder.attach(robot)
+        try:
+            for _ in range(RECORDED):
+                robot.channel.exchange(read_batch(robot.channel.profile))
+        finally:
+            recorder.close()
+    assert recorder.failure is None
+    return path
+
+
+@contextlib.contextmanager
+def replay_channel(firmware: str) -> Iterator[tuple[Channel, None]]:
+    channel = ReplayBackend().open(f"replay://{recording_of(firmware)}", firmware=None).channel
+    try:
+        yield channel, None
+    finally:
+        channel.close()
+
+
 CHANNELS: dict[str, Factory] = {
     "serial": serial_link,
     "tcp": remote("tcp", None),
@@ -66,12 +150,141 @@ CHANNELS: dict[str, Factory] = {
     "unix": remote("unix", None),
     "tcp sealed": remote("tcp", SECRET),
     "udp sealed": remote("udp", SECRET),
+    "zenoh": zenoh_channel,
 }
+ALL_CHANNELS: dict[str, AnyFactory] = {**CHANNELS, "replay": replay_channel}
 
 
 @pytest.fixture(params=list(CHANNELS))
 def make(request: pytest.FixtureRequest) -> Factory:
     return CHANNELS[request.param]
+
+
+@pytest.fixture(params=list(ALL_CHANNELS))
+def make_any(request: pytest.FixtureRequest) -> AnyFactory:
+    return ALL_CHANNELS[request.param]
+
+
+# -- the whole contract: every channel, the replay's included ---------------------------------
+
+
+def test_it_is_a_channel_built_on_the_base(make_any: AnyFactory) -> None:
+    with make_any("webots") as (channel, _):
+        assert isinstance(channel, Channel)
+        assert isinstance(channel, ChannelBase)  # the lock, the checks, the counts: once
+        assert channel.name
+
+
+@pytest.mark.parametrize("firmware", ["webots", "gctronic"])
+def test_it_says_the_firmware_it_speaks(make_any: AnyFactory, firmware: str) -> None:
+    with make_any(firmware) as (channel, _):
+        assert channel.info.firmware is Firmware(firmware)
+        assert channel.profile == channel.info.profile
+
+
+def test_stats_count_each_exchange_once(make_any: AnyFactory) -> None:
+    with make_any("webots") as (channel, _):
+        batch = read_batch(channel.profile)
+        before = dataclasses.replace(channel.stats)
+        for _ in range(3):
+            assert len(channel.exchange(batch)) == batch.reply_size
+        stats = channel.stats
+        assert stats.batches - before.batches == 3
+        assert stats.bytes_sent - before.bytes_sent == 3 * len(batch.tx)
+        assert stats.bytes_received - before.bytes_received == 3 * batch.reply_size
+
+
+def test_a_wrapper_forwards_and_counts_nothing_twice(make_any: AnyFactory) -> None:
+    with make_any("webots") as (channel, _):
+        seen: list[bytes] = []
+        tapped = TappedChannel(channel, lambda batch, reply: seen.append(reply))
+        batch = read_batch(tapped.profile)
+        before = channel.stats.batches
+        for _ in range(2):
+            tapped.exchange(batch)
+        assert tapped.stats is channel.stats and tapped.info is channel.info
+        assert channel.stats.batches == before + 2 and len(seen) == 2
+        assert tapped.name == channel.name
+
+
+def test_a_reply_of_another_length_than_the_batch_asks_is_refused(make_any: AnyFactory) -> None:
+    """A batch whose ``reply_size`` says two bytes more than its commands answer: the reply
+    that comes is short of it, and no channel hands it over, nor counts it."""
+    with make_any("webots") as (channel, _):
+        batch = read_batch(channel.profile)
+        lying = dataclasses.replace(batch, reply_size=batch.reply_size + 2)
+        before = channel.stats.batches
+        with pytest.raises((ShortReplyError, LinkTimeoutError)):  # a serial line times out
+            channel.exchange(lying)
+        assert channel.stats.batches == before
+        assert len(channel.exchange(batch)) == batch.reply_size  # and it goes on
+
+
+def test_two_threads_may_share_it(make_any: AnyFactory) -> None:
+    """Each exchange is whole: no caller needs a lock of its own (50 replay steps each)."""
+    with make_any("webots") as (channel, _):
+        batch = read_batch(channel.profile)
+        before = channel.stats.batches
+        replies: list[bytes] = []
+        errors: list[BaseException] = []
+        start = threading.Barrier(2)
+
+        def work() -> None:
+            start.wait()
+            try:
+                for _ in range(50):
+                    replies.append(channel.exchange(batch))
+            except BaseException as exc:
+                errors.append(exc)
+
+        threads = [threading.Thread(target=work) for _ in range(2)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+        assert errors == []
+        assert len(replies) == 100 and {len(r) for r in replies} == {batch.reply_size}
+        for reply in replies:
+            speeds, proximity = batch.decode(reply)
+            assert speeds == (0, 0) and len(proximity) == 8
+        assert channel.stats.batches == before + 100
+        assert (channel.stats.retries, channel.stats.resyncs) == (0, 0)
+
+
+def test_close_is_idempotent_and_final(make_any: AnyFactory) -> None:
+    with make_any("webots") as (channel, _):
+        channel.exchange(read_batch(channel.profile))
+        channel.close()
+        channel.close()
+        with pytest.raises(LinkLostError):
+            channel.exchange(read_batch(channel.profile))
+        with pytest.raises(LinkLostError):
+            channel.ascii_command("V", 2)
+
+
+#: The threads a channel may start (a network channel's heartbeat, Zenoh's keepalive).
+CHANNEL_THREADS = ("ego-remote-heartbeat", "ego-zenoh-keepalive")
+
+
+def test_close_joins_every_thread_the_channel_started(make_any: AnyFactory) -> None:
+    before = set(threading.enumerate())
+    with make_any("webots") as (channel, _):
+        channel.exchange(read_batch(channel.profile))
+        channel.waiting_until(time.monotonic() + 1.0)  # a keepalive starts here, if any
+        started = [t for t in set(threading.enumerate()) - before if t.name in CHANNEL_THREADS]
+        channel.close()
+        assert [t.name for t in started if t.is_alive()] == []
+
+
+def test_a_channel_on_no_network_session_says_so(make_any: AnyFactory) -> None:
+    with make_any("webots") as (channel, _):
+        assert isinstance(channel, ChannelBase)
+        found = channel.session_of(zenoh.Session)
+        assert (found is not None) == isinstance(channel, ZenohChannel)
+        assert TappedChannel(channel, lambda batch, reply: None).session_of(zenoh.Session) is found
+
+
+# -- the live channels: what the emulator's world shows --------------------------------------
 
 
 def test_it_is_a_channel(make: Factory) -> None:
@@ -141,8 +354,6 @@ def test_the_safe_stop_is_confirmed_through_it(make: Factory) -> None:
 
 
 def test_waiting_is_harmless_and_close_is_idempotent(make: Factory) -> None:
-    import time
-
     with make("webots") as (channel, _):
         channel.waiting_until(time.monotonic() + 0.01)
         channel.close()

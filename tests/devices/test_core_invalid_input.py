@@ -24,7 +24,7 @@ def idle_robot() -> Iterator[ego.Robot]:
     settings = ego.LinkSettings(resync_quiet_s=0.02)  # the emulator's banner is short
     with Emulator("webots") as emu, ego.Robot(emu.path, link_settings=settings) as robot:
         yield robot
-        assert robot.link.stats.batches == 0, "a refused call reached the wire"
+        assert robot.channel.stats.batches == 0, "a refused call reached the wire"
 
 
 def test_an_unknown_device_name_lists_the_valid_names(idle_robot: ego.Robot) -> None:

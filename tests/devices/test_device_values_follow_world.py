@@ -248,7 +248,7 @@ def test_fractional_speeds_are_rounded_to_whole_steps(sim_robot: ego.Robot) -> N
 
 
 def test_overo_firmware_serves_long_range_ps8_and_ps9(overo_robot: ego.Robot) -> None:
-    assert overo_robot.link.info.firmware is ego.Firmware.GCTRONIC
+    assert overo_robot.channel.info.firmware is ego.Firmware.GCTRONIC
     assert overo_robot.proximity.member_names[-2:] == ("ps8", "ps9")
     assert "ps9" in overo_robot.device_names
     overo_robot.proximity.enable(STEP_MS)

@@ -39,7 +39,7 @@ def robot_on() -> Iterator[object]:
 
     yield make
     for robot in robots:
-        script = robot.link.transport.script  # type: ignore[attr-defined]
+        script = robot.channel.transport.script  # type: ignore[attr-defined]
         script.clear()
         script.append(bytes(4))  # the E that confirms the stop at close
         robot.close()
@@ -85,7 +85,7 @@ def test_spherical_angles_far_out_of_range_are_still_corruption(robot_on) -> Non
     robot.accelerometer.enable(STEP_MS, mode="spherical")
     assert robot.step(STEP_MS) == 0
     assert robot.accelerometer.spherical.orientation_deg == 90.0
-    assert robot.link.stats.faults["implausible"] == 1
+    assert robot.channel.stats.faults["implausible"] == 1
 
 
 # -- M -----------------------------------------------------------------------------------------
@@ -106,7 +106,7 @@ def test_stock_bluetooth_floor_reply_carries_two_cliff_values(robot_on) -> None:
 
     robot, _ = robot_on([struct.pack("<5H", 500, 600, 700, 11, 12)], "gctronic")
     profile = gctronic_profile(3, False)
-    robot.link.info = type(robot.link.info)(profile)
+    robot.channel._info = type(robot.channel.info)(profile)  # as probed in selector 3
     robot.floor.set_profile(profile)
     robot.floor.enable(STEP_MS)
     assert robot.step(STEP_MS) == 0

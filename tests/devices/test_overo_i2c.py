@@ -135,7 +135,7 @@ def test_a_rev_1_3_accelerometer_reads_gravity_over_i2c() -> None:
 
 def test_a_rev_1_3_told_by_its_battery_reply_reads_it_over_i2c_too() -> None:
     with Emulator("gctronic", seed=1, rev13=True) as emu, ego.Robot(emu.path, i2c=emu.i2c) as robot:
-        assert robot.link.profile.rev13 is True  # a and A are off the line
+        assert robot.channel.profile.rev13 is True  # a and A are off the line
         _gravity_over_i2c(robot, emu)
 
 
@@ -252,7 +252,7 @@ def test_a_missing_i2c_device_file_names_the_way_out(
 
 def test_a_rev_1_3_accelerometer_out_of_reach_names_the_way_out() -> None:
     with Emulator("gctronic", seed=1, rev13=True) as emu, ego.Robot(emu.path) as robot:
-        assert robot.link.profile.rev13 is True  # told by b: a is not on the line
+        assert robot.channel.profile.rev13 is True  # told by b: a is not on the line
         with pytest.raises(UnsupportedDeviceError) as info:
             robot.accelerometer.enable(STEP_MS)
     message = str(info.value)

@@ -51,7 +51,7 @@ def test_after_a_reset_the_next_step_succeeds_and_actuators_are_reapplied(
     emulator_of(robot).inject("reset")
     assert robot.step(STEP_MS) == 0
 
-    assert robot.link.stats.restarts == 1
+    assert robot.channel.stats.restarts == 1
     assert world.speeds == (400, -400)
     assert world.leds == (0, 0, 1, 0, 0, 0, 0, 0, 1, 0)
     after = robot.encoders.values
@@ -78,6 +78,6 @@ def test_a_reset_while_standing_still_does_not_start_the_motors(
     emulator_of(robot).inject("reset")
     assert robot.step(STEP_MS) == 0
 
-    assert robot.link.stats.restarts == 1
+    assert robot.channel.stats.restarts == 1
     assert world.speeds == (0, 0)
     assert robot.motors.values == (0, 0)

@@ -23,9 +23,9 @@ def letters_per_step(
     """The command letters each step sent ("" for a step that sent nothing)."""
     sent: list[str] = []
     for _ in range(steps):
-        before = robot.link.stats.batches
+        before = robot.channel.stats.batches
         assert robot.step(ms) == 0
-        batches = robot.link.stats.batches - before
+        batches = robot.channel.stats.batches - before
         assert batches in (0, 1), f"a step sent {batches} batches"
         sent.append(emulator.history[-1].commands if batches else "")
     return sent
@@ -102,12 +102,12 @@ def test_everything_due_in_one_step_goes_in_one_batch(
     robot.leds.set("led2", 1)
     robot.leds.set("led5", 1)
     robot.encoders.set(10, 20)
-    batches_before = robot.link.stats.batches
+    batches_before = robot.channel.stats.batches
     records_before = len(emulator.history)
 
     assert robot.step(STEP_MS) == 0
 
-    assert robot.link.stats.batches == batches_before + 1
+    assert robot.channel.stats.batches == batches_before + 1
     assert len(emulator.history) == records_before + 1
     # Setters first, so that P precedes Q (encoders.set is read back in the same step) and
     # the E confirming the speeds comes after every command that could be misread as D.
@@ -119,10 +119,10 @@ def test_everything_due_in_one_step_goes_in_one_batch(
 def test_a_step_with_nothing_due_sends_no_bytes(sim_robot: ego.Robot) -> None:
     sim_robot.proximity.enable(1000)
     assert sim_robot.step(STEP_MS) == 0
-    sent = sim_robot.link.stats.bytes_sent
+    sent = sim_robot.channel.stats.bytes_sent
     for _ in range(5):
         assert sim_robot.step(STEP_MS) == 0
-    assert sim_robot.link.stats.bytes_sent == sent
+    assert sim_robot.channel.stats.bytes_sent == sent
 
 
 def test_step_returns_zero_and_minus_one_once_closed(emulator: Emulator) -> None:

@@ -184,7 +184,7 @@ def test_a_second_controller_on_the_same_port_is_refused(
         assert proc.returncode == 1
         assert f"is held by process {os.getpid()}" in proc.stderr
         assert emulator.world.speeds == (200, 200)  # the second never drove
-        stats = first.link.stats
+        stats = first.channel.stats
         assert (stats.retries, stats.resyncs, sum(stats.faults.values())) == (0, 0, 0)
         with pytest.raises(PortBusyError, match="this process"):
             ego.Robot(emulator.path, handle_signals=False)

@@ -80,7 +80,7 @@ def test_a_replayed_udp_session_neither_runs_again_nor_keeps_the_robot_going(
         _speeds(channel, speed, speed)
     recorded = list(proxy.up)
     history = len(served.emu.history)  # type: ignore[attr-defined]
-    channel._beat_stop.set()  # the controller dies, its heartbeat with it
+    channel.stop_heartbeat()  # the controller dies, its heartbeat with it
     started = time.monotonic()
     while time.monotonic() - started < 1.0:  # the attacker replays all it recorded
         for datagram in recorded:

@@ -118,7 +118,7 @@ def test_every_family_serves_exactly_its_rows(robot: ego.Robot) -> None:
 
 
 def test_robot_device_serves_every_row_its_firmware_has(robot: ego.Robot) -> None:
-    firmware = robot.link.profile.firmware
+    firmware = robot.channel.profile.firmware
     for row in NOT_CAMERA:
         family = getattr(robot, row.family)
         if row.name in family.member_names:
@@ -149,7 +149,7 @@ def _use(robot: ego.Robot, name: str) -> None:
 
 
 def test_the_firmwares_of_a_row_are_those_that_serve_it(robot: ego.Robot) -> None:
-    firmware = robot.link.profile.firmware
+    firmware = robot.channel.profile.firmware
     for row in [*NOT_CAMERA, BATTERY]:
         if row.served_by(firmware):
             _use(robot, row.name)

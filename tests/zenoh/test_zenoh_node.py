@@ -29,7 +29,7 @@ def test_a_controller_drives_a_robot_served_as_a_zenoh_node() -> None:
     with served_node("lab/e1") as served:
         start = served.world.snapshot().x_m
         with ego.Robot("zenoh://lab/e1", zenoh_connect=[served.endpoint]) as robot:
-            assert robot.link.info.firmware.value == "webots"
+            assert robot.channel.info.firmware.value == "webots"
             robot.proximity.enable(32)
             robot.motors.set_speed(400, 400)
             for _ in range(20):

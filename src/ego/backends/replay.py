@@ -30,6 +30,8 @@ from pathlib import Path
 from typing import Any
 
 from ego.backends import Opened
+from ego.core.channel import ChannelBase, FirmwareInfo
+from ego.core.profile import Firmware
 from ego.core.safety import stop_requests
 from ego.core.scheduler import StepClock
 from ego.errors import (
@@ -40,9 +42,8 @@ from ego.errors import (
     UnsupportedDeviceError,
 )
 from ego.recording.reader import Recording
-from ego.serial.firmware import FirmwareInfo, gctronic_profile
-from ego.serial.link import LinkStats
-from ego.serial.protocol import PROFILES, Batch, Firmware, Profile, parse_batch
+from ego.serial.firmware import gctronic_profile
+from ego.serial.protocol import PROFILES, Batch, parse_batch
 
 __all__ = ["SPEEDS", "ReplayBackend", "ReplayChannel", "ReplayDivergedError", "ReplayEndedError"]
 
@@ -84,13 +85,13 @@ def _firmware_info(metadata: dict[str, str]) -> FirmwareInfo:
     return FirmwareInfo(profile, metadata.get("version", ""), hardware, selector, detected=False)
 
 
-class ReplayChannel:
+class ReplayChannel(ChannelBase):
     """The channel of a recorded run (see the module's doc)."""
 
     def __init__(self, recording: Recording, reply_times_ns: Sequence[int] = ()) -> None:
+        super().__init__()
         self.recording = recording
         self._info = _info(recording)
-        self._stats = LinkStats()
         self._next = 0
         #: When each recorded reply came (wall clock, ns), one an exchange; () if unknown.
         self._reply_times_ns = reply_times_ns
@@ -109,19 +110,7 @@ class ReplayChannel:
     def name(self) -> str:
         return f"replay://{self.recording.path}"
 
-    @property
-    def info(self) -> FirmwareInfo:
-        return self._info
-
-    @property
-    def stats(self) -> LinkStats:
-        return self._stats
-
-    @property
-    def profile(self) -> Profile:
-        return self._info.profile
-
-    def exchange(self, batch: Batch) -> bytes:
+    def _exchange(self, batch: Batch) -> bytes:
         exchanges = self.recording.exchanges
         if self._next >= len(exchanges):
             last = exchanges[-1].step if exchanges else 0
@@ -140,26 +129,17 @@ class ReplayChannel:
         if self._reply_times_ns:
             self._last_reply_s = self._reply_times_ns[self._next] / 1e9
         self._next += 1
-        self._stats.batches += 1
-        self._stats.bytes_sent += len(batch.tx)
-        self._stats.bytes_received += len(recorded.rx)
         return recorded.rx
 
-    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
+    def _ascii_command(self, letter: str, lines: int) -> list[str]:
         if letter.upper() == "V":
             return [f"v,{self._info.version}"][:lines]
         if letter.upper() == "S":
             return []
         raise UnsupportedDeviceError(f"{self.name}: a replay answers no ASCII {letter!r}")
 
-    def calibrate_proximity(self) -> list[str]:
+    def _calibrate_proximity(self) -> list[str]:
         raise UnsupportedDeviceError(f"{self.name}: a replay cannot calibrate the sensors")
-
-    def waiting_until(self, deadline_s: float) -> None:
-        pass
-
-    def close(self) -> None:
-        pass
 
 
 def _letters(commands: list[Any]) -> str:

@@ -15,26 +15,29 @@ import logging
 import secrets
 import threading
 import time
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, TypeVar
 
 from ego.backends import Opened
 from ego.backends.remote.channel import info_from
 from ego.backends.remote.connection import error_from_reply
+from ego.core.channel import ChannelBase
 from ego.core.ground_truth import TruePose
 from ego.errors import FirmwareMismatchError, LinkLostError
-from ego.serial.link import LinkStats
 from ego.zenoh_net.keys import check_name, robot_key
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 
 if TYPE_CHECKING:
     import zenoh
 
-    from ego.serial.firmware import FirmwareInfo
-    from ego.serial.protocol import Batch, Firmware, Profile
+    from ego.core.profile import Firmware
+    from ego.serial.protocol import Batch
 
 __all__ = ["SCHEME", "ZenohBackend", "ZenohChannel"]
 
 log = logging.getLogger(__name__)
+
+T = TypeVar("T")
 
 SCHEME = "zenoh"
 #: How long one batch may take (the node may retry its serial line meanwhile).
@@ -43,21 +46,47 @@ QUERY_TIMEOUT_S = 2.0
 KEEPALIVE_EVERY_S = 0.1
 
 
-class ZenohChannel:
+class _Keeper:
+    """The owner of a channel's keepalive thread: it starts the thread, which calls
+    ``put`` every ``KEEPALIVE_EVERY_S / 4`` until :meth:`stop` (which joins it). An error
+    of ``put`` ends the thread, logged, and is kept in :attr:`failure` for the channel
+    to raise at its next exchange."""
+
+    def __init__(self, put: Callable[[], None]) -> None:
+        self._put = put
+        self._stop = threading.Event()
+        self.failure: Exception | None = None
+        self._thread = threading.Thread(target=self._run, name="ego-zenoh-keepalive",
+                                        daemon=True)  # fmt: skip
+        self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.wait(KEEPALIVE_EVERY_S / 4):
+            try:
+                self._put()
+            except Exception as exc:  # zenoh raises its own ZError: any is the end
+                log.warning("keepalive failed, the node's deadman will stop the robot: %s", exc)
+                self.failure = exc
+                return
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join()
+
+
+class ZenohChannel(ChannelBase):
     """The channel to the robot node NAME (see the module's doc)."""
 
     def __init__(self, name: str, session: zenoh.Session, *, owns_session: bool = True) -> None:
+        super().__init__()
         self.robot = check_name(name)
         self.session = session
         self._owns_session = owns_session
         self.id = f"{name}:{secrets.token_hex(8)}"
         self._who = self.id.encode()
-        self._stats = LinkStats()
         self._last_sent = 0.0
         self._alive_until = 0.0
-        self._keeper: threading.Thread | None = None
-        self._closed = False
-        #: The emulated world's true pose the node sent with the last reply, if any.
+        self._keeper: _Keeper | None = None
         #: The node's attachment to the last reply (its world's true pose, JSON), parsed
         #: only when read: most controllers never ask.
         self._truth_raw: bytes | None = None
@@ -70,21 +99,20 @@ class ZenohChannel:
     def name(self) -> str:
         return f"{SCHEME}://{self.robot}"
 
-    @property
-    def info(self) -> FirmwareInfo:
-        return self._info
+    def session_of(self, kind: type[T]) -> T | None:
+        return self.session if isinstance(self.session, kind) else None
 
     @property
-    def stats(self) -> LinkStats:
-        return self._stats
-
-    @property
-    def profile(self) -> Profile:
-        return self._info.profile
+    def keepalive_failure(self) -> Exception | None:
+        """Why the keepalive thread stopped putting (the session closed under it...); the
+        next exchange raises LinkLostError naming it. None while it runs."""
+        return self._keeper.failure if self._keeper is not None else None
 
     def _query(self, leaf: str, payload: bytes, *, timeout_s: float, what: str) -> bytes:
-        if self._closed:
-            raise LinkLostError(f"{self.name}: closed")
+        failure = self.keepalive_failure
+        if failure is not None:
+            raise LinkLostError(f"{self.name}: the keepalive failed, so the node may have "
+                                f"stopped the robot: {failure}") from failure  # fmt: skip
         key = self._keys.get(leaf)
         if key is None:
             key = self._keys[leaf] = robot_key(self.robot, leaf)
@@ -109,19 +137,15 @@ class ZenohChannel:
             self._truth = json.loads(raw)
         return self._truth
 
-    def exchange(self, batch: Batch) -> bytes:
-        reply = self._query("exchange", batch.tx, timeout_s=QUERY_TIMEOUT_S, what="a batch")
-        self._stats.batches += 1
-        self._stats.bytes_sent += len(batch.tx)
-        self._stats.bytes_received += len(reply)
-        return reply
+    def _exchange(self, batch: Batch) -> bytes:
+        return self._query("exchange", batch.tx, timeout_s=QUERY_TIMEOUT_S, what="a batch")
 
-    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
+    def _ascii_command(self, letter: str, lines: int) -> list[str]:
         text = self._query("ascii", f"{letter},{lines}".encode(), timeout_s=QUERY_TIMEOUT_S,
                            what=f"ASCII {letter!r}")  # fmt: skip
         return text.decode("ascii", "replace").splitlines()
 
-    def calibrate_proximity(self) -> list[str]:
+    def _calibrate_proximity(self) -> list[str]:
         text = self._query("ascii", b"K,1", timeout_s=5.0, what="the calibration")
         return text.decode("ascii", "replace").splitlines()
 
@@ -129,32 +153,22 @@ class ZenohChannel:
         """Keep the robot while its controller waits out a step, and no longer: a thread
         puts a keepalive every 0.1 s until ``deadline_s``."""
         self._alive_until = deadline_s
-        if self._keeper is None:
-            self._keeper = threading.Thread(target=self._keep, name="ego-zenoh-keepalive",
-                                            daemon=True)  # fmt: skip
-            self._keeper.start()
+        if self._keeper is None and not self.closed:
+            key = robot_key(self.robot, "keepalive")
+            self._keeper = _Keeper(lambda: self._keep_alive(key))
 
-    def _keep(self) -> None:
-        key, who = robot_key(self.robot, "keepalive"), self.id.encode()
-        while not self._closed:
-            now = time.monotonic()
-            if now < self._alive_until and now - self._last_sent >= KEEPALIVE_EVERY_S:
-                try:
-                    self.session.put(key, b"", attachment=who)
-                except Exception as exc:  # the session is closing
-                    log.debug("keepalive: %s", exc)
-                    return
-                self._last_sent = now
-            time.sleep(KEEPALIVE_EVERY_S / 4)
+    def _keep_alive(self, key: str) -> None:
+        now = time.monotonic()
+        if now < self._alive_until and now - self._last_sent >= KEEPALIVE_EVERY_S:
+            self.session.put(key, b"", attachment=self._who)
+            self._last_sent = now
 
-    def close(self) -> None:
-        if self._closed:
-            return
-        self._closed = True
-        if self._keeper is not None:
-            self._keeper.join(1)
+    def _close(self) -> None:
+        keeper, self._keeper = self._keeper, None
+        if keeper is not None:
+            keeper.stop()
         try:
-            self.session.put(robot_key(self.robot, "bye"), b"", attachment=self.id.encode())
+            self.session.put(robot_key(self.robot, "bye"), b"", attachment=self._who)
         finally:
             if self._owns_session:
                 self.session.close()

@@ -54,11 +54,14 @@ def _radio(core: CoreRobot) -> Radio:
     """The robot's one radio (made at first use, closed with the robot)."""
     radio = _RADIOS.get(core)
     if radio is None:
+        import zenoh
+
         from ego.zenoh_net.radio import Radio
         from ego.zenoh_net.sessions import ZenohSettings, open_session
 
-        session = getattr(core.link, "session", None)
-        name = getattr(core.link, "id", None) or f"{core.port}@{os.uname().nodename}:{os.getpid()}"
+        # A robot reached over Zenoh (even through a recording's tap) shares its session.
+        session = core.channel.session_of(zenoh.Session)
+        name = f"{core.port}@{os.uname().nodename}:{os.getpid()}"
         owns = session is None
         if session is None:
             session = open_session(ZenohSettings())

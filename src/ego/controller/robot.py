@@ -111,7 +111,7 @@ class Robot(DeviceLookup):
     def getName(self) -> str:
         """Webots' robot name: ``e-puck``, or a swarm robot's own (its Zenoh node's name,
         as each robot of a Webots swarm has its own name field)."""
-        return str(getattr(self._core.link, "robot", None) or "e-puck")
+        return str(getattr(self._core.channel, "robot", None) or "e-puck")
 
     def getModel(self) -> str:
         """The model field of Webots' E-puck PROTO, which controllers branch on."""

@@ -3,15 +3,15 @@
 from __future__ import annotations
 
 import logging
-import threading
 import time
+import warnings
 import weakref
 from collections.abc import Callable
 from types import TracebackType
 from typing import TYPE_CHECKING, Any
 
 from ego.backends import Opened, open_port
-from ego.core.channel import Channel, TappedChannel
+from ego.core.channel import Channel, ChannelBase, TappedChannel, as_channel_base
 from ego.core.ports import resolve_port
 from ego.core.robot_camera import CameraWiring
 from ego.core.robot_devices import DeviceWiring
@@ -19,6 +19,7 @@ from ego.core.robot_step import Stepping
 from ego.core.robot_stop import Parts, SafeStop
 from ego.core.safety import install_signal_handlers, register
 from ego.core.scheduler import Pacer, StepClock
+from ego.errors import DeprecatedNameWarning
 from ego.i2c.bus import I2CBus, given_bus
 from ego.i2c.side import OveroI2C
 from ego.serial.protocol import Firmware
@@ -80,8 +81,10 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         self._opened = self._open(port, channel, options)
         if i2c is not None:
             self._opened.i2c = given_bus(i2c)
-        #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.core.channel).
-        self.link: Channel = self._opened.channel
+        #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.core.channel). Its
+        #: lock is held by a step and by a stop from another thread (a dashboard's button),
+        #: so that a stop comes between two steps' batches, never inside a step's recovery.
+        self.channel: ChannelBase = as_channel_base(self._opened.channel)
         self._closed = False
         self._lost = False
         #: Paces the steps: the wall clock, or an emulator's virtual time (``--fast``), or a
@@ -91,7 +94,7 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         #: The robot's own I2C bus, read beside the batch (ego.i2c): opened at first need.
         self.i2c = OveroI2C(self._opened.i2c, self.port)
         # Everything the stop and the close need, held apart from the Robot (robot_stop).
-        self._parts = Parts(self.link, self.clock, self._opened, self.i2c)
+        self._parts = Parts(self.channel, self.clock, self._opened, self.i2c)
         self._finalizer = weakref.finalize(self, self._parts.close)
         self._wire_devices()
         self._local_devices = []
@@ -101,14 +104,11 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         self.steps = 0
         self._listeners: list[Callable[[Robot], None]] = []
         self._guards: list[Callable[[Robot], None]] = []
-        #: Held while a step talks to the robot: another thread that must reach the dsPIC
-        #: at once (a dashboard's stop button) takes it between two steps' batches.
-        self.link_lock = threading.RLock()
         _OPEN_ROBOTS.add(self)
         register(self)
         if handle_signals:
             install_signal_handlers()
-        log.info("robot on %s, firmware %s", self.port, self.link.info.firmware)
+        log.info("robot on %s, firmware %s", self.port, self.channel.info.firmware)
 
     def _open(self, port: str | None, channel: Channel | None, options: dict[str, Any]) -> Opened:
         """Open ``port`` through its backend with ``options``, or take the given ``channel``."""
@@ -164,9 +164,16 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         commands: what it sets wins (a dashboard's stop and drive override the controller)."""
         self._guards.append(guard)
 
-    def tap_link(self, tap: Callable[[Batch, bytes], None]) -> None:
+    @property
+    def link(self) -> ChannelBase:
+        """The old name of :attr:`channel` (README's examples read ``robot.link.info``)."""
+        warnings.warn("Robot.link is deprecated: it is Robot.channel now",
+                      DeprecatedNameWarning, stacklevel=2)  # fmt: skip
+        return self.channel
+
+    def tap_channel(self, tap: Callable[[Batch, bytes], None]) -> None:
         """Hand ``tap`` every batch this robot exchanges, with its reply (a recording)."""
-        self.link = TappedChannel(self.link, tap)
+        self.channel = TappedChannel(self.channel, tap)
 
     def remove_step_hooks(self, hook: Callable[[Robot], None]) -> None:
         """Stop calling ``hook`` as a step listener or guard."""
@@ -209,7 +216,7 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
 
     def __repr__(self) -> str:
         state = "closed" if self._closed else ("lost" if self._lost else "open")
-        return f"<Robot {self.port} {self.link.info.firmware} {state}>"
+        return f"<Robot {self.port} {self.channel.info.firmware} {state}>"
 
 
 # -- stopping robots however the controller ends --------------------------------------

@@ -18,7 +18,7 @@ from ego.devices.proximity import ProximitySensors
 from ego.errors import LinkLostError, UnknownDeviceError
 
 if TYPE_CHECKING:
-    from ego.core.channel import Channel
+    from ego.core.channel import ChannelBase
     from ego.i2c.side import OveroI2C
 
 __all__ = ["DeviceWiring"]
@@ -28,7 +28,7 @@ class DeviceWiring:
     """The part of :class:`~ego.core.robot.Robot` that holds its device families."""
 
     port: str
-    link: Channel
+    channel: ChannelBase
     i2c: OveroI2C
     _closed: bool
     _lost: bool
@@ -48,7 +48,7 @@ class DeviceWiring:
     def _wire_devices(self) -> None:
         """One object per family, for the channel's profile, its sensors bound to the I2C bus."""
         # One of each family the device table names (ego.devices.table), by its name.
-        self._families = made = make_families(self.link.profile)
+        self._families = made = make_families(self.channel.profile)
         self.motors = pick(made, "motors", Motors)
         self.leds = pick(made, "leds", Leds)
         self.encoders = pick(made, "encoders", Encoders)
@@ -113,7 +113,7 @@ class DeviceWiring:
     def calibrate_proximity(self) -> None:
         """Calibrate the IR proximity sensors (``K``); see ProximitySensors.calibrate."""
         self._require_open()
-        self.link.calibrate_proximity()
+        self.channel.calibrate_proximity()
 
     def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
         """Send one ASCII command to the dsPIC and return its reply lines.
@@ -126,9 +126,9 @@ class DeviceWiring:
         otherwise ego's speed check would see a mismatch and send the old speeds again.
         """
         self._require_open()
-        replies = self.link.ascii_command(letter, lines)
+        replies = self.channel.ascii_command(letter, lines)
         if letter.upper() == "S":
-            stop = self.link.profile.ascii_stop
+            stop = self.channel.profile.ascii_stop
             self.motors.stopped_by_firmware(resend=not stop.clears_echo)
             self.leds.switched_off(stop.leds)
         return replies

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import logging
-import threading
 import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING
@@ -15,7 +14,7 @@ from ego.errors import LinkLostError, ReplayEndedError
 
 if TYPE_CHECKING:
     from ego.camera import Camera
-    from ego.core.channel import Channel
+    from ego.core.channel import ChannelBase
     from ego.core.robot_stop import Parts
     from ego.core.scheduler import Pacer
     from ego.i2c.side import OveroI2C
@@ -28,8 +27,7 @@ log = logging.getLogger("ego.core.robot")  # the Robot's own logger, as before t
 class Stepping:
     """The part of :class:`~ego.core.robot.Robot` that runs its time steps."""
 
-    link: Channel
-    link_lock: threading.RLock
+    channel: ChannelBase
     clock: Pacer
     i2c: OveroI2C
     families: tuple[Device, ...]
@@ -72,10 +70,10 @@ class Stepping:
         now = self._time_ms
         self._run_guards()
         try:
-            with self.link_lock:
-                run_step(self._step_parts, self.link, now, self._restarted, self._reply_clock)
+            with self.channel.lock:
+                run_step(self._step_parts, self.channel, now, self._restarted, self._reply_clock)
             # Also where a network channel says its session ended with nothing to send.
-            self.link.waiting_until(time.monotonic() + step_ms / 1000.0)
+            self.channel.waiting_until(time.monotonic() + step_ms / 1000.0)
         except ReplayEndedError as exc:  # a replay's end: over, not broken
             log.info("link lost for good: %s", exc)
             self._lost = self._parts.lost = True
@@ -97,7 +95,7 @@ class Stepping:
         return 0
 
     def _restarted(self) -> None:
-        profile = self.link.profile
+        profile = self.channel.profile
         for family in self.families:
             family.set_profile(profile)
             for part in family.parts:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import logging
-import threading
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -13,7 +12,7 @@ from ego.errors import EgoError
 if TYPE_CHECKING:
     from ego.backends import Opened
     from ego.camera import Camera
-    from ego.core.channel import Channel
+    from ego.core.channel import ChannelBase
     from ego.core.scheduler import Pacer
     from ego.devices.leds import Leds
     from ego.devices.motors import Motors
@@ -27,8 +26,7 @@ log = logging.getLogger("ego.core.robot")  # the Robot's own logger, as before t
 class SafeStop:
     """The part of :class:`~ego.core.robot.Robot` that stops the actuators on demand."""
 
-    link: Channel
-    link_lock: threading.RLock
+    channel: ChannelBase
     motors: Motors
     leds: Leds
 
@@ -40,14 +38,14 @@ class SafeStop:
         """
         self.motors.stop_request()
         self.leds.all_off()
-        with self.link_lock:
-            send_stop(self.link)
+        with self.channel.lock:
+            send_stop(self.channel)
 
     def send_stop(self) -> None:
         """Send the confirmed stop batch now, from any thread, between two steps' batches
         (ego's view of the actuators is left to the step: a guard keeps them stopped)."""
-        with self.link_lock:
-            send_stop(self.link)
+        with self.channel.lock:
+            send_stop(self.channel)
 
 
 @dataclass
@@ -58,7 +56,7 @@ class Parts:
     dropped without close(), or when the interpreter exits with it still open.
     """
 
-    link: Channel
+    channel: ChannelBase
     clock: Pacer
     opened: Opened
     i2c: OveroI2C
@@ -69,12 +67,12 @@ class Parts:
         """Stop the wheels and LEDs (unless the link is lost), then release everything."""
         if not self.lost:
             try:
-                send_stop(self.link)
+                send_stop(self.channel)
             except (EgoError, OSError) as exc:
                 log.error("could not stop the robot's actuators: %s", exc)
         if self.camera is not None:
             self.camera.close()
         self.clock.close()
         self.i2c.close()
-        self.link.close()
+        self.channel.close()
         self.opened.close()

@@ -28,10 +28,9 @@ from ego.devices.table import TABLE, DeviceTable
 from ego.errors import EgoError
 
 if TYPE_CHECKING:
+    from ego.core.channel import FirmwareInfo, LinkStats
     from ego.core.ground_truth import GroundTruth
     from ego.core.robot import Robot
-    from ego.serial.firmware import FirmwareInfo
-    from ego.serial.link import LinkStats
 
 __all__ = [
     "SENSOR_FAMILIES",
@@ -152,7 +151,7 @@ class Telemetry:
             overruns=robot.overruns, camera=size,
             readings=readings, speed=list(robot.motors.speed),
             leds=[int(v) for v in robot.leds.values], battery=_battery(robot),
-            truth=true_pose(robot), stats=robot.link.stats,
+            truth=true_pose(robot), stats=robot.channel.stats,
         )  # fmt: skip
 
 
@@ -167,7 +166,7 @@ def describe_robot(robot: Robot, table: DeviceTable = TABLE) -> dict[str, Any]:
     """What does not change during a run: the robot's port, firmware and devices."""
     served = {type(family).table_family for family in robot.families if family.member_names}
     return describe_firmware(
-        robot.link.info, robot.port, remote=robot.remote,
+        robot.channel.info, robot.port, remote=robot.remote,
         proximity_count=len(robot.proximity.member_names), led_count=len(robot.leds.values),
         families=[f.name for f in table.sampled if f.name in served], table=table,
     )  # fmt: skip

@@ -25,7 +25,7 @@ from mcap.writer import Writer
 
 from ego import __version__
 from ego.camera.encode import encode_jpeg
-from ego.core.channel import TappedChannel
+from ego.core.channel import TappedChannel, as_channel_base
 from ego.core.telemetry import Telemetry, describe_robot, describe_world
 from ego.errors import EgoError
 from ego.recording.schemas import CHANNELS, log_message, pose_message, schema_bytes, stamp
@@ -67,14 +67,14 @@ class Recorder:
             return  # one robot a recording
         self._robot = robot
         self._telemetry = Telemetry(robot)
-        info = robot.link.info
+        info = robot.channel.info
         metadata = {
             "ego_version": __version__,
             "firmware": info.firmware.value,
             "version": info.version,
             "hardware_version": "" if info.hardware_version is None else str(info.hardware_version),
             "selector": "" if info.selector is None else str(info.selector),
-            "rev13": {None: "", True: "true", False: "false"}[robot.link.profile.rev13],
+            "rev13": {None: "", True: "true", False: "false"}[robot.channel.profile.rev13],
             "robot": json.dumps(describe_robot(robot)),
             "world": json.dumps(describe_world(robot.ground_truth)),
         }
@@ -82,7 +82,7 @@ class Recorder:
             target=self._write, args=(metadata,), name="ego-recorder", daemon=True
         )
         self._writer.start()
-        robot.tap_link(self._exchange)
+        robot.tap_channel(self._exchange)
         robot.add_step_listener(self._step)
         # The robot's close ends the writer (after the stop it sends is recorded).
         robot.add_closer(self._finish)
@@ -180,8 +180,8 @@ class Recorder:
         robot = self._robot
         if robot is not None:
             robot.remove_step_hooks(self._step)
-            if isinstance(robot.link, TappedChannel) and robot.link.tap == self._exchange:
-                robot.link = robot.link.inner  # the robot runs on without the tap
+            if isinstance(robot.channel, TappedChannel) and robot.channel.tap == self._exchange:
+                robot.channel = as_channel_base(robot.channel.inner)  # on, without the tap
         self._queue.put(None)
         if self._writer is not None:
             self._writer.join(30)

@@ -1,7 +1,7 @@
 """The serial side of ego: the dsPIC protocol (sans-I/O), transports and the link."""
 
-from ego.serial.firmware import FirmwareInfo
-from ego.serial.link import Link, LinkSettings, LinkStats
+from ego.core.channel import FirmwareInfo, LinkStats
+from ego.serial.link import Link, LinkSettings
 from ego.serial.protocol import (
     PROFILES,
     Batch,

@@ -13,10 +13,11 @@ revision is told, since the firmware itself detects it over I2C.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 
+from ego.core.channel import FirmwareInfo
+from ego.core.profile import Command, Firmware, Profile
 from ego.errors import ProtocolError
-from ego.serial.protocol import GCTRONIC_BLUETOOTH, PROFILES, Command, Firmware, Profile
+from ego.serial.protocol import GCTRONIC_BLUETOOTH, PROFILES
 
 __all__ = [
     "OVERO_SELECTOR",
@@ -32,23 +33,6 @@ __all__ = [
 
 #: The selector position in which the stock firmware talks to the Overo at 230400 baud.
 OVERO_SELECTOR = 10
-
-
-@dataclass(frozen=True, slots=True)
-class FirmwareInfo:
-    """The profile in use and what the firmware said of itself."""
-
-    profile: Profile
-    version: str = ""
-    #: The ``HW version`` EEPROM word (0xFFFF when never written), None if not said.
-    hardware_version: int | None = None
-    selector: int | None = None
-    #: False when the profile was given explicitly rather than probed.
-    detected: bool = True
-
-    @property
-    def firmware(self) -> Firmware:
-        return self.profile.firmware
 
 
 def line_payload(line: str, command: str) -> str:

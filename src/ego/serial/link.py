@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import logging
 import time
-from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-from ego.core.channel import reconnect_within
+from ego.core.channel import ChannelBase, FirmwareInfo, LinkStats, reconnect_within
+from ego.core.profile import DEFAULT_BAUD, Firmware, Profile
 from ego.errors import (
     ExtraBytesError,
     LinkLostError,
@@ -30,20 +30,11 @@ from ego.errors import (
     RobotResetError,
     ShortReplyError,
 )
-from ego.serial.firmware import FirmwareInfo
 from ego.serial.probe import probe_firmware
-from ego.serial.protocol import (
-    BANNER_MARKER,
-    DEFAULT_BAUD,
-    PROFILES,
-    Batch,
-    Firmware,
-    Profile,
-    wire_time_s,
-)
+from ego.serial.protocol import BANNER_MARKER, PROFILES, Batch, wire_time_s
 from ego.serial.transport import Transport
 
-__all__ = ["Link", "LinkSettings", "LinkStats", "reply_timeout_s"]
+__all__ = ["Link", "LinkSettings", "LinkStats", "drain_line", "read_lines", "reply_timeout_s"]
 
 log = logging.getLogger(__name__)
 
@@ -100,18 +91,35 @@ class LinkSettings:
         return wire_time_s(TRAILING_GUARD_BYTES, baud)
 
 
-@dataclass(slots=True)
-class LinkStats:
-    """Counters of what the link did and what went wrong, for logs and benchmarks."""
+def read_lines(transport: Transport, lines: int, timeout_s: float) -> list[str]:
+    """Up to ``lines`` non-empty reply lines, each within ``timeout_s``; fewer if the
+    firmware falls silent."""
+    replies: list[str] = []
+    while len(replies) < lines:
+        raw = transport.read_line(timeout_s + transport.latency_s)
+        if not raw.endswith(b"\n"):
+            break
+        text = raw.decode("ascii", errors="replace").strip()
+        if text:
+            replies.append(text)
+    return replies
 
-    batches: int = 0
-    bytes_sent: int = 0
-    bytes_received: int = 0
-    retries: int = 0
-    resyncs: int = 0
-    restarts: int = 0
-    reconnects: int = 0
-    faults: Counter[str] = field(default_factory=Counter)
+
+def drain_line(transport: Transport, settings: LinkSettings, until: bytes = b"") -> bytes:
+    """Read until ``until`` has arrived (if given, within ``settings.resync_marker_s``),
+    then until the line is quiet (``resync_quiet_s``), all within ``resync_max_s``."""
+    start = time.monotonic()
+    deadline = start + settings.resync_max_s
+    marker_deadline = start + min(settings.resync_marker_s, settings.resync_max_s)
+    drained = bytearray()
+    while until and until not in drained:
+        remaining = marker_deadline - time.monotonic()
+        byte = transport.read(1, remaining) if remaining > 0 else b""
+        if not byte:
+            break
+        drained += byte + transport.pending()
+    remaining = max(0.0, deadline - time.monotonic())
+    return bytes(drained) + transport.drain(settings.resync_quiet_s, remaining)
 
 
 def reply_timeout_s(
@@ -130,7 +138,7 @@ def reply_timeout_s(
     return settings.reply_timeout_s + settings.wire_factor * (wire + work) + transport.latency_s
 
 
-class Link:
+class Link(ChannelBase):
     """The dsPIC behind a transport, spoken to one batch per step.
 
     >>> link = Link(SerialTransport("/dev/ttyS0"))        # doctest: +SKIP
@@ -144,18 +152,17 @@ class Link:
         firmware: Firmware | str | None = None,
         settings: LinkSettings | None = None,
     ) -> None:
+        super().__init__()
         self.transport = transport
         self.settings = settings or LinkSettings()
-        self.stats = LinkStats()
         self._forced = Firmware.choose(firmware)
         #: The last bytes seen, for a banner split across two reads.
         self._tail = b""
-        self._closed = False
         #: A restart seen while answering an ASCII command, not yet told to the owner.
         self._unreported_restart = False
         #: Until the firmware is known, timeouts assume the slower of the two lines.
-        self.info = FirmwareInfo(PROFILES[Firmware.WEBOTS], detected=False)
-        self.info = self._identify(first=True)
+        self._info = FirmwareInfo(PROFILES[Firmware.WEBOTS], detected=False)
+        self._info = self._identify(first=True)
         self._unreported_restart = False  # at open there is no state to re-apply
 
     @property
@@ -166,11 +173,6 @@ class Link:
         """The owner waits out a step (the Channel seam); the transport may care."""
         self.transport.waiting_until(deadline_s)
 
-    @property
-    def profile(self) -> Profile:
-        """The wire formats of the firmware in use (re-detected after a restart)."""
-        return self.info.profile
-
     def _identify(self, first: bool = False) -> FirmwareInfo:
         """Drain the welcome banner, then ask the firmware (unless told it): ``probe.py``."""
         self.transport.drain(self.settings.resync_quiet_s, self.settings.resync_max_s)
@@ -179,8 +181,8 @@ class Link:
             return FirmwareInfo(PROFILES[self._forced], detected=False)
         return probe_firmware(self, first)
 
-    def ascii_command(
-        self, letter: str, lines: int = 1, line_timeout_s: float | None = None
+    def _ascii_command(
+        self, letter: str, lines: int, line_timeout_s: float | None = None
     ) -> list[str]:
         """Send an ASCII command (``V``, ``S``, ``C``...) and return its reply lines.
 
@@ -192,7 +194,7 @@ class Link:
         command = letter.encode("ascii") + b"\n"
         self._discard_stale()
         self.transport.write(command)
-        replies = self._read_lines(lines, line_timeout_s)
+        replies = read_lines(self.transport, lines, self._line_timeout(line_timeout_s))
         if replies and BANNER_MARKER.decode() in replies[0]:
             # The dsPIC started while the command was on its way (a robot switched on
             # as the port opened): it may not have heard it. Ask again once the banner
@@ -202,7 +204,7 @@ class Link:
             self._tail = b""
             self._unreported_restart = True
             self.transport.write(command)
-            replies = self._read_lines(lines, line_timeout_s)
+            replies = read_lines(self.transport, lines, self._line_timeout(line_timeout_s))
         # docs/protocol.md: the reply "starts with the command's lower-case letter" (S answers
         # a bare "s", so no comma is required here).
         if replies and not replies[0].startswith(letter.lower()):
@@ -211,20 +213,10 @@ class Link:
             )
         return replies
 
-    def _read_lines(self, lines: int, line_timeout_s: float | None = None) -> list[str]:
-        """Up to ``lines`` non-empty reply lines; fewer if the firmware falls silent."""
-        replies: list[str] = []
-        timeout = self.settings.line_timeout_s if line_timeout_s is None else line_timeout_s
-        while len(replies) < lines:
-            raw = self.transport.read_line(timeout + self.transport.latency_s)
-            if not raw.endswith(b"\n"):
-                break
-            text = raw.decode("ascii", errors="replace").strip()
-            if text:
-                replies.append(text)
-        return replies
+    def _line_timeout(self, line_timeout_s: float | None) -> float:
+        return self.settings.line_timeout_s if line_timeout_s is None else line_timeout_s
 
-    def calibrate_proximity(self) -> list[str]:
+    def _calibrate_proximity(self) -> list[str]:
         """The ASCII ``K``: calibrate the IR sensors, sending nothing until it is done.
 
         docs/protocol.md, quirk "K": the dsPIC answers a first line at once, then spends
@@ -233,7 +225,7 @@ class Link:
         again. Raises LinkTimeoutError when that line does not come.
         """
         wait_s = 2 * self.profile.calibration_s + self.settings.line_timeout_s
-        replies = self.ascii_command("K", lines=2, line_timeout_s=wait_s)
+        replies = self._ascii_command("K", 2, line_timeout_s=wait_s)
         if len(replies) < 2 or "finished" not in replies[-1]:
             raise LinkTimeoutError(
                 f"{self.transport.name}: the IR calibration did not finish within {wait_s:.1f} s "
@@ -251,7 +243,7 @@ class Link:
         """Reply timeout of a batch on this line (see :func:`reply_timeout_s`)."""
         return reply_timeout_s(batch, self.info.profile, self.transport, self.settings)
 
-    def exchange(self, batch: Batch) -> bytes:
+    def _exchange(self, batch: Batch) -> bytes:
         """Send one step's batch and return exactly its reply bytes (b'' if it has none).
 
         Raises LinkTimeoutError / ShortReplyError / ExtraBytesError after the bounded
@@ -259,8 +251,6 @@ class Link:
         (the caller re-applies its state and rebuilds the batch), LinkLostError when
         the port is gone for good.
         """
-        if self._closed:  # a closed link must not reopen its port behind its owner's back
-            raise LinkLostError(f"{self.transport.name}: the link is closed")
         commands = self.info.profile.commands
         for request in batch.requests:
             if request.command not in commands:
@@ -291,8 +281,6 @@ class Link:
     def _attempt(self, batch: Batch) -> bytes:
         self._discard_stale()
         self.transport.write(batch.tx)
-        self.stats.batches += 1
-        self.stats.bytes_sent += len(batch.tx)
         if not batch.expects_reply:
             # docs/protocol.md: a batch that asks for nothing gets no reply: never wait.
             return b""
@@ -309,7 +297,6 @@ class Link:
         except LinkTimeoutError as exc:
             self._check_banner(getattr(exc, "partial", b""))
             raise
-        self.stats.bytes_received += len(reply)
         extra = self.transport.trailing(self.settings.trailing_guard_at(self._line_baud()))
         self._check_banner(reply + extra)
         if extra:
@@ -328,19 +315,7 @@ class Link:
             self._check_banner(stale + self._drain())
 
     def _drain(self, until: bytes = b"") -> bytes:
-        """Read until ``until`` has arrived (if given), then until the line is quiet."""
-        start = time.monotonic()
-        deadline = start + self.settings.resync_max_s
-        marker_deadline = start + min(self.settings.resync_marker_s, self.settings.resync_max_s)
-        drained = bytearray()
-        while until and until not in drained:
-            remaining = marker_deadline - time.monotonic()
-            byte = self.transport.read(1, remaining) if remaining > 0 else b""
-            if not byte:
-                break
-            drained += byte + self.transport.pending()
-        remaining = max(0.0, deadline - time.monotonic())
-        return bytes(drained) + self.transport.drain(self.settings.resync_quiet_s, remaining)
+        return drain_line(self.transport, self.settings, until)
 
     def _resync(self) -> None:
         """End whatever the dsPIC was parsing (a batch, an ASCII line); drain what it sent.
@@ -389,7 +364,7 @@ class Link:
 
     def _redetect(self) -> None:
         try:
-            self.info = self._identify()
+            self._info = self._identify()
         except ProtocolError as exc:
             log.warning("%s: firmware re-detection failed: %s", self.transport.name, exc)
 
@@ -397,7 +372,6 @@ class Link:
         self.stats.restarts += 1
         raise RobotResetError(f"{self.transport.name}: {why}; robot state must be re-applied")
 
-    def close(self) -> None:
+    def _close(self) -> None:
         """Close the transport; later exchanges raise LinkLostError instead of reopening it."""
-        self._closed = True
         self.transport.close()

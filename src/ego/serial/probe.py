@@ -9,21 +9,32 @@ it opens and after the dsPIC restarted.
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING
+from typing import Protocol
 
+from ego.core.channel import FirmwareInfo
+from ego.core.profile import Command, Firmware
 from ego.errors import LinkTimeoutError, NotAnEpuckError, ProtocolError
-from ego.serial.firmware import FirmwareInfo, identify, is_gctronic, line_payload, parse_selector
-from ego.serial.protocol import PROFILES, Command, Firmware, Request, encode_batch
+from ego.serial.firmware import identify, is_gctronic, line_payload, parse_selector
+from ego.serial.protocol import PROFILES, Batch, Request, encode_batch
+from ego.serial.transport import Transport
 
-if TYPE_CHECKING:
-    from ego.serial.link import Link
-
-__all__ = ["probe_firmware"]
+__all__ = ["Probed", "probe_firmware"]
 
 log = logging.getLogger(__name__)
 
 
-def probe_firmware(link: Link, first: bool = False) -> FirmwareInfo:
+class Probed(Protocol):
+    """What the probe needs of a serial link (ego.serial.link.Link is one)."""
+
+    @property
+    def transport(self) -> Transport: ...
+
+    def ascii_command(self, letter: str, lines: int = 1) -> list[str]: ...
+
+    def timeout_for(self, batch: Batch) -> float: ...
+
+
+def probe_firmware(link: Probed, first: bool = False) -> FirmwareInfo:
     """Ask ``V`` (and ``C``, ``b``) on ``link``: the firmware, its mode and revision.
 
     At open (``first``), something that answers but not as a dsPIC is the wrong port
@@ -55,7 +66,7 @@ def probe_firmware(link: Link, first: bool = False) -> FirmwareInfo:
     return info
 
 
-def _battery_line(link: Link) -> str | None:
+def _battery_line(link: Probed) -> str | None:
     """The stock firmware's answer to ``b``, whose form tells an e-puck rev 1.3.
 
     docs/protocol.md, "b"; None when it answers something else (an older build).
@@ -66,7 +77,7 @@ def _battery_line(link: Link) -> str | None:
         return None
 
 
-def _probe_silence(link: Link) -> None:
+def _probe_silence(link: Probed) -> None:
     probe = encode_batch([Request(Command.GET_SPEED)], PROFILES[Firmware.WEBOTS])
     link.transport.write(probe.tx)
     try:

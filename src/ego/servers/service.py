@@ -14,7 +14,7 @@ import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from ego.core.channel import Channel
+from ego.core.channel import Channel, FirmwareInfo, as_channel_base
 from ego.core.safety import send_stop
 from ego.errors import CameraError, ProtocolError, UnsupportedDeviceError
 from ego.net.messages import (
@@ -28,7 +28,6 @@ from ego.net.messages import (
     Step,
 )
 from ego.net.wire import pack_json
-from ego.serial.firmware import FirmwareInfo
 from ego.serial.protocol import Batch, encode_batch
 
 if TYPE_CHECKING:
@@ -75,12 +74,11 @@ class RobotService:
         frame_source: FrameSource | None = None,
         frame_encoder: FrameEncoder = encode_image,
     ) -> None:
-        self.channel = channel
+        #: Its lock is held while it is in use: the deadman's stop may come from its own
+        #: thread, and must never come between a session's liveness check and its batch.
+        self.channel = as_channel_base(channel)
         self.frame_source = frame_source
         self.frame_encoder = frame_encoder
-        #: Held while the channel is in use: the deadman's stop may come from its own
-        #: thread, and must never interleave with a batch.
-        self.channel_lock = threading.Lock()
         self._camera: tuple[GrantedFormat, PixelFormat] | None = None
         #: Guards the two below: a stop never closes the source under a camera call
         #: (another thread may be inside ``read_frame``); the call closes it as it ends.
@@ -102,7 +100,7 @@ class RobotService:
         batch (a session's stop always comes after its calls, never before one)."""
         if self.uses_camera(call):
             return self._camera_turn(call, live)
-        with self.channel_lock:
+        with self.channel.lock:
             if not live():
                 return None
             if isinstance(call, Step):
@@ -129,7 +127,7 @@ class RobotService:
     def stop(self, close_camera: bool) -> None:
         """The confirmed stop batch (ego.core.safety.send_stop); the camera closed if asked."""
         try:
-            with self.channel_lock:
+            with self.channel.lock:
                 send_stop(self.channel)
         finally:
             if close_camera and self.frame_source is not None:

@@ -28,10 +28,12 @@ import math
 import threading
 import time
 import weakref
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from ego.backends.remote.connection import Connection, RemoteStats, error_from_reply
-from ego.core.channel import reconnect_within
+from ego.core.channel import ChannelBase, FirmwareInfo, reconnect_within
+from ego.core.profile import Firmware, Profile
 from ego.errors import (
     CameraCaptureError,
     CameraError,
@@ -44,7 +46,6 @@ from ego.errors import (
     ProtocolError,
     RobotBusyError,
     RobotResetError,
-    ShortReplyError,
 )
 from ego.net.auth import coerce_secret, secret_from_environment
 from ego.net.messages import (
@@ -59,9 +60,9 @@ from ego.net.messages import (
     pack_request,
 )
 from ego.net.wire import ASCII_REPLY_LINES, MessageType, parse_url, unpack_json
-from ego.serial.firmware import FirmwareInfo, gctronic_profile
-from ego.serial.link import LinkSettings, LinkStats
-from ego.serial.protocol import PROFILES, Batch, Firmware, Profile
+from ego.serial.firmware import gctronic_profile
+from ego.serial.link import LinkSettings
+from ego.serial.protocol import PROFILES, Batch
 
 if TYPE_CHECKING:
     from ego.camera.source import GrantedFormat, PixelFormat
@@ -90,7 +91,7 @@ def info_from(fields: dict[str, Any]) -> FirmwareInfo:
     )
 
 
-class RemoteChannel:
+class RemoteChannel(ChannelBase):
     """A robot served by ``ego serve``, over TCP or UDP: the Channel a Robot steps through.
 
     ``secret`` defaults to ``EGO_SECRET_FILE`` / ``EGO_SECRET`` from the environment; a
@@ -114,26 +115,26 @@ class RemoteChannel:
     ) -> None:
         if protocol not in ("tcp", "udp", "unix"):
             raise ValueError(f"protocol {protocol!r} is not tcp, udp or unix")
+        super().__init__()
         self._address = (host, port, protocol)
         shown = f"[{host}]" if ":" in host else host
-        self.name: str = f"unix://{host}" if protocol == "unix" else f"{protocol}://{shown}:{port}"
+        self._name = f"unix://{host}" if protocol == "unix" else f"{protocol}://{shown}:{port}"
         self.secret = coerce_secret(secret) if secret is not None else secret_from_environment()
         self.settings = settings or LinkSettings()
         self.timeout_s = timeout_s
         self.heartbeat = heartbeat
         self._options = connection_options
         self.net = RemoteStats()
-        self.stats = LinkStats()
-        self._lock = threading.Lock()
+        #: Held by one request to the server at a time (the heartbeat's pings included).
+        self._call_lock = threading.Lock()
         self._last_activity = 0.0
         #: Until when the heartbeat may keep the session alive (time.monotonic()): no
         #: limit until the controller's first step, then the end of each step's wait.
         self._alive_until = math.inf
-        self._closed = False
         #: The end of the session, as a heartbeat heard the server announce it.
         self._ended: LinkLostError | None = None
         self._conn: Connection | None = None
-        self._beat_stop = threading.Event()
+        self._beat: _Heartbeat | None = None
         self._connect()
 
     @classmethod
@@ -149,21 +150,15 @@ class RemoteChannel:
         host, port, protocol = self._address
         conn = Connection(host, port, protocol, self.secret, stats=self.net, **self._options)
         self._conn = conn
-        self.info = info_from(conn.welcome)
+        self._info = info_from(conn.welcome)
         self.server_info = conn.welcome
-        log.info("%s: connected, %s firmware", conn.name, self.info.firmware)
+        log.info("%s: connected, %s firmware", conn.name, self._info.firmware)
         if self.heartbeat:
-            self._beat_stop = threading.Event()
-            threading.Thread(
-                target=_heartbeat,
-                args=(weakref.ref(self), self._beat_stop, max(0.01, conn.deadline_s / 4)),
-                name="ego-remote-heartbeat",
-                daemon=True,
-            ).start()
+            self._beat = _Heartbeat(weakref.WeakMethod(self._ping), max(0.01, conn.deadline_s / 4))
 
     @property
-    def profile(self) -> Profile:
-        return self.info.profile
+    def name(self) -> str:
+        return self._name
 
     @property
     def deadline_s(self) -> float:
@@ -172,27 +167,18 @@ class RemoteChannel:
 
     # -- the Channel -------------------------------------------------------------------------
 
-    def exchange(self, batch: Batch) -> bytes:
+    def _exchange(self, batch: Batch) -> bytes:
         if not batch.requests:
             return b""
-        reply = self._request(Step(batch.requests))
-        self.stats.batches += 1
-        self.stats.bytes_sent += len(batch.tx)
-        self.stats.bytes_received += len(reply)
-        if len(reply) != batch.reply_size:
-            raise ShortReplyError(
-                f"{self.name}: {len(reply)} reply bytes from the server, "
-                f"the batch asks for {batch.reply_size}"
-            )
-        return reply
+        return self._request(Step(batch.requests))
 
-    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
+    def _ascii_command(self, letter: str, lines: int) -> list[str]:
         if ASCII_REPLY_LINES.get(letter) is None:
             relayed = ", ".join(ASCII_REPLY_LINES)
             raise ProtocolError(f"{self.name}: ASCII command {letter!r} is not relayed ({relayed})")
         return self._lines(self._request(Ascii(letter, ASCII_REPLY_LINES[letter])))[:lines]
 
-    def calibrate_proximity(self) -> list[str]:
+    def _calibrate_proximity(self) -> list[str]:
         return self._lines(self._request(Ascii("K", ASCII_REPLY_LINES["K"])))
 
     @staticmethod
@@ -212,7 +198,7 @@ class RemoteChannel:
 
     def call(self, request: RobotCall, timeout_s: float | None = None) -> bytes:
         """One request to the server (the camera's, say); its reply payload."""
-        with self._lock:
+        with self._call_lock:
             conn = self._conn
             if conn is None or self._closed:
                 raise LinkLostError(f"{self.name}: not connected")
@@ -232,7 +218,7 @@ class RemoteChannel:
             return self.call(request)
         except RobotResetError:
             self.stats.restarts += 1
-            self.info = info_from(unpack_json(self.call(Info())))
+            self._info = info_from(unpack_json(self.call(Info())))
             raise
         except LinkLostError as exc:
             self.stats.faults["LinkLostError"] += 1
@@ -252,14 +238,20 @@ class RemoteChannel:
         self.stats.reconnects += 1
         raise RobotResetError(f"{self.name}: reconnected; robot state must be re-applied")
 
-    def close(self) -> None:
-        """Say goodbye (the server stops the robot) and close the socket; idempotent."""
-        self._closed = True
+    def _close(self) -> None:
+        """Say goodbye (the server stops the robot) and close the socket."""
         self._shutdown(goodbye=True)
 
+    def stop_heartbeat(self) -> None:
+        """Stop the heartbeat and join its thread: a controller that sends nothing more
+        is then taken for a dead one after the server's deadline."""
+        beat, self._beat = self._beat, None
+        if beat is not None:
+            beat.stop()  # joined: no ping goes out after this
+
     def _shutdown(self, goodbye: bool) -> None:
-        self._beat_stop.set()
-        with self._lock:
+        self.stop_heartbeat()
+        with self._call_lock:
             conn, self._conn = self._conn, None
             if conn is None:
                 return
@@ -272,8 +264,9 @@ class RemoteChannel:
     def is_open(self) -> bool:
         return self._conn is not None
 
-    def _beat(self) -> None:
-        """Ping the server if nothing was sent for a while (called by the heartbeat thread)."""
+    def _ping(self) -> bool:
+        """Ping the server if nothing was sent for a while (the heartbeat thread's work);
+        False once the server said the session ended (the heartbeat then stops)."""
         now = time.monotonic()
         conn = self._conn
         if (
@@ -281,25 +274,26 @@ class RemoteChannel:
             or now - self._last_activity < conn.deadline_s / 4
             or now > self._alive_until
         ):
-            return
-        if not self._lock.acquire(blocking=False):
-            return  # a request is under way: that is activity enough
+            return True
+        if not self._call_lock.acquire(blocking=False):
+            return True  # a request is under way: that is activity enough
         try:
-            if self._conn is not None and not self._beat_stop.is_set():
+            if self._conn is not None:
                 self.net.heartbeats += 1
                 self._last_activity = now
                 self._conn.call(MessageType.PING, b"", self._conn.deadline_s)
         except LinkLostError as exc:
             if not getattr(exc, "session_ended", False):
                 log.debug("%s: heartbeat failed: %s", self.name, exc)
-                return
+                return True
             log.warning("%s", exc)
             self._ended = exc
-            self._beat_stop.set()
+            return False
         except (EgoError, OSError) as exc:
             log.debug("%s: heartbeat failed: %s", self.name, exc)
         finally:
-            self._lock.release()
+            self._call_lock.release()
+        return True
 
     def frame_source(self) -> RemoteFrameSource:
         """The robot's camera, fetched through this connection."""
@@ -309,17 +303,32 @@ class RemoteChannel:
         return f"<RemoteChannel {self.name} {'open' if self.is_open else 'closed'}>"
 
 
-def _heartbeat(
-    ref: weakref.ReferenceType[RemoteChannel], stop: threading.Event, interval_s: float
-) -> None:
-    """The heartbeat thread. It holds the channel weakly: a channel dropped without
-    ``close`` stops beating, and the server's deadman then stops the robot."""
-    while not stop.wait(interval_s / 4):
-        channel = ref()
-        if channel is None:
-            return
-        channel._beat()
-        del channel
+class _Heartbeat:
+    """The owner of a channel's heartbeat thread: it starts the thread, which calls
+    ``ping`` every quarter of ``interval_s`` until ``ping`` says the session ended, and
+    :meth:`stop` stops and joins it (a channel's close, or its reconnection). It holds
+    the channel weakly: a channel dropped without ``close`` stops beating, and the
+    server's deadman then stops the robot."""
+
+    def __init__(self, ping: weakref.WeakMethod[Callable[[], bool]], interval_s: float) -> None:
+        self._ping = ping
+        self._interval_s = interval_s
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="ego-remote-heartbeat",
+                                        daemon=True)  # fmt: skip
+        self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.wait(self._interval_s / 4):
+            ping = self._ping()
+            if ping is None or not ping():
+                return
+            del ping
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._thread is not threading.current_thread():
+            self._thread.join()
 
 
 class RemoteFrameSource:

@@ -10,15 +10,23 @@ to the controller on the PC, and the page says so.
 
 from __future__ import annotations
 
+import logging
 import threading
 import time
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from ego.core.channel import Channel
+from ego.core.channel import Channel, ChannelWrapper
+from ego.core.profile import Command
 from ego.core.safety import send_stop
 from ego.core.telemetry import Sampler, describe_firmware, describe_world, world_pose
+from ego.devices.accelerometer import Accelerometer
+from ego.devices.base import ArraySensor, Device, Sensor
+from ego.devices.encoders import Encoders
+from ego.devices.families import make_families
 from ego.devices.table import TABLE
-from ego.serial.protocol import Batch, Command, Request, encode_batch
+from ego.errors import UnsupportedDeviceError
+from ego.serial.protocol import Batch, Request, encode_batch
 from ego.servers.dashboard.control import ControlDesk, Reply
 from ego.servers.dashboard.server import DashboardServer
 
@@ -27,27 +35,44 @@ if TYPE_CHECKING:
 
 __all__ = ["ServedFeed", "SwarmFeed", "WatchedChannel"]
 
-#: The families a sample holds and the wire command that reads each: the device table's.
-_FAMILY_COMMANDS = tuple((f.command, f.name) for f in TABLE.sampled if f.command is not None)
-#: What a reply's values are, by command: the sample's key (the accelerometer's counts
-#: are converted below).
-_READINGS = {c: name for c, name in _FAMILY_COMMANDS if c is not Command.ACCELEROMETER_RAW}
-GRAVITY_MPS2 = 9.81
+log = logging.getLogger(__name__)
+
+#: The sensor families a dashboard sample holds (ego.core.telemetry's keys): the device
+#: table's sampled families. The served robot's replies are decoded by the families
+#: themselves, made for its profile.
+_SAMPLED_FAMILIES = tuple(spec.name for spec in TABLE.sampled)
 
 
-class WatchedChannel:
-    """A channel whose batches a dashboard reads, and whose wheels it may hold stopped."""
+def _reading(family: Device) -> list[float] | None:
+    """A family's last sample as the dashboard draws it; None before the first."""
+    if isinstance(family, Accelerometer):
+        if not family.has_values:
+            return None
+        return [round(v, 4) for v in family.acceleration_mps2]
+    if isinstance(family, (ArraySensor, Encoders)) and family.has_values:
+        return [float(v) for v in family.values]
+    return None
+
+
+class WatchedChannel(ChannelWrapper):
+    """A channel whose batches a dashboard reads, and whose wheels it may hold stopped.
+
+    Its exchanges, the page's stop and its resume hold the channel's one lock (the
+    :class:`~ego.core.channel.ChannelBase`'s), so a stop never lands inside a batch.
+    """
 
     def __init__(
         self, inner: Channel, on_sample: Any = None, world: GroundTruth | None = None
     ) -> None:
-        self.inner = inner
+        super().__init__(inner)
         self.world = world
         self.on_sample = on_sample
         self.halted = False
-        self.lock = threading.RLock()
         self._sampler = Sampler(world_pose(world))
-        self._readings: dict[str, list[float] | None] = {}
+        made = make_families(inner.profile)
+        self._families = {name: made[name] for name in _SAMPLED_FAMILIES}
+        self._readers = {part.command: part for family in self._families.values()
+                         for part in family.parts if isinstance(part, Sensor)}  # fmt: skip
         self._speed = [0, 0]
         self._asked = (0, 0)
         self._leds = [0] * 10
@@ -60,30 +85,13 @@ class WatchedChannel:
         self._started = time.monotonic()
         self._last = self._started
 
-    @property
-    def name(self) -> str:
-        return self.inner.name
-
-    @property
-    def info(self) -> Any:
-        return self.inner.info
-
-    @property
-    def stats(self) -> Any:
-        return self.inner.stats
-
-    @property
-    def profile(self) -> Any:
-        return self.inner.profile
-
-    def exchange(self, batch: Batch) -> bytes:
+    def _exchange(self, batch: Batch) -> bytes:
         for request in batch.requests:
             if request.command is Command.SET_SPEED:
                 self._asked = (int(request.arguments[0]), int(request.arguments[1]))
-        with self.lock:
-            if self.halted:
-                batch = self._stopped(batch)
-            reply = self.inner.exchange(batch)
+        if self.halted:
+            batch = self._stopped(batch)
+        reply = self.inner.exchange(batch)
         self._take(batch, reply)
         return reply
 
@@ -95,12 +103,14 @@ class WatchedChannel:
     def device_families(self) -> list[str]:
         """The sensor families this robot's firmware serves (ego.core.telemetry's names)."""
         profile = self.inner.profile
-        return [family for command, family in _FAMILY_COMMANDS if profile.supports(command)]
+        return [key for key, family in self._families.items()
+                if any(profile.supports(part.command) for part in family.parts
+                       if isinstance(part, Sensor))]  # fmt: skip
 
     def resume(self) -> None:
         """End the stop: the wheels go back to what the client's controller last asked
         (its robot does not know it was stopped, so it would not ask again)."""
-        with self.lock:
+        with self._lock:
             self.halted = False
             if self._asked != (0, 0):
                 requests = [Request(Command.SET_SPEED, self._asked), Request(Command.GET_SPEED)]
@@ -116,22 +126,19 @@ class WatchedChannel:
 
     def stop(self) -> None:
         """The confirmed stop batch now, between two of the client's batches."""
-        with self.lock:
+        with self._lock:
             send_stop(self.inner)
-        self._speed = [0, 0]
+            self._speed = [0, 0]
 
     def _take(self, batch: Batch, reply: bytes) -> None:
         values = batch.decode(reply) if batch.expects_reply else [()] * len(batch.requests)
+        now = time.monotonic()
+        now_ms = int((now - self._started) * 1000)
         for request, got in zip(batch.requests, values, strict=True):
             command = request.command
-            if command in _READINGS:
-                self._readings[_READINGS[command]] = [float(v) for v in got]
-            elif command is Command.ACCELEROMETER_RAW:
-                profile = self.inner.profile
-                k = GRAVITY_MPS2 / profile.acc_counts_per_g
-                x, y, z = (float(v) - profile.acc_zero_counts for v in got)
-                self._readings["accelerometer"] = [round(-k * x, 4), round(k * y, 4),
-                                                   round(k * z, 4)]  # fmt: skip
+            reader = self._readers.get(command)
+            if reader is not None:
+                self._decode(reader, request, got, now_ms, now)
             elif command is Command.BATTERY:
                 self._battery = int(got[0])
             elif command is Command.SET_SPEED:
@@ -140,32 +147,29 @@ class WatchedChannel:
                 index, value = (int(v) for v in request.arguments)
                 if 0 <= index < len(self._leds):
                     self._leds[index] = 1 if value else 0
-        now = time.monotonic()
         step_ms, self._last = (now - self._last) * 1000.0, now
         self._steps += 1
         self.last_truth = world_pose(self.world)
+        readings = {key: _reading(family) for key, family in self._families.items()}
         self.last_sample = self._sampler.sample(
             t_s=now - self._started, step=self._steps, step_ms=step_ms, wall_ms=step_ms,
-            overruns=None, readings=dict(self._readings), speed=list(self._speed),
+            overruns=None, readings=readings, speed=list(self._speed),
             leds=list(self._leds), battery=self._battery, truth=self.last_truth,
             stats=self.inner.stats,
         )  # fmt: skip
         if self.on_sample is not None:
             self.on_sample(self.last_sample)
 
-    def ascii_command(self, letter: str, lines: int = 1) -> list[str]:
-        with self.lock:
-            return self.inner.ascii_command(letter, lines)
-
-    def calibrate_proximity(self) -> list[str]:
-        with self.lock:
-            return self.inner.calibrate_proximity()
-
-    def waiting_until(self, deadline_s: float) -> None:
-        self.inner.waiting_until(deadline_s)
-
-    def close(self) -> None:
-        self.inner.close()
+    @staticmethod
+    def _decode(
+        reader: Sensor, request: Request, values: Sequence[float], now_ms: int, now_s: float
+    ) -> None:
+        """The family takes the reply as a Robot's would; a reply that proves the device
+        absent (an accelerometer answering zeros) leaves its reading empty."""
+        try:
+            reader.apply(request, values, now_ms, now_s)
+        except UnsupportedDeviceError as exc:
+            log.debug("%s", exc)
 
 
 def _hello(mode: str, channel: WatchedChannel, name: str) -> dict[str, Any]:

@@ -32,7 +32,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from ego.core.safety import send_stop
 from ego.errors import EgoError, ProtocolError, RobotBusyError
 from ego.net.wire import error_fields, pack_error
 from ego.servers.dashboard.served import WatchedChannel
@@ -165,8 +164,7 @@ class RobotNode:
     def stop(self) -> None:
         """The confirmed stop batch (wheels 0, LEDs off), on the line's worker (or at close)."""
         try:
-            with self.watched.lock:
-                send_stop(self.watched.inner)
+            self.watched.stop()
             self.stops += 1
         except (EgoError, OSError) as exc:
             log.error("robot %s: could not stop: %s", self.name, exc)
@@ -237,11 +235,10 @@ class RobotNode:
 
     def _ascii(self, query: Any, who: str, letter: str, lines: int) -> None:
         def run() -> None:
-            with self.watched.lock:
-                if letter == "K":
-                    got = self.watched.inner.calibrate_proximity()
-                else:
-                    got = self.watched.inner.ascii_command(letter, lines)
+            if letter == "K":
+                got = self.watched.calibrate_proximity()
+            else:
+                got = self.watched.ascii_command(letter, lines)
             query.reply(query.key_expr, "\n".join(got).encode("ascii", "replace"))
 
         self._dispatch(query, who, run)
