@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import pytest
 
+import ego
 from ego.backends import open_port, scheme_of
+from ego.core.environment import read_environment
 from ego.core.ports import DEFAULT_PORT, resolve_port
 from ego.errors import NotAnEpuckError, PortNotFoundError
 from ego.serial.link import Link
@@ -13,19 +15,26 @@ from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator
 
 
-def test_explicit_port_wins(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("EGO_PORT", "/dev/ttyUSB0")
-    assert resolve_port("loop://") == "loop://"
+#: What ``EGO_PORT=/dev/ttyUSB0`` in the environment reads as (ego.core.environment).
+USB = read_environment({"EGO_PORT": "/dev/ttyUSB0"})
 
 
-def test_environment_names_the_port_when_none_is_given(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("EGO_PORT", "/dev/ttyUSB0")
-    assert resolve_port(None) == "/dev/ttyUSB0"
+def test_explicit_port_wins() -> None:
+    assert resolve_port("loop://", USB.port) == "loop://"
 
 
-def test_overo_uart_is_the_default(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.delenv("EGO_PORT", raising=False)
-    assert resolve_port(None) == DEFAULT_PORT == "/dev/ttyS0"
+def test_environment_names_the_port_when_none_is_given() -> None:
+    assert resolve_port(None, USB.port) == "/dev/ttyUSB0"
+
+
+def test_overo_uart_is_the_default() -> None:
+    assert resolve_port(None, read_environment({}).port) == DEFAULT_PORT == "/dev/ttyS0"
+
+
+def test_a_robot_opened_without_a_port_opens_the_environments() -> None:
+    # The Robot is the edge: it reads the environment it is given (else the process's).
+    with pytest.raises(PortNotFoundError, match="/dev/ego-no-such-port"):
+        ego.Robot(environment=read_environment({"EGO_PORT": "/dev/ego-no-such-port"}))
 
 
 def test_a_path_opens_a_link_on_a_serial_transport_at_the_asked_rate() -> None:

@@ -78,7 +78,7 @@ class Robot:
         self.keyboard = Keyboard(0)
         self.mouse = Mouse(0)
         self.joystick = Joystick(0)
-        self._core = CoreRobot(options.port, **options.robot_options())
+        self._core = context.new_robot(options=options)
         #: The ego Robot underneath, for what Webots' API does not cover (a plain
         #: attribute: ego reads its own ``_core``, so a subclass may reuse the name).
         self.core = self._core

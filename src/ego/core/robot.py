@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 from ego.backends import Opened, open_port
 from ego.core.channel import Channel, TappedChannel
+from ego.core.environment import Environment, read_environment
 from ego.core.ports import resolve_port
 from ego.core.safety import install_signal_handlers, register, send_stop
 from ego.core.scheduler import Pacer, StepClock
@@ -87,16 +88,22 @@ class Robot:
         camera_source: FrameSource | None = None,
         i2c: I2CBus | None = None,
         handle_signals: bool = False,
-        **options: Any,
+        environment: Environment | None = None,
+        **options: object,
     ) -> None:
         self._closed = True  # until the channel is up, close() has nothing to stop
-        options = {name: value for name, value in options.items() if value is not None}
         if channel is None:
-            self.port = resolve_port(port)
-            firmware = Firmware.choose(options.pop("firmware", None))
-            self._opened = open_port(self.port, firmware=firmware, **options)
-        elif options:
-            raise ValueError(f"options {sorted(options)} are for a port, not a given channel")
+            environment = environment or read_environment()
+            self.port = resolve_port(port, environment.port)
+            named = options.pop("firmware", None)
+            firmware = Firmware.choose(None if named is None else _firmware_name(named))
+            # Every option goes to the backend, None ones too: bound and checked there
+            # (None: the backend's default), so a misspelt one is never dropped unseen.
+            self._opened = open_port(
+                self.port, environment=environment, firmware=firmware, **options
+            )
+        elif given := sorted(name for name, value in options.items() if value is not None):
+            raise ValueError(f"options {given} are for a port, not a given channel")
         else:
             self.port = channel.name
             self._opened = Opened(channel)
@@ -388,6 +395,11 @@ class Robot:
     def __repr__(self) -> str:
         state = "closed" if self._closed else ("lost" if self._lost else "open")
         return f"<Robot {self.port} {self.link.info.firmware} {state}>"
+
+
+def _firmware_name(named: object) -> str:
+    """The firmware a user named, as Firmware.choose takes it (which refuses the rest)."""
+    return named if isinstance(named, str) else repr(named)
 
 
 # -- stopping robots however the controller ends --------------------------------------
