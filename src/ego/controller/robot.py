@@ -23,7 +23,13 @@ from ego.controller.devices import (
     whole_steps,
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
-from ego.controller.radio import RADIO_DEVICES, Emitter, Receiver, radio_available
+from ego.controller.radio import (
+    RADIO_DEVICES,
+    Emitter,
+    Receiver,
+    RobotRadio,
+    radio_available,
+)
 from ego.core.robot import Robot as CoreRobot
 from ego.errors import EgoError, UnknownDeviceError, UnsupportedDeviceError
 from ego.faces.default_robot import current_context
@@ -79,6 +85,9 @@ class Robot:
         self.mouse = Mouse(0)
         self.joystick = Joystick(0)
         self._core = context.new_robot(options=options)
+        self._environment = context.environment
+        #: The robot's radio (its emitter's and receiver's), opened at first use.
+        self._radio = RobotRadio(self._core, context.environment)
         #: The ego Robot underneath, for what Webots' API does not cover (a plain
         #: attribute: ego reads its own ``_core``, so a subclass may reuse the name).
         self.core = self._core
@@ -110,7 +119,7 @@ class Robot:
         device = self._devices.get(name)
         if device is None:
             cls = view_class(name) if name in self._core.device_names else None
-            if name in RADIO_DEVICES and radio_available():
+            if name in RADIO_DEVICES and radio_available(self._environment):
                 cls = Emitter if name == "emitter" else Receiver
             if cls is None and self._ground_truth(name):
                 from ego.controller.absent import ground_truth_class
@@ -135,6 +144,8 @@ class Robot:
                 )
                 self._motors.append(motor)
                 device = motor
+            elif cls is Emitter or cls is Receiver:  # the two share the robot's one radio
+                device = cls(self._core, name, strict=self._options.strict, radio=self._radio)
             else:
                 device = cls(self._core, name, strict=self._options.strict)
                 if cls is Camera:
