@@ -169,7 +169,7 @@ def _bind(
             continue  # the backend's default
         checker = fields[name].metadata.get("check")
         if checker is not None:
-            checker(value)
+            value = checker(value)  # its own error; the value to bind (a name's Firmware)
         elif not _fits(value, hints[name]):
             raise BackendOptionError(
                 f"{scheme} option {name}={value!r} must be {_shown(hints[name])}, "

@@ -56,10 +56,11 @@ class Opened:
             self.closers.pop()()
 
 
-def check(checker: Callable[[object], object]) -> dict[str, object]:
-    """Field metadata naming the function that checks an option's value (its own error,
-    as ``check_baudrate``'s) instead of the generic type check:
-    ``baudrate: int | None = field(default=None, metadata=check(check_baudrate))``."""
+def check(checker: Callable[[Any], object]) -> dict[str, object]:
+    """Field metadata naming the function that checks an option's value and returns the
+    value to bind (raising its own error, as ``check_baudrate`` does), instead of the
+    generic type check: ``baudrate: int | None = field(default=None,
+    metadata=check(check_baudrate))``."""
     return {"check": checker}
 
 
@@ -74,8 +75,8 @@ class BackendOptions:
     that is not of its field's type.
     """
 
-    #: The firmware profile to use (None: detect it).
-    firmware: Firmware | None = None
+    #: The firmware profile to use, or its name (None or "auto": detect it).
+    firmware: Firmware | None = field(default=None, metadata=check(Firmware.choose))
 
     def with_environment(self: _Options, environment: Environment) -> _Options:
         """These options with the environment's defaults filled in where none was given

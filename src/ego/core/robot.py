@@ -36,7 +36,6 @@ from ego.errors import (
 )
 from ego.i2c.bus import I2CBus, given_bus
 from ego.i2c.side import OveroI2C, run_i2c_step
-from ego.serial.protocol import Firmware
 
 if TYPE_CHECKING:
     from ego.camera import Camera, FrameSource
@@ -95,13 +94,9 @@ class Robot:
         if channel is None:
             environment = environment or read_environment()
             self.port = resolve_port(port, environment.port)
-            named = options.pop("firmware", None)
-            firmware = Firmware.choose(None if named is None else _firmware_name(named))
             # Every option goes to the backend, None ones too: bound and checked there
             # (None: the backend's default), so a misspelt one is never dropped unseen.
-            self._opened = open_port(
-                self.port, environment=environment, firmware=firmware, **options
-            )
+            self._opened = open_port(self.port, environment=environment, **options)
         elif given := sorted(name for name, value in options.items() if value is not None):
             raise ValueError(f"options {given} are for a port, not a given channel")
         else:
@@ -395,11 +390,6 @@ class Robot:
     def __repr__(self) -> str:
         state = "closed" if self._closed else ("lost" if self._lost else "open")
         return f"<Robot {self.port} {self.link.info.firmware} {state}>"
-
-
-def _firmware_name(named: object) -> str:
-    """The firmware a user named, as Firmware.choose takes it (which refuses the rest)."""
-    return named if isinstance(named, str) else repr(named)
 
 
 # -- stopping robots however the controller ends --------------------------------------
