@@ -103,9 +103,10 @@ def open_group(pattern: str, **options: Any) -> tuple[list[Any], RobotGroup[Any]
 
     ``options`` go to each Robot (``zenoh_connect``, ``zenoh_config``).
     """
-    import ego
     from ego.backends.zenoh_remote import SCHEME, node_names
     from ego.core.environment import read_environment
+    from ego.core.robot import Robot
+    from ego.errors import PortNotFoundError
     from ego.zenoh_net.sessions import DEFAULT_ENDPOINT, ZenohSettings, open_session
 
     if not pattern.startswith(f"{SCHEME}://"):
@@ -121,11 +122,11 @@ def open_group(pattern: str, **options: Any) -> tuple[list[Any], RobotGroup[Any]
     finally:
         session.close()
     if not names:
-        raise ego.errors.PortNotFoundError(f"no robot node matches {pattern}")
+        raise PortNotFoundError(f"no robot node matches {pattern}")
     robots: list[Any] = []
     try:
         for name in names:
-            robots.append(ego.Robot(f"{SCHEME}://{name}", **options))
+            robots.append(Robot(f"{SCHEME}://{name}", **options))
     except BaseException:
         for robot in robots:
             robot.close()
