@@ -15,7 +15,7 @@ from ego.backends import Opened, open_port
 from ego.core.channel import Channel, TappedChannel
 from ego.core.environment import Environment, read_environment
 from ego.core.ports import resolve_port
-from ego.core.safety import install_signal_handlers, register, send_stop
+from ego.core.safety import OPEN_ROBOTS, install_signal_handlers, send_stop
 from ego.core.scheduler import Pacer, StepClock
 from ego.core.transaction import run_step
 from ego.devices.accelerometer import Accelerometer
@@ -159,8 +159,7 @@ class Robot:
         #: Held while a step talks to the robot: another thread that must reach the dsPIC
         #: at once (a dashboard's stop button) takes it between two steps' batches.
         self.link_lock = threading.RLock()
-        _OPEN_ROBOTS.add(self)
-        register(self)
+        OPEN_ROBOTS.opened(self)
         if handle_signals:
             install_signal_handlers()
         log.info("robot on %s, firmware %s", self.port, self.link.info.firmware)
@@ -369,7 +368,7 @@ class Robot:
         if self._closed:
             return
         self._closed = True
-        _OPEN_ROBOTS.discard(self)
+        OPEN_ROBOTS.closed(self)
         if not self._lost:
             # ego's own view of the actuators follows the stop the finalizer sends.
             self.motors.stop_request()
@@ -421,13 +420,6 @@ class _Parts:
         self.opened.close()
 
 
-_OPEN_ROBOTS: weakref.WeakSet[Robot] = weakref.WeakSet()
-
-
 def close_all_robots() -> None:
     """Close every robot of this process that is still open (each one stops first)."""
-    for robot in list(_OPEN_ROBOTS):
-        try:
-            robot.close()
-        except Exception:
-            log.exception("could not close %r", robot)
+    OPEN_ROBOTS.close_all()
