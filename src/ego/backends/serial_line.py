@@ -23,7 +23,19 @@ if TYPE_CHECKING:
     from ego.serial.link import Link
     from ego.serial.transport import Transport
 
-__all__ = ["SerialBackend", "SerialOptions", "open_link", "robot_i2c"]
+__all__ = ["SerialBackend", "SerialOptions", "check_i2c_bus", "open_link", "robot_i2c"]
+
+
+def check_i2c_bus(bus: object) -> int | str:
+    """``bus`` if it names an I2C bus (a number, a ``/dev/i2c-N`` path) or is "none"; else
+    OutOfRangeError naming it."""
+    from ego.i2c.bus import i2c_bus_path
+
+    if bus == "none":
+        return "none"
+    i2c_bus_path(bus)  # type: ignore[arg-type]  # it refuses what is not an int or str
+    assert isinstance(bus, int | str)
+    return bus
 
 
 def robot_i2c(port: str, i2c_bus: int | str | None) -> I2CAccess | None:
@@ -51,7 +63,7 @@ class SerialOptions(BackendOptions):
     camera_device: str | None = None
     #: The robot's own I2C bus: a number, a ``/dev/i2c-N`` path, or "none" (None: the
     #: Overo's ``/dev/i2c-3`` on its own UART, none elsewhere).
-    i2c_bus: int | str | None = None
+    i2c_bus: int | str | None = field(default=None, metadata=check(check_i2c_bus))
 
     def with_environment(self, environment: Environment) -> SerialOptions:
         if self.camera_device is not None or environment.camera is None:

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
-from ego.backends.base import BackendOptions, Opened
-from ego.backends.serial_line import robot_i2c
+from ego.backends.base import BackendOptions, Opened, check
+from ego.backends.serial_line import check_i2c_bus, robot_i2c
 from ego.errors import PortNotFoundError
 from ego.serial.link import LinkSettings
 
@@ -29,7 +29,7 @@ class RemoteOptions(BackendOptions):
     #: How the client retries and reconnects (None: LinkSettings()).
     link_settings: LinkSettings | None = None
     #: The robot's own I2C bus (None: this machine's /dev/i2c-3 for unix://, else none).
-    i2c_bus: int | str | None = None
+    i2c_bus: int | str | None = field(default=None, metadata=check(check_i2c_bus))
     #: How long one request may take, in seconds (None: 5).
     timeout_s: float | None = None
     #: Whether a thread keeps the session alive between steps (None: yes).
