@@ -162,7 +162,7 @@ def _bind(
         raise BackendOptionError(
             f"{scheme} ports take no option {unknown[0]!r} (they take: {', '.join(fields)})"
         )
-    hints = typing.get_type_hints(declared)
+    hints = _hints(declared)
     values: dict[str, Any] = {}  # each checked against its field's type above
     for name, value in given.items():
         if value is None:
@@ -181,6 +181,17 @@ def _bind(
 
         environment = read_environment()
     return declared(**values).with_environment(environment)
+
+
+_HINTS: dict[str, dict[str, object]] = {}
+
+
+def _hints(declared: type[BackendOptions]) -> dict[str, object]:
+    """The resolved type of each option of ``declared`` (resolved once a class)."""
+    key = f"{declared.__module__}.{declared.__qualname__}"
+    if key not in _HINTS:
+        _HINTS[key] = typing.get_type_hints(declared)
+    return _HINTS[key]
 
 
 def _fits(value: object, hint: object) -> bool:
