@@ -48,7 +48,7 @@ def _zenoh_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
 @contextlib.contextmanager
 def _udp_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
     from ego.app.swarm import robot_seed
-    from ego.backends import find_backend
+    from ego.backends import find_backend, open_port
     from ego.serial.protocol import Firmware
     from ego.servers.socket.server import Server, ServerThread
 
@@ -56,7 +56,7 @@ def _udp_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
     with contextlib.ExitStack() as stack:
         urls = []
         for world in backend.swarm_worlds(None, [robot_seed(1, i) for i in range(count)]):
-            opened = backend.open("sim", firmware=Firmware.WEBOTS, world=world)
+            opened = open_port("sim", firmware=Firmware.WEBOTS, world=world)
             stack.callback(opened.close)
             thread = stack.enter_context(
                 ServerThread(Server(opened.channel, listen=["udp://127.0.0.1:0"]))

@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import errno
 from collections.abc import Sequence
-from typing import Any
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ego.backends import Opened
+from ego.backends.base import BackendOptions, Opened, check
 from ego.backends.serial_line import open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
 from ego.core.ground_truth import Box, Layout, TruePose
@@ -28,12 +29,20 @@ from ego.serial.protocol import Firmware
 from ego.serial.transport import SerialTransport, check_baudrate
 from firmware_sim.camera import SimulatedSource
 from firmware_sim.cli import main as cli_main
+from firmware_sim.faults import FaultSpec, FaultTimings
 from firmware_sim.scene import Scene
 from firmware_sim.server import Emulator
 from firmware_sim.virtual_time import VirtualClock
 from firmware_sim.world import World
 
-__all__ = ["EmulatorTruth", "SimBackend", "SimulatedCamera", "WorldTruth", "load_world"]
+__all__ = [
+    "EmulatorTruth",
+    "SimBackend",
+    "SimOptions",
+    "SimulatedCamera",
+    "WorldTruth",
+    "load_world",
+]
 
 
 def load_world(spec: str, seed: int | None) -> World:
@@ -162,45 +171,73 @@ class VirtualPacer:
         """Nothing to release."""
 
 
+@dataclass(frozen=True, kw_only=True)
+class SimOptions(BackendOptions):
+    """The emulator's options; None: the default each names (the Emulator's own, for
+    the options that go to it)."""
+
+    #: The pty's line rate (None: the firmware's).
+    baudrate: int | None = field(default=None, metadata=check(check_baudrate))
+    #: The world's noise seed (None: a random one).
+    seed: int | None = None
+    #: How the link retries, resynchronises and reconnects (None: LinkSettings()).
+    link_settings: LinkSettings | None = None
+    #: The world moves only as the controller steps, as fast as it can (``ego run --fast``).
+    virtual_time: bool | None = None
+    #: A built-in world's name, a world file, or a World (None: the default arena).
+    world: str | World | None = None
+    # The Emulator's own options (firmware_sim.server.Emulator), passed on when given:
+    hardware_version: int | None = None
+    rev13: bool | None = None
+    selector: int | None = None
+    ground_module: bool | None = None
+    latency_s: float | None = None
+    processing_delay_s: float | None = None
+    faults: Sequence[FaultSpec] | None = None
+    timings: FaultTimings | None = None
+    dspic_work: bool | None = None
+
+#: The options that go to the Emulator as they are, when given.
+_EMULATOR_OPTIONS = (
+    "hardware_version", "rev13", "selector", "ground_module", "latency_s",
+    "processing_delay_s", "faults", "timings", "dspic_work",
+)  # fmt: skip
+
+
 class SimBackend:
     """``Robot("sim", seed=..., firmware=...)``: a fresh emulator for this robot.
 
-    Options: ``seed`` (the world's), ``world`` (a built-in world's name or a world file:
-    firmware_sim.worlds), ``baudrate`` (default: the firmware's line rate),
-    ``link_settings``, ``virtual_time`` (the world moves only as the controller steps,
-    as fast as it can: ``ego run --fast``), and any of the Emulator's own
-    (``hardware_version``, ``rev13``, ``selector``, ``ground_module``, ``latency_s``). In
-    Overo mode the emulator's model of the robot's I2C bus goes in as the robot's own bus
-    (``Opened.i2c``).
+    Options (:class:`SimOptions`): ``seed`` (the world's), ``world`` (a built-in world's
+    name or a world file: firmware_sim.worlds), ``baudrate`` (default: the firmware's
+    line rate), ``link_settings``, ``virtual_time`` (the world moves only as the
+    controller steps, as fast as it can: ``ego run --fast``), and the Emulator's own
+    (``hardware_version``, ``rev13``, ``selector``, ``ground_module``, ``latency_s``...).
+    In Overo mode the emulator's model of the robot's I2C bus goes in as the robot's own
+    bus (``Opened.i2c``).
     """
 
-    def open(
-        self,
-        port: str,
-        *,
-        firmware: Firmware | None,
-        baudrate: int | None = None,
-        seed: int | None = None,
-        link_settings: LinkSettings | None = None,
-        virtual_time: bool = False,
-        **emulator_options: Any,
-    ) -> Opened:
+    options: ClassVar[type[BackendOptions]] = SimOptions
+
+    def open(self, port: str, options: BackendOptions) -> Opened:
+        given = SimOptions.narrow(options)
+        firmware = given.firmware
         name = (firmware or Firmware.WEBOTS).value
-        if baudrate is not None:
-            baudrate = check_baudrate(baudrate)  # ego's error, before the emulator starts
-        if isinstance(emulator_options.get("world"), str):  # ego's error too, same place
-            emulator_options["world"] = load_world(emulator_options["world"], seed)
-        emulator = Emulator(name, baud=baudrate, seed=seed, **emulator_options).start()
+        emulator_options: dict[str, Any] = {
+            key: value for key in _EMULATOR_OPTIONS if (value := getattr(given, key)) is not None
+        }
+        spec = given.world  # a name or a file: ego's error (one line), before the emulator starts
+        emulator_options["world"] = load_world(spec, given.seed) if isinstance(spec, str) else spec
+        emulator = Emulator(name, baud=given.baudrate, seed=given.seed, **emulator_options).start()
         try:
             channel = open_link(
-                SerialTransport(emulator.path, emulator.baud), firmware, link_settings
+                SerialTransport(emulator.path, emulator.baud), firmware, given.link_settings
             )
         except BaseException:
             emulator.stop()
             raise
         world = emulator.world
         pacer = None
-        if virtual_time:
+        if given.virtual_time:
             clock = VirtualClock()
             world.use_clock(clock)
             pacer = VirtualPacer(clock)

@@ -7,12 +7,11 @@
 """
 
 from ego import errors
+from ego._version import __version__
 from ego.core.robot import SIM_PORT, Robot
 from ego.devices.leds import LedValue
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Firmware
-
-__version__ = "0.1.0"
 
 
 def __getattr__(name: str) -> object:

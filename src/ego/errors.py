@@ -20,6 +20,8 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     │   ├── ExtraBytesError                      bytes left over after the reply
     │   ├── RobotResetError                      the dsPIC restarted (its banner arrived)
     │   └── FirmwareMismatchError                the firmware is not the one we were told
+    ├── BackendOptionError (ValueError)          an option a port's backend does not take,
+    │                                            or one of the wrong type or value
     ├── BadFileError (ValueError)                not a regular file, or over a bound
     │   ├── RecordingError                       not an ego recording, or cut short
     │   └── WorldFileError                       an emulator world or floor image
@@ -48,6 +50,7 @@ from __future__ import annotations
 
 __all__ = [
     "AuthenticationError",
+    "BackendOptionError",
     "BadFileError",
     "CameraCaptureError",
     "CameraConfigError",
@@ -179,6 +182,11 @@ class RobotResetError(ProtocolError):
 
 class FirmwareMismatchError(ProtocolError):
     """The firmware answers differently from the profile in use."""
+
+
+class BackendOptionError(EgoError, ValueError):
+    """An option the port's backend does not take (the message names the scheme, the
+    option and the options that scheme takes), or one of the wrong type or value."""
 
 
 class BadFileError(EgoError, ValueError):

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from ego.app.swarm import robot_seed
-from ego.backends import find_backend
+from ego.backends import find_backend, open_port
 from ego.errors import RobotResetError
 from ego.serial.protocol import Command, Firmware, Request, encode_batch
 from ego.servers.dashboard.served import SwarmFeed, WatchedChannel
@@ -62,7 +62,7 @@ def swarm_dashboard(tmp_path: Path) -> Iterator[tuple[str, list[Any]]]:
     with ExitStack() as stack:
         channels = []
         for world in worlds:
-            opened = backend.open("sim", firmware=Firmware.WEBOTS, world=world)
+            opened = open_port("sim", firmware=Firmware.WEBOTS, world=world)
             stack.callback(opened.close)
             channels.append(WatchedChannel(opened.channel, world=opened.ground_truth))
         feed = SwarmFeed(NAMES, channels)

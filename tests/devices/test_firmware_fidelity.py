@@ -220,11 +220,11 @@ def test_the_webots_face_reads_the_stock_firmwares_battery_flag() -> None:
     """Asercom.c 'b': [BATT_LOW, 0] on a robot older than rev 1.3; Webots' battery sensor
     calls read it where the firmware has it."""
     from ego.controller import Robot
-    from ego.faces import runtime
+    from ego.faces import default_robot, runtime
     from firmware_sim import Emulator
 
     with Emulator("gctronic", seed=1) as emu:
-        runtime.set_options(runtime.RunOptions(port=emu.path))
+        default_robot.set_options(runtime.RunOptions(port=emu.path))
         try:
             robot = Robot()
             try:
@@ -237,4 +237,4 @@ def test_the_webots_face_reads_the_stock_firmwares_battery_flag() -> None:
             finally:
                 robot.cleanup()
         finally:
-            runtime.set_options(runtime.RunOptions())
+            default_robot.set_options(runtime.RunOptions())

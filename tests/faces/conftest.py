@@ -31,16 +31,16 @@ def emulator() -> Iterator[Emulator]:
 def face_options(emulator: Emulator) -> Iterator[runtime.RunOptions]:
     """Point ``Robot()``, ``wb_robot_init()`` and ``overo_serial_init()`` at the emulator.
 
-    ``ego run`` does the same through :func:`ego.faces.runtime.set_options`; afterwards the
+    ``ego run`` does the same through :func:`ego.faces.default_robot.set_options`; afterwards the
     default robot is closed and must have stopped the robot.
     """
     options = runtime.RunOptions(port=emulator.path)
-    runtime.set_options(options)
+    default_robot.set_options(options)
     try:
         yield options
     finally:
         default_robot.close()
-        runtime.set_options(runtime.RunOptions())
+        default_robot.set_options(runtime.RunOptions())
     assert_stopped(emulator.world)
 
 

@@ -19,7 +19,7 @@ import pytest
 
 import ego.controller
 from ego.app.runner import run_controller
-from ego.faces import runtime
+from ego.faces import default_robot, runtime
 from firmware_sim import Emulator, World
 
 CONTROLLERS = Path(__file__).parent / "controllers"
@@ -147,7 +147,7 @@ def test_run_controller_makes_the_controller_module_ego_and_then_restores_it(
     finally:
         sys.modules.pop("controller", None)
     assert sys.path == path_before
-    assert runtime.current().port is None  # the run's options do not outlive it
+    assert default_robot.current_options().port is None  # the run's options do not outlive it
     result = json.loads((tmp_path / "result.json").read_text())
     assert result["classes"][0] == "ego.controller.robot"
 

@@ -15,7 +15,7 @@ from ego import webots as wb
 from ego.controller import DifferentialWheels
 from ego.controller import Robot as WebotsRobot
 from ego.errors import OutOfRangeError, PortNotFoundError, UnknownDeviceError
-from ego.faces import runtime
+from ego.faces import default_robot, runtime
 from ego.faces.tags import DEVICE_NAMES
 from firmware_sim import Emulator
 
@@ -71,7 +71,7 @@ def test_a_device_class_made_by_a_name_of_another_kind_lists_the_right_names(
 
 def test_the_long_range_sensors_exist_only_on_the_overo_firmware() -> None:
     with Emulator("gctronic") as emu:
-        runtime.set_options(runtime.RunOptions(port=emu.path))
+        default_robot.set_options(runtime.RunOptions(port=emu.path))
         try:
             robot = WebotsRobot()
             sensor = robot.getDevice("ps9")
@@ -80,7 +80,7 @@ def test_the_long_range_sensors_exist_only_on_the_overo_firmware() -> None:
             assert math.isfinite(sensor.getValue())  # type: ignore[attr-defined]
             robot.cleanup()
         finally:
-            runtime.set_options(runtime.RunOptions())
+            default_robot.set_options(runtime.RunOptions())
 
 
 def test_wb_robot_get_device_of_an_unknown_name_lists_the_valid_names(
@@ -297,14 +297,14 @@ def test_every_webots_sensor_reads_nan_before_it_is_enabled_and_sampled(
 
 def test_a_missing_port_is_named_by_every_face() -> None:
     missing = "/dev/ttyEGO-not-there"
-    runtime.set_options(runtime.RunOptions(port=missing))
+    default_robot.set_options(runtime.RunOptions(port=missing))
     try:
         with pytest.raises(PortNotFoundError, match=missing):
             WebotsRobot()
         with pytest.raises(PortNotFoundError, match=missing):
             wb.wb_robot_init()
     finally:
-        runtime.set_options(runtime.RunOptions())
+        default_robot.set_options(runtime.RunOptions())
     with pytest.raises(PortNotFoundError, match=missing):
         ov.overo_serial_init(230400, missing)
 

@@ -208,11 +208,11 @@ def namespace() -> Iterator[Namespace]:
     Nothing a row does may change what later rows see: rows are refused before any
     state changes, and the few that open something close it.
     """
-    saved_options = runtime.current()
+    saved_options = default_robot.current_options()
     saved_env = {k: os.environ.pop(k) for k in ("EGO_SECRET", "EGO_SECRET_FILE") if k in os.environ}
     with contextlib.ExitStack() as stack, tempfile.TemporaryDirectory(prefix="ego-bad-") as tmp:
         stack.callback(os.environ.update, saved_env)
-        stack.callback(runtime.set_options, saved_options)
+        stack.callback(default_robot.set_options, saved_options)
         tmp_path = Path(tmp)
         for name, text in CONTROLLERS.items():
             (tmp_path / name).write_text(text)
@@ -224,7 +224,7 @@ def namespace() -> Iterator[Namespace]:
 
         # The faces: a Webots controller's Robot and the C faces' default robot, each on
         # its own built-in emulator ("sim"), so that the camera is the emulator's.
-        runtime.set_options(runtime.RunOptions(port="sim", seed=3))
+        default_robot.set_options(runtime.RunOptions(port="sim", seed=3))
         controller = DifferentialWheels()
         stack.callback(controller.cleanup)
         controller.getDevice("camera").enable(32)

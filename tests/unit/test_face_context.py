@@ -22,7 +22,7 @@ from ego.app import cli, runner
 from ego.controller import Robot as WebotsRobot
 from ego.core import safety
 from ego.errors import EgoError
-from ego.faces import default_robot, runtime
+from ego.faces import default_robot
 from ego.faces.default_robot import FaceContext, activate, current_context
 from ego.faces.runtime import RunOptions
 
@@ -80,13 +80,13 @@ def test_a_new_contextvars_context_gets_its_own_face_context(fresh: FaceContext)
     assert other.options == RunOptions() and not other.is_open()
 
 
-def test_runtime_reads_and_sets_the_current_contexts_options(fresh: FaceContext) -> None:
-    assert runtime.current() is fresh.options
+def test_the_current_contexts_options_are_read_and_set_in_one_place(fresh: FaceContext) -> None:
+    assert default_robot.current_options() is fresh.options
     options = RunOptions(port="sim", seed=5)
-    runtime.set_options(options)
+    default_robot.set_options(options)
     assert fresh.options is options
     with activate(FaceContext()):
-        assert runtime.current() is not options
+        assert default_robot.current_options() is not options
 
 
 def test_the_webots_robot_takes_its_options_explicitly(fresh: FaceContext) -> None:

@@ -2,38 +2,38 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import pytest
 
+import ego
 from ego.backends import open_port, scheme_of
-from ego.core.ports import DEFAULT_PORT
+from ego.core.environment import read_environment
+from ego.core.ports import DEFAULT_PORT, resolve_port
 from ego.errors import NotAnEpuckError, PortNotFoundError
 from ego.serial.link import Link
 from ego.serial.protocol import Firmware
 from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator
 
-
-def _resolved(port: str | None, environment: dict[str, str]) -> str:
-    """resolve_port(port) in a process of its own, with ``environment`` as its whole env."""
-    code = f"from ego.core.ports import resolve_port; print(resolve_port({port!r}))"
-    done = subprocess.run([sys.executable, "-c", code], env=environment, capture_output=True,
-                          text=True, check=True)  # fmt: skip
-    return done.stdout.strip()
+#: What ``EGO_PORT=/dev/ttyUSB0`` in the environment reads as (ego.core.environment).
+USB = read_environment({"EGO_PORT": "/dev/ttyUSB0"})
 
 
 def test_explicit_port_wins() -> None:
-    assert _resolved("loop://", {"EGO_PORT": "/dev/ttyUSB0"}) == "loop://"
+    assert resolve_port("loop://", USB.port) == "loop://"
 
 
 def test_environment_names_the_port_when_none_is_given() -> None:
-    assert _resolved(None, {"EGO_PORT": "/dev/ttyUSB0"}) == "/dev/ttyUSB0"
+    assert resolve_port(None, USB.port) == "/dev/ttyUSB0"
 
 
 def test_overo_uart_is_the_default() -> None:
-    assert _resolved(None, {}) == DEFAULT_PORT == "/dev/ttyS0"
+    assert resolve_port(None, read_environment({}).port) == DEFAULT_PORT == "/dev/ttyS0"
+
+
+def test_a_robot_opened_without_a_port_opens_the_environments() -> None:
+    # The Robot is the edge: it reads the environment it is given (else the process's).
+    with pytest.raises(PortNotFoundError, match="/dev/ego-no-such-port"):
+        ego.Robot(environment=read_environment({"EGO_PORT": "/dev/ego-no-such-port"}))
 
 
 def test_a_path_opens_a_link_on_a_serial_transport_at_the_asked_rate() -> None:

@@ -151,6 +151,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from ego.app.observers import observe_run
     from ego.app.runner import run_controller
     from ego.backends import takes_option
+    from ego.core.environment import read_environment
     from ego.core.ports import resolve_port
     from ego.core.scheduler import tune_for_stepping
     from ego.servers.supervisor import wants_supervision
@@ -167,7 +168,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     tune_for_stepping(args.realtime)  # the CLI owns the process: precise steps (its doc)
     # The secret goes to the robot's backend when it takes one (a served robot's), and to
     # the dashboard; an emulator or a serial port takes none.
-    wanted = takes_option(resolve_port(args.port), "secret")
+    wanted = takes_option(resolve_port(args.port, read_environment().port), "secret")
     options = runtime.RunOptions(
         port=args.port, firmware=args.firmware, duration_s=args.duration,
         basic_time_step_ms=args.time_step, seed=args.seed, strict=args.strict,

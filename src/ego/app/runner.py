@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import ego.controller
-from ego.core.safety import RobotKeeper, install_signal_handlers
+from ego.core.safety import install_signal_handlers
 from ego.errors import (
     BadFileError,
     CameraCaptureError,
@@ -16,7 +16,7 @@ from ego.errors import (
     LinkError,
     RemoteError,
 )
-from ego.faces.default_robot import FaceContext, activate
+from ego.faces.default_robot import run_context
 from ego.faces.runtime import RunOptions
 
 __all__ = ["run_controller"]
@@ -30,9 +30,9 @@ def run_controller(path: str | Path, options: RunOptions, argv: Sequence[str] = 
     the run holds each one strongly until then, since the controller's globals (and with
     them its robots) are torn down in no particular order when the script ends.
 
-    The run's ``options`` go to the controller through a :class:`FaceContext` of its own,
-    active while it runs: its ``Robot()`` and ``wb_robot_init()`` read them there, and
-    they do not outlive the run.
+    The run's ``options`` go to the controller through a face context of its own
+    (:func:`ego.faces.default_robot.run_context`), active while it runs: its ``Robot()``
+    and ``wb_robot_init()`` read them there, and they do not outlive the run.
     """
     script = Path(path)
     if not script.is_file():
@@ -43,9 +43,8 @@ def run_controller(path: str | Path, options: RunOptions, argv: Sequence[str] = 
     sys.argv = [str(script), *argv]
     sys.path.insert(0, str(script.resolve().parent))
     install_signal_handlers()
-    context = FaceContext(options)
     try:
-        with RobotKeeper(), activate(context):
+        with run_context(options):
             try:
                 runpy.run_path(str(script), run_name="__main__")
             except (LinkError, RemoteError, CameraCaptureError, BadFileError):
@@ -54,8 +53,6 @@ def run_controller(path: str | Path, options: RunOptions, argv: Sequence[str] = 
                 raise ControllerError(
                     f"{script.name}: {type(exc).__name__}: {exc}", _user_traceback(exc)
                 ) from exc
-            finally:
-                context.close()
     finally:
         sys.argv, sys.path[:] = saved_argv, saved_path
         for alias in aliases:

@@ -25,6 +25,7 @@ from ego.app.cli_options import add_dashboard_options, error_line
 from ego.backends import open_port, takes_option
 from ego.core.channel import Channel
 from ego.core.closing import close_each
+from ego.core.environment import Environment, read_environment
 from ego.core.ports import DEFAULT_CAMERA_DEVICE
 from ego.core.safety import TERMINATING_SIGNALS
 from ego.errors import EgoError
@@ -148,22 +149,27 @@ def open_robot(
     firmware: str = "auto",
     camera: str | None = None,
     secret: bytes | None = None,
+    environment: Environment | None = None,
 ) -> ServedRobot:
     """The robot on ``port`` (any backend's: "sim" starts an emulator) and its camera;
-    ``secret`` goes to a backend that takes one (a robot served elsewhere)."""
+    ``secret`` goes to a backend that takes one (a robot served elsewhere).
+    ``environment`` None: this process's (EGO_PORT, EGO_CAMERA...), read now."""
     from ego.core.ports import resolve_port
 
-    resolved = resolve_port(port)
+    environment = environment or read_environment()
+    resolved = resolve_port(port, environment.port)
     # Only a device named on the command line goes to the backend (the emulator has no
     # V4L2 devices, and says so when given one).
     options: dict[str, Any] = {"camera_device": camera} if camera not in (None, "none") else {}
     if secret is not None and takes_option(resolved, "secret"):
         options["secret"] = secret
-    opened = open_port(resolved, firmware=Firmware.choose(firmware), **options)
+    opened = open_port(
+        resolved, environment=environment, firmware=Firmware.choose(firmware), **options
+    )
     robot = ServedRobot(
         opened.channel, closers=[opened.close], world=opened.ground_truth, name=resolved
     )
-    device = camera or os.environ.get("EGO_CAMERA")
+    device = camera or environment.camera
     # Serve the backend's camera: a simulated one always, a V4L2 device when named or
     # present (a robot without its camera board serves none rather than fail).
     wanted = opened.ground_truth is not None or device is not None
@@ -179,6 +185,7 @@ def run(args: argparse.Namespace) -> int:
     if not logging.getLogger().handlers:
         logging.basicConfig(level=logging.INFO, format="%(asctime)s %(levelname)s %(message)s")
     listen = args.listen or [DEFAULT_LISTEN]
+    environment = read_environment()  # once, at the edge: passed down from here
     if args.zenoh and args.listen:
         print("ego serve: serve over --zenoh or on --listen, not both: one controller holds "
               "a robot", file=sys.stderr)  # fmt: skip
@@ -190,14 +197,14 @@ def run(args: argparse.Namespace) -> int:
         print(f"ego serve: {exc}", file=sys.stderr)
         return 2
     try:
-        robot = open_robot(args.port, args.firmware, args.camera, secret)
+        robot = open_robot(args.port, args.firmware, args.camera, secret, environment)
     except EgoError as exc:
         print(f"ego serve: {error_line(exc)}", file=sys.stderr)
         return 1
     try:
         channel = _dashboard(args, robot, secret) if args.dashboard else robot.channel
         if args.zenoh:
-            return _serve_zenoh(args, robot, channel)
+            return _serve_zenoh(args, robot, channel, environment)
         server = Server(
             channel,
             listen=listen,
@@ -233,7 +240,9 @@ def _dashboard(args: argparse.Namespace, robot: ServedRobot, secret: bytes | Non
     return watched
 
 
-def _serve_zenoh(args: argparse.Namespace, robot: ServedRobot, channel: Channel) -> int:
+def _serve_zenoh(
+    args: argparse.Namespace, robot: ServedRobot, channel: Channel, environment: Environment
+) -> int:
     """Serve the robot as the Zenoh node ``--name`` until a signal ends it."""
     from ego.servers.zenoh_node.node import RobotNode
     from ego.zenoh_net.keys import check_name
@@ -241,8 +250,10 @@ def _serve_zenoh(args: argparse.Namespace, robot: ServedRobot, channel: Channel)
 
     try:
         check_name(args.name)
-        settings = ZenohSettings(args.zenoh_listen or [DEFAULT_ENDPOINT], args.zenoh_connect,
-                                 args.zenoh_config)  # fmt: skip
+        settings = ZenohSettings.from_environment(
+            environment, args.zenoh_listen or [DEFAULT_ENDPOINT], args.zenoh_connect,
+            args.zenoh_config,
+        )  # fmt: skip
         session: Any = open_session(settings)
     except (ValueError, EgoError) as exc:
         print(f"ego serve: {exc}", file=sys.stderr)

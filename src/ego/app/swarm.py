@@ -26,7 +26,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import IO, Any
 
-from ego.backends import Opened, find_backend
+from ego.backends import Opened, find_backend, open_port
 from ego.core.closing import close_each
 from ego.serial.protocol import Firmware
 
@@ -75,16 +75,20 @@ class Swarm:
             raise ValueError(f"a swarm of {self.count} robots: 1..{MAX_ROBOTS} are served")
 
     def start(self) -> Swarm:
+        from ego.core.environment import read_environment
         from ego.servers.zenoh_node.node import RobotNode
         from ego.zenoh_net.sessions import ZenohSettings, open_session
 
         backend: Any = find_backend("sim")
         seeds = [robot_seed(self.seed, index) for index in range(self.count)]
         self.worlds = backend.swarm_worlds(self.world, seeds)
-        self.session = open_session(ZenohSettings(listen=[self.endpoint], connect=[]))
+        settings = ZenohSettings.from_environment(
+            read_environment(), listen=[self.endpoint], connect=[]
+        )  # the environment's EGO_ZENOH_CONFIG, if any
+        self.session = open_session(settings)
         try:
             for index, world in enumerate(self.worlds):
-                opened = backend.open("sim", firmware=Firmware(self.firmware), world=world)
+                opened = open_port("sim", firmware=Firmware(self.firmware), world=world)
                 self.opened.append(opened)
                 node = RobotNode(opened.channel, self.session, robot_name(index),
                                  deadline_s=self.deadline_s,

@@ -25,33 +25,42 @@ seed, the network its secret. Beside the channel it may hand in the robot's own 
 the ground module and a rev 1.3's accelerometer to the Overo: the Overo's
 ``/dev/i2c-3`` on its own UART, the emulator's model of the bus for ``sim``. A new
 backend (Bluetooth discovery, a distributed engine, another robot) is one module with a
-class that has :meth:`Backend.open`, registered under the ``ego.backends`` entry point
-group or with :func:`register`; nothing in ``Robot`` changes.
+class that has :meth:`Backend.open` and declares its options (a frozen
+:class:`BackendOptions` dataclass, :mod:`ego.backends.base`), registered under the
+``ego.backends`` entry point group or with :func:`register`; nothing in ``Robot`` changes.
+
+A port's options are bound and checked in one place, :func:`bind_options`, before its
+backend opens it (python-can's ``can.util.load_config``): a name the backend does not
+declare is refused with :class:`~ego.errors.BackendOptionError` naming the scheme, the
+option and the options that scheme takes; a value of the wrong type is refused too; a
+value of None stands for the backend's default. The environment's defaults
+(:mod:`ego.core.environment`) fill in what the caller left out.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Protocol
+import dataclasses
+import importlib
+import types
+import typing
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Union, get_args, get_origin
 
-from ego.errors import PortNotFoundError
-from ego.serial.protocol import Firmware
+from ego.backends.base import Backend, BackendOptions, Opened
+from ego.errors import BackendOptionError, PortNotFoundError
 
 if TYPE_CHECKING:
-    from ego.camera import FrameSource
-    from ego.core.channel import Channel
-    from ego.core.ground_truth import GroundTruth
-    from ego.core.scene import Scene
-    from ego.core.scheduler import Pacer
-    from ego.i2c.bus import I2CAccess
+    from ego.core.environment import Environment
 
 __all__ = [
     "ENTRY_POINT_GROUP",
     "Backend",
+    "BackendOptions",
     "Opened",
+    "bind_options",
     "find_backend",
     "open_port",
+    "option_names",
     "register",
     "scheme_of",
     "takes_option",
@@ -60,82 +69,18 @@ __all__ = [
 #: Where packages declare backends: ``[project.entry-points."ego.backends"] sim = ...``.
 ENTRY_POINT_GROUP = "ego.backends"
 
-
-@dataclass
-class Opened:
-    """What a backend opened for a Robot."""
-
-    channel: Channel
-    #: Makes the robot's camera source when it is first used; None: this robot has none.
-    camera: Callable[[], FrameSource] | None = None
-    #: What the simulator behind a simulated robot knows of it, else None.
-    ground_truth: GroundTruth | None = None
-    #: Releases what the backend started beside the channel (an emulator thread).
-    closers: list[Callable[[], None]] = field(default_factory=list)
-    #: Whether the robot is driven over a network (Webots' MODE_REMOTE_CONTROL).
-    remote: bool = False
-    #: The robot's own I2C bus (the Overo's), opened at first need; None: out of reach.
-    i2c: I2CAccess | None = None
-    #: The simulated world's solids, for a Webots Supervisor (None: a real robot).
-    scene: Scene | None = None
-    #: What paces the steps instead of the wall clock (an emulator's virtual time).
-    pacer: Pacer | None = None
-    #: When the last reply came, in seconds, for the checks of a reply's plausibility (a
-    #: replay: when the recorded robot's came); None: the host's monotonic clock.
-    reply_clock: Callable[[], float] | None = None
-
-    def close(self) -> None:
-        """Close the channel and everything beside it; idempotent."""
-        self.channel.close()
-        while self.closers:
-            self.closers.pop()()
-
-
-class Backend(Protocol):
-    """Opens the channel to one kind of robot; each backend takes the options it knows.
-
-    ``firmware`` forces a firmware profile (None: detect it); a backend raises TypeError
-    for an option it does not know, so a misspelt one never passes unnoticed.
-    """
-
-    @property
-    def open(self) -> Callable[..., Opened]:
-        """``open(port, *, firmware, **options) -> Opened``, each with its own options."""
-        ...
-
-
-_REGISTRY: dict[str, Callable[[], Backend]] = {
-    "serial": lambda: _serial_backend(),
-    "tcp": lambda: _remote_backend(),
-    "udp": lambda: _remote_backend(),
-    "unix": lambda: _remote_backend(),
-    "replay": lambda: _replay_backend(),
-    "zenoh": lambda: _zenoh_backend(),
+#: The built-in backends, by scheme: the module and class, imported when first used
+#: (zenoh and mcap load only for their own ports), as python-can's ``BACKENDS``.
+BUILT_IN: dict[str, tuple[str, str]] = {
+    "serial": ("ego.backends.serial_line", "SerialBackend"),
+    "tcp": ("ego.backends.remote", "RemoteBackend"),
+    "udp": ("ego.backends.remote", "RemoteBackend"),
+    "unix": ("ego.backends.remote", "RemoteBackend"),
+    "replay": ("ego.backends.replay", "ReplayBackend"),
+    "zenoh": ("ego.backends.zenoh_remote", "ZenohBackend"),
 }
 
-
-def _serial_backend() -> Backend:
-    from ego.backends.serial_line import SerialBackend
-
-    return SerialBackend()
-
-
-def _remote_backend() -> Backend:
-    from ego.backends.remote import RemoteBackend
-
-    return RemoteBackend()
-
-
-def _zenoh_backend() -> Backend:
-    from ego.backends.zenoh_remote import ZenohBackend  # zenoh is imported only for zenoh://
-
-    return ZenohBackend()
-
-
-def _replay_backend() -> Backend:
-    from ego.backends.replay import ReplayBackend  # mcap is imported only for a replay
-
-    return ReplayBackend()
+_REGISTRY: dict[str, Callable[[], Backend]] = {}
 
 
 def register(scheme: str, factory: Callable[[], Backend]) -> None:
@@ -145,10 +90,10 @@ def register(scheme: str, factory: Callable[[], Backend]) -> None:
 
 def scheme_of(port: str) -> str:
     """The backend scheme of a port: ``sim``, ``tcp``, ``udp``... or ``serial``."""
-    if port in _REGISTRY or port == "sim":  # a bare name: "sim"
+    if port in _REGISTRY or port in BUILT_IN or port == "sim":  # a bare name: "sim"
         return port
     scheme, sep, _ = port.partition("://")
-    if sep and (scheme in _REGISTRY or _declared(scheme) is not None):
+    if sep and (scheme in _REGISTRY or scheme in BUILT_IN or _declared(scheme) is not None):
         return scheme
     return "serial"  # a path, or a URL pyserial handles (socket://, loop://, spy://)
 
@@ -166,32 +111,122 @@ def find_backend(scheme: str) -> Backend:
     """The backend for ``scheme``: built in, registered, or declared by an installed package."""
     factory = _REGISTRY.get(scheme)
     if factory is None:
-        declared = _declared(scheme)
-        if declared is None:
-            raise PortNotFoundError(
-                f"no backend serves {scheme!r} ports: is the package that provides it "
-                f"installed? (known: {', '.join(sorted(_REGISTRY))})"
-            )
-        factory = declared.load()
+        if scheme in BUILT_IN:
+            module, name = BUILT_IN[scheme]
+            factory = getattr(importlib.import_module(module), name)
+        else:
+            declared = _declared(scheme)
+            if declared is None:
+                known = sorted({*_REGISTRY, *BUILT_IN})
+                raise PortNotFoundError(
+                    f"no backend serves {scheme!r} ports: is the package that provides it "
+                    f"installed? (known: {', '.join(known)})"
+                )
+            factory = declared.load()
         _REGISTRY[scheme] = factory
     return factory()
 
 
+def option_names(port: str) -> tuple[str, ...]:
+    """The options the backend of ``port`` declares, in its declaration's order."""
+    return tuple(f.name for f in dataclasses.fields(find_backend(scheme_of(port)).options))
+
+
 def takes_option(port: str, name: str) -> bool:
-    """Whether the backend of ``port`` names the option ``name`` among its own (a served
-    robot's backend takes ``secret``; the emulator's and a serial port's do not)."""
-    import inspect
-
-    parameters = inspect.signature(find_backend(scheme_of(port)).open).parameters
-    return name in parameters and parameters[name].kind is inspect.Parameter.KEYWORD_ONLY
+    """Whether the backend of ``port`` declares the option ``name`` (a served robot's
+    backend takes ``secret``; the emulator's and a serial port's do not)."""
+    return name in option_names(port)
 
 
-def open_port(port: str, *, firmware: Firmware | None = None, **options: Any) -> Opened:
-    """Open ``port`` with the backend its scheme names, passing it ``options``."""
-    backend = find_backend(scheme_of(port))
-    try:
-        return backend.open(port, firmware=firmware, **options)
-    except TypeError as exc:
-        if "unexpected keyword argument" not in str(exc):
-            raise
-        raise ValueError(f"{scheme_of(port)} ports take no such option: {exc}") from None
+def bind_options(
+    port: str, given: Mapping[str, object], environment: Environment | None = None
+) -> BackendOptions:
+    """The options of ``port``'s backend, bound from ``given`` and checked, the
+    environment's defaults filled in: the one place a port's options are checked.
+
+    An option the backend does not declare raises BackendOptionError naming the scheme,
+    the option and the options the scheme takes; a value of the wrong type raises
+    BackendOptionError too (or the option's own checker's error: a baud rate's). A value
+    of None is the backend's default, for every option, as if it were not given.
+    """
+    return _bind(scheme_of(port), find_backend(scheme_of(port)), given, environment)
+
+
+def _bind(
+    scheme: str, backend: Backend, given: Mapping[str, object], environment: Environment | None
+) -> BackendOptions:
+    declared = backend.options
+    fields = {f.name: f for f in dataclasses.fields(declared)}
+    unknown = sorted(set(given) - set(fields))
+    if unknown:
+        raise BackendOptionError(
+            f"{scheme} ports take no option {unknown[0]!r} (they take: {', '.join(fields)})"
+        )
+    hints = _hints(declared)
+    values: dict[str, Any] = {}  # each checked against its field's type above
+    for name, value in given.items():
+        if value is None:
+            continue  # the backend's default
+        checker = fields[name].metadata.get("check")
+        if checker is not None:
+            value = checker(value)  # its own error; the value to bind (a name's Firmware)
+        elif not _fits(value, hints[name]):
+            raise BackendOptionError(
+                f"{scheme} option {name}={value!r} must be {_shown(hints[name])}, "
+                f"not {type(value).__name__}"
+            )
+        values[name] = value
+    if environment is None:
+        from ego.core.environment import read_environment
+
+        environment = read_environment()
+    return declared(**values).with_environment(environment)
+
+
+_HINTS: dict[str, dict[str, object]] = {}
+
+
+def _hints(declared: type[BackendOptions]) -> dict[str, object]:
+    """The resolved type of each option of ``declared`` (resolved once a class)."""
+    key = f"{declared.__module__}.{declared.__qualname__}"
+    if key not in _HINTS:
+        _HINTS[key] = typing.get_type_hints(declared)
+    return _HINTS[key]
+
+
+def _fits(value: object, hint: object) -> bool:
+    """Whether ``value`` is of the type ``hint`` names (the types options are declared
+    with: classes, unions, Literal, sequences of a type)."""
+    origin = get_origin(hint)
+    if hint is Any or hint is object:
+        return True
+    if origin in (Union, types.UnionType):
+        return any(_fits(value, arg) for arg in get_args(hint))
+    if origin is typing.Literal:
+        return value in get_args(hint)
+    if origin is not None and isinstance(origin, type) and issubclass(origin, Sequence):
+        if isinstance(value, str | bytes) or not isinstance(value, Sequence):
+            return False
+        args = [a for a in get_args(hint) if a is not Ellipsis]
+        return all(_fits(item, args[0]) for item in value) if args else True
+    if hint is float:
+        return isinstance(value, int | float) and not isinstance(value, bool)
+    if hint is int:
+        return isinstance(value, int) and not isinstance(value, bool)
+    return isinstance(value, hint) if isinstance(hint, type) else True
+
+
+def _shown(hint: object) -> str:
+    if isinstance(hint, type):
+        return hint.__name__
+    return str(hint).replace("typing.", "").replace("collections.abc.", "")
+
+
+def open_port(port: str, *, environment: Environment | None = None, **options: object) -> Opened:
+    """Open ``port`` with the backend its scheme names, with ``options`` bound and checked
+    by :func:`bind_options` (``firmware`` for every backend: a Firmware, None to detect
+    it). ``environment`` None: the process's (:func:`ego.core.environment.read_environment`).
+    """
+    scheme = scheme_of(port)
+    backend = find_backend(scheme)
+    return backend.open(port, _bind(scheme, backend, options, environment))

@@ -27,9 +27,9 @@ import itertools
 import time
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
-from ego.backends import Opened
+from ego.backends.base import BackendOptions, Opened
 from ego.core.channel import ChannelBase, FirmwareInfo
 from ego.core.profile import Firmware
 from ego.core.safety import stop_requests
@@ -176,9 +176,15 @@ def _reply_times_ns(recording: Recording) -> list[int]:
 
 
 class ReplayBackend:
-    """``Robot("replay://run.mcap")``: the run recorded in that file, at ``?speed=X``."""
+    """``Robot("replay://run.mcap")``: the run recorded in that file, at ``?speed=X``.
 
-    def open(self, port: str, *, firmware: Firmware | None) -> Opened:
+    It takes ``firmware`` alone (:class:`~ego.backends.base.BackendOptions`): checked
+    against the recorded robot's."""
+
+    options: ClassVar[type[BackendOptions]] = BackendOptions
+
+    def open(self, port: str, options: BackendOptions) -> Opened:
+        firmware = options.firmware
         path, speed = _speed(port)
         recording = Recording.open(Path(path))
         channel = ReplayChannel(recording, _reply_times_ns(recording))

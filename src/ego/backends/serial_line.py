@@ -6,20 +6,36 @@
 
 from __future__ import annotations
 
-import os
-from typing import TYPE_CHECKING
+import dataclasses
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, ClassVar
 
-from ego.backends import Opened
-from ego.core.ports import DEFAULT_CAMERA_DEVICE
+from ego.backends.base import BackendOptions, Opened, check
+from ego.core.ports import DEFAULT_CAMERA_DEVICE, default_baud
+from ego.serial.link import LinkSettings
 from ego.serial.protocol import Firmware
+from ego.serial.transport import check_baudrate
 
 if TYPE_CHECKING:
     from ego.camera import FrameSource
+    from ego.core.environment import Environment
     from ego.i2c.bus import I2CAccess
-    from ego.serial.link import Link, LinkSettings
+    from ego.serial.link import Link
     from ego.serial.transport import Transport
 
-__all__ = ["SerialBackend", "open_link", "robot_i2c"]
+__all__ = ["SerialBackend", "SerialOptions", "check_i2c_bus", "open_link", "robot_i2c"]
+
+
+def check_i2c_bus(bus: object) -> int | str:
+    """``bus`` if it names an I2C bus (a number, a ``/dev/i2c-N`` path) or is "none"; else
+    OutOfRangeError naming it."""
+    from ego.i2c.bus import i2c_bus_path
+
+    if bus == "none":
+        return "none"
+    i2c_bus_path(bus)  # type: ignore[arg-type]  # it refuses what is not an int or str
+    assert isinstance(bus, int | str)
+    return bus
 
 
 def robot_i2c(port: str, i2c_bus: int | str | None) -> I2CAccess | None:
@@ -35,30 +51,48 @@ def robot_i2c(port: str, i2c_bus: int | str | None) -> I2CAccess | None:
     return local_bus(DEFAULT_I2C_BUS) if is_robot_uart(port) else None
 
 
+@dataclass(frozen=True, kw_only=True)
+class SerialOptions(BackendOptions):
+    """A serial port's options; None: the default each names."""
+
+    #: The line rate (None: the port's own, :func:`ego.core.ports.default_baud`).
+    baudrate: int | None = field(default=None, metadata=check(check_baudrate))
+    #: How the link retries, resynchronises and reconnects (None: LinkSettings()).
+    link_settings: LinkSettings | None = None
+    #: The V4L2 camera device, or "none" (None: EGO_CAMERA, else /dev/video0).
+    camera_device: str | None = None
+    #: The robot's own I2C bus: a number, a ``/dev/i2c-N`` path, or "none" (None: the
+    #: Overo's ``/dev/i2c-3`` on its own UART, none elsewhere).
+    i2c_bus: int | str | None = field(default=None, metadata=check(check_i2c_bus))
+
+    def with_environment(self, environment: Environment) -> SerialOptions:
+        if self.camera_device is not None or environment.camera is None:
+            return self
+        return dataclasses.replace(self, camera_device=environment.camera)
+
+    def line_baud(self, port: str) -> int:
+        """The rate ``port`` opens at: the one given, else the port's own."""
+        return self.baudrate if self.baudrate is not None else default_baud(port, self.firmware)
+
+
 class SerialBackend:
     """A serial port or pyserial URL at the firmware's line rate (docs/protocol.md, Line).
 
-    ``i2c_bus`` (a number, a ``/dev/i2c-N`` path, or "none") is the robot's own I2C bus;
+    Options (:class:`SerialOptions`): ``baudrate``, ``link_settings``, ``camera_device``,
+    and ``i2c_bus`` (a number, a ``/dev/i2c-N`` path, or "none"), the robot's own I2C bus;
     by default the Overo's ``/dev/i2c-3`` on its own UART (``/dev/ttyS*``), none elsewhere.
     """
 
-    def open(
-        self,
-        port: str,
-        *,
-        firmware: Firmware | None,
-        baudrate: int | None = None,
-        link_settings: LinkSettings | None = None,
-        camera_device: str | None = None,
-        i2c_bus: int | str | None = None,
-    ) -> Opened:
-        from ego.core.ports import default_baud
-        from ego.serial.transport import SerialTransport, check_baudrate
+    options: ClassVar[type[BackendOptions]] = SerialOptions
 
-        baud = check_baudrate(baudrate) if baudrate is not None else default_baud(port, firmware)
-        i2c = robot_i2c(port, i2c_bus)  # checked before the port opens
-        channel = open_link(SerialTransport(port, baud), firmware, link_settings)
-        device = camera_device or os.environ.get("EGO_CAMERA") or DEFAULT_CAMERA_DEVICE
+    def open(self, port: str, options: BackendOptions) -> Opened:
+        from ego.serial.transport import SerialTransport
+
+        given = SerialOptions.narrow(options)
+        baud = given.line_baud(port)
+        i2c = robot_i2c(port, given.i2c_bus)  # checked before the port opens
+        channel = open_link(SerialTransport(port, baud), given.firmware, given.link_settings)
+        device = given.camera_device or DEFAULT_CAMERA_DEVICE
         if device == "none":
             return Opened(channel, i2c=i2c)
 

@@ -15,10 +15,11 @@ import logging
 import secrets
 import threading
 import time
-from collections.abc import Callable
-from typing import TYPE_CHECKING, TypeVar
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar, TypeVar
 
-from ego.backends import Opened
+from ego.backends.base import BackendOptions, Opened
 from ego.backends.remote.channel import info_from
 from ego.backends.remote.connection import error_from_reply
 from ego.core.channel import ChannelBase
@@ -30,10 +31,10 @@ from ego.zenoh_net.sessions import ZenohSettings, open_session
 if TYPE_CHECKING:
     import zenoh
 
-    from ego.core.profile import Firmware
+    from ego.core.environment import Environment
     from ego.serial.protocol import Batch
 
-__all__ = ["SCHEME", "ZenohBackend", "ZenohChannel"]
+__all__ = ["SCHEME", "ZenohBackend", "ZenohChannel", "ZenohOptions"]
 
 log = logging.getLogger(__name__)
 
@@ -174,23 +175,43 @@ class ZenohChannel(ChannelBase):
                 self.session.close()
 
 
-class ZenohBackend:
-    """``zenoh://NAME``: the robot node NAME; options ``zenoh_connect`` (endpoints,
-    default ``EGO_ZENOH_CONNECT``, else the default node endpoint on loopback) and
-    ``zenoh_config`` (a Zenoh configuration file)."""
+@dataclass(frozen=True, kw_only=True)
+class ZenohOptions(BackendOptions):
+    """A Zenoh node's options; None: the default each names."""
 
-    def open(
-        self,
-        port: str,
-        *,
-        firmware: Firmware | None,
-        zenoh_connect: list[str] | None = None,
-        zenoh_config: str | None = None,
-    ) -> Opened:
+    #: Endpoints to connect to (None: EGO_ZENOH_CONNECT, else the default node endpoint
+    #: on loopback).
+    zenoh_connect: Sequence[str] | None = None
+    #: A Zenoh configuration file (None: EGO_ZENOH_CONFIG, else none).
+    zenoh_config: str | None = None
+    #: Endpoints this controller's session listens on (None: EGO_ZENOH_LISTEN, else an
+    #: ephemeral port on loopback).
+    zenoh_listen: Sequence[str] | None = None
+
+    def with_environment(self, environment: Environment) -> ZenohOptions:
+        settings = ZenohSettings.from_environment(
+            environment, self.zenoh_listen, self.zenoh_connect, self.zenoh_config
+        )
+        return ZenohOptions(
+            firmware=self.firmware,
+            zenoh_connect=settings.connect,
+            zenoh_config=settings.config_file,
+            zenoh_listen=settings.listen,
+        )
+
+
+class ZenohBackend:
+    """``zenoh://NAME``: the robot node NAME; options :class:`ZenohOptions`."""
+
+    options: ClassVar[type[BackendOptions]] = ZenohOptions
+
+    def open(self, port: str, options: BackendOptions) -> Opened:
         from ego.zenoh_net.sessions import DEFAULT_ENDPOINT
 
+        given = ZenohOptions.narrow(options)
+        firmware = given.firmware
         name = port.removeprefix(f"{SCHEME}://")
-        settings = ZenohSettings(connect=zenoh_connect, config_file=zenoh_config)
+        settings = ZenohSettings(given.zenoh_listen, given.zenoh_connect, given.zenoh_config)
         if not settings.connect:
             settings.connect = [DEFAULT_ENDPOINT]
         session = open_session(settings)

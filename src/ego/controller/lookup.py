@@ -17,10 +17,17 @@ from ego.controller.devices import (
     view_class,
     webots_camera_size,
 )
-from ego.controller.radio import RADIO_DEVICES, Emitter, Receiver, radio_available
+from ego.controller.radio import (
+    RADIO_DEVICES,
+    Emitter,
+    Receiver,
+    RobotRadio,
+    radio_available,
+)
 from ego.errors import UnknownDeviceError
 
 if TYPE_CHECKING:
+    from ego.core.environment import Environment
     from ego.core.robot import Robot as CoreRobot
     from ego.faces.runtime import RunOptions
 
@@ -34,6 +41,8 @@ class DeviceLookup:
     _options: RunOptions
     _devices: dict[str, Device]
     _motors: list[Motor]
+    _environment: Environment
+    _radio: RobotRadio
 
     def getName(self) -> str:
         raise NotImplementedError
@@ -53,7 +62,7 @@ class DeviceLookup:
         device = self._devices.get(name)
         if device is None:
             cls = view_class(name) if name in self._core.device_names else None
-            if name in RADIO_DEVICES and radio_available():
+            if name in RADIO_DEVICES and radio_available(self._environment):
                 cls = Emitter if name == "emitter" else Receiver
             if cls is None and self._ground_truth(name):
                 from ego.controller.absent import ground_truth_class
@@ -78,6 +87,8 @@ class DeviceLookup:
                 )
                 self._motors.append(motor)
                 device = motor
+            elif cls is Emitter or cls is Receiver:  # the two share the robot's one radio
+                device = cls(self._core, name, strict=self._options.strict, radio=self._radio)
             else:
                 device = cls(self._core, name, strict=self._options.strict)
                 if cls is Camera:

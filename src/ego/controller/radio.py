@@ -6,12 +6,15 @@ the real e-puck has none, so ego gives its controllers one over the network: Zen
 installed (``pip install ego[zenoh]``) and ``EGO_RADIO`` is not ``none``; otherwise
 they are absent, with Webots' warning.
 
-The robot's radio uses its Zenoh session when the robot is a Zenoh node
+A robot's emitter and receiver share one :class:`RobotRadio`, owned by the Webots
+``Robot`` that serves them (ego.controller.robot), opened at first use and closed with the
+robot. It uses the robot's Zenoh session when the robot is a Zenoh node
 (``zenoh://NAME``), else a session of its own on ``EGO_ZENOH_CONNECT`` /
-``EGO_ZENOH_LISTEN`` (ego.zenoh_net.sessions). As in Webots, a packet sent during a step
-is received at the next one; the queue keeps a packet until ``nextPacket``, up to a
-bound (1024 packets, 1 MiB of data: ego.zenoh_net.radio's BUFFER_PACKETS and
-BUFFER_BYTES), beyond which arriving packets are dropped and counted
+``EGO_ZENOH_LISTEN`` (ego.zenoh_net.sessions), as the face's environment says.
+As in Webots, a packet sent during a step is received at the next one; the queue keeps
+a packet until ``nextPacket``, up to a bound (1024 packets, 1 MiB of data:
+ego.zenoh_net.radio's BUFFER_PACKETS and BUFFER_BYTES), beyond which arriving packets
+are dropped and counted
 (``Receiver.dropped_packets``), as Webots' Receiver drops what its ``bufferSize`` cannot
 hold.
 Signal strength and direction come from the emulated world's true poses (on the
@@ -24,11 +27,11 @@ from __future__ import annotations
 import importlib.util
 import math
 import os
-import weakref
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
 from ego.controller.devices import Device
+from ego.core.environment import Environment, read_environment
 from ego.devices.base import MAX_PERIOD_MS, check_int
 from ego.errors import DeviceError, OutOfRangeError
 
@@ -36,39 +39,52 @@ if TYPE_CHECKING:
     from ego.core.robot import Robot as CoreRobot
     from ego.zenoh_net.radio import Packet, Radio
 
-__all__ = ["RADIO_DEVICES", "Emitter", "Receiver", "radio_available"]
+__all__ = ["RADIO_DEVICES", "Emitter", "Receiver", "RobotRadio", "radio_available"]
 
 #: The names Webots' e-puck gives its radio devices.
 RADIO_DEVICES = ("emitter", "receiver")
 #: Webots' E-puck PROTO: emitter_channel and receiver_channel default to 1.
 DEFAULT_CHANNEL = 1
-_RADIOS: weakref.WeakKeyDictionary[CoreRobot, Radio] = weakref.WeakKeyDictionary()
 
 
-def radio_available() -> bool:
+def radio_available(environment: Environment) -> bool:
     """Whether robots get a radio: eclipse-zenoh is installed and EGO_RADIO is not none."""
-    return os.environ.get("EGO_RADIO") != "none" and importlib.util.find_spec("zenoh") is not None
+    return environment.radio and importlib.util.find_spec("zenoh") is not None
 
 
-def _radio(core: CoreRobot) -> Radio:
-    """The robot's one radio (made at first use, closed with the robot)."""
-    radio = _RADIOS.get(core)
-    if radio is None:
-        import zenoh
+class RobotRadio:
+    """One robot's radio, shared by its emitter and receiver: made at first use, closed
+    with the robot. Its owner is the Webots Robot that serves both devices."""
 
-        from ego.zenoh_net.radio import Radio
-        from ego.zenoh_net.sessions import ZenohSettings, open_session
+    def __init__(self, core: CoreRobot, environment: Environment) -> None:
+        self._core = core
+        self._environment = environment
+        self._radio: Radio | None = None
 
-        # A robot reached over Zenoh (even through a recording's tap) shares its session.
-        session = core.channel.session_of(zenoh.Session)
-        name = f"{core.port}@{os.uname().nodename}:{os.getpid()}"
-        owns = session is None
-        if session is None:
-            session = open_session(ZenohSettings())
-        radio = Radio(session, str(name), lambda: _true_pose(core), owns_session=owns)
-        _RADIOS[core] = radio
-        core.add_closer(radio.close)
-    return radio
+    def get(self) -> Radio:
+        """The radio, opened now if it is not yet."""
+        if self._radio is None:
+            import zenoh
+
+            from ego.zenoh_net.radio import Radio
+            from ego.zenoh_net.sessions import ZenohSettings, open_session
+
+            core = self._core
+            # A robot reached over Zenoh (even through a recording's tap) shares its session.
+            session = core.channel.session_of(zenoh.Session)
+            name = f"{core.port}@{os.uname().nodename}:{os.getpid()}"
+            owns = session is None
+            if session is None:
+                session = open_session(ZenohSettings.from_environment(self._environment))
+            radio = Radio(session, name, lambda: _true_pose(core), owns_session=owns)
+            self._radio = radio
+            core.add_closer(radio.close)
+        return self._radio
+
+    @property
+    def dropped_total(self) -> int:
+        """Packets this robot's radio lost (0 before it opened)."""
+        return self._radio.dropped.total if self._radio is not None else 0
 
 
 def _true_pose(core: CoreRobot) -> list[float] | None:
@@ -89,12 +105,19 @@ class _RadioDevice(Device):
     CHANNEL_BROADCAST = -1
 
     def __init__(
-        self, core: CoreRobot | str, name: str = "", *, strict: bool | None = None
+        self,
+        core: CoreRobot | str,
+        name: str = "",
+        *,
+        strict: bool | None = None,
+        radio: RobotRadio | None = None,
     ) -> None:
         if isinstance(core, str):
             return  # made by name (Device.__new__)
         super().__init__(core, name, strict=strict)
         self._channel = DEFAULT_CHANNEL
+        #: The robot's radio, shared with its other radio device (None: one of its own).
+        self._radio = radio if radio is not None else RobotRadio(core, read_environment())
 
     def getChannel(self) -> int:
         return self._channel
@@ -114,7 +137,7 @@ class Emitter(_RadioDevice):
             data = bytes(message)
         else:
             raise DeviceError(f"Emitter.send takes bytes or a str, not {type(message).__name__}")
-        _radio(self._core).send(self._channel, data, self._range)
+        self._radio.get().send(self._channel, data, self._range)
         return 1
 
     def setChannel(self, channel: int) -> None:
@@ -143,9 +166,14 @@ class Receiver(_RadioDevice):
     _node_type = "RECEIVER"
 
     def __init__(
-        self, core: CoreRobot | str, name: str = "", *, strict: bool | None = None
+        self,
+        core: CoreRobot | str,
+        name: str = "",
+        *,
+        strict: bool | None = None,
+        radio: RobotRadio | None = None,
     ) -> None:
-        super().__init__(core, name, strict=strict)
+        super().__init__(core, name, strict=strict, radio=radio)
         self._period = 0
         self._queue: deque[Packet] = deque()
         self._queued_bytes = 0
@@ -153,13 +181,13 @@ class Receiver(_RadioDevice):
     def enable(self, samplingPeriod: int) -> None:
         period = check_int("sampling period", samplingPeriod, 1, MAX_PERIOD_MS, " ms")
         if not self._period:
-            _radio(self._core).listen(self._channel)
+            self._radio.get().listen(self._channel)
             self._core.add_step_listener(self._step)
         self._period = period
 
     def disable(self) -> None:
         if self._period:
-            _radio(self._core).stop_listening()
+            self._radio.get().stop_listening()
             self._core.remove_step_hooks(self._step)
         self._period = 0
 
@@ -167,7 +195,7 @@ class Receiver(_RadioDevice):
         return self._period
 
     def _step(self, core: CoreRobot) -> None:
-        radio = _radio(core)
+        radio = self._radio.get()
         packets = radio.take()
         for index, packet in enumerate(packets):
             if not radio.fits(len(self._queue), self._queued_bytes, len(packet.data)):
@@ -180,8 +208,7 @@ class Receiver(_RadioDevice):
     @property
     def dropped_packets(self) -> int:
         """Packets lost (ego's, not Webots'): the buffer full, or malformed; logged too."""
-        radio = _RADIOS.get(self._core)
-        return radio.dropped.total if radio is not None else 0
+        return self._radio.dropped_total
 
     def getQueueLength(self) -> int:
         return len(self._queue)
@@ -219,7 +246,7 @@ class Receiver(_RadioDevice):
     def setChannel(self, channel: int) -> None:
         self._channel = _check_channel(channel)
         if self._period:
-            _radio(self._core).listen(self._channel)
+            self._radio.get().listen(self._channel)
 
     channel = property(_RadioDevice.getChannel, setChannel)
     queue_length = property(getQueueLength)

@@ -16,6 +16,7 @@ from ego.controller.devices import (
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
 from ego.controller.lookup import DeviceLookup
+from ego.controller.radio import RobotRadio
 from ego.core.robot import Robot as CoreRobot
 from ego.errors import EgoError, UnsupportedDeviceError
 from ego.faces.default_robot import current_context
@@ -70,7 +71,10 @@ class Robot(DeviceLookup):
         self.keyboard = Keyboard(0)
         self.mouse = Mouse(0)
         self.joystick = Joystick(0)
-        self._core = CoreRobot(options.port, **options.robot_options())
+        self._core = context.new_robot(options=options)
+        self._environment = context.environment
+        #: The robot's radio (its emitter's and receiver's), opened at first use.
+        self._radio = RobotRadio(self._core, context.environment)
         #: The ego Robot underneath, for what Webots' API does not cover (a plain
         #: attribute: ego reads its own ``_core``, so a subclass may reuse the name).
         self.core = self._core

@@ -107,14 +107,17 @@ def open_group(pattern: str, **options: Any) -> tuple[list[Robot], RobotGroup[Ro
     ``options`` go to each Robot (``zenoh_connect``, ``zenoh_config``).
     """
     from ego.backends.zenoh_remote import SCHEME, node_names
+    from ego.core.environment import read_environment
     from ego.core.robot import Robot
     from ego.errors import PortNotFoundError
     from ego.zenoh_net.sessions import DEFAULT_ENDPOINT, ZenohSettings, open_session
 
     if not pattern.startswith(f"{SCHEME}://"):
         raise ValueError(f"a group pattern is zenoh://KEY_EXPRESSION, not {pattern!r}")
-    settings = ZenohSettings(connect=options.get("zenoh_connect"),
-                             config_file=options.get("zenoh_config"))  # fmt: skip
+    settings = ZenohSettings.from_environment(
+        read_environment(), connect=options.get("zenoh_connect"),
+        config_file=options.get("zenoh_config"),
+    )  # fmt: skip
     settings.connect = settings.connect or [DEFAULT_ENDPOINT]
     session: Any = open_session(settings)  # zenoh.Session: its close() is untyped
     try:

@@ -12,6 +12,7 @@ __all__ = [
     "DEFAULT_CAMERA_DEVICE",
     "DEFAULT_PORT",
     "ROBOT_UART_PREFIXES",
+    "call_baud",
     "default_baud",
     "is_robot_uart",
     "resolve_port",
@@ -23,8 +24,9 @@ DEFAULT_PORT = "/dev/ttyS0"
 DEFAULT_CAMERA_DEVICE = "/dev/video0"
 
 
-def resolve_port(port: str | os.PathLike[str] | None) -> str:
-    """The argument, else ``EGO_PORT``, else ``/dev/ttyS0``."""
+def resolve_port(port: str | os.PathLike[str] | None, fallback: str | None = None) -> str:
+    """The argument, else ``fallback`` (``EGO_PORT``, as :mod:`ego.core.environment` read
+    it), else ``/dev/ttyS0``."""
     if isinstance(port, os.PathLike):
         port = os.fspath(port)
     if port is not None and not isinstance(port, str):
@@ -37,7 +39,7 @@ def resolve_port(port: str | os.PathLike[str] | None) -> str:
             f"port {port!r} is empty: give a serial port (/dev/ttyS0), a pyserial URL, "
             "'sim', tcp://HOST:PORT or udp://HOST:PORT, or None for $EGO_PORT"
         )
-    return port or os.environ.get("EGO_PORT") or DEFAULT_PORT
+    return port or fallback or DEFAULT_PORT
 
 
 #: Where Linux puts a Bluetooth serial link (rfcomm bind / rfcomm connect).
@@ -64,3 +66,14 @@ ROBOT_UART_PREFIXES = ("/dev/ttyS", "/dev/ttyO")
 def is_robot_uart(port: str) -> bool:
     """Whether ``port`` is the Overo's own UART to the dsPIC (/dev/ttyS*, /dev/ttyO*)."""
     return port.startswith(ROBOT_UART_PREFIXES)
+
+
+def call_baud(port: str, firmware: Firmware | None, asked: int | None) -> int | None:
+    """The rate a controller's own serial call asks for (E-GO's ``overo_serial_init(230400,
+    ...)``), where it applies: the Overo's own UART with the stock firmware (or a firmware
+    to detect there). Elsewhere None, the port's own rate (:func:`default_baud`): Webots'
+    firmware answers at 115200 only, a Bluetooth link runs at 115200, and the line of a
+    served robot, a Zenoh node or a recording is not this controller's to set."""
+    if asked is None or not is_robot_uart(port) or firmware is Firmware.WEBOTS:
+        return None
+    return asked

@@ -8,21 +8,21 @@ import warnings
 import weakref
 from collections.abc import Callable
 from types import TracebackType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ego.backends import Opened, open_port
 from ego.core.channel import Channel, ChannelBase, TappedChannel, as_channel_base
+from ego.core.environment import Environment, read_environment
 from ego.core.ports import resolve_port
 from ego.core.robot_camera import CameraWiring
 from ego.core.robot_devices import DeviceWiring
 from ego.core.robot_step import Stepping
 from ego.core.robot_stop import Parts, SafeStop
-from ego.core.safety import install_signal_handlers, register
+from ego.core.safety import OPEN_ROBOTS, install_signal_handlers
 from ego.core.scheduler import Pacer, StepClock
 from ego.errors import DeprecatedNameWarning
 from ego.i2c.bus import I2CBus, given_bus
 from ego.i2c.side import OveroI2C
-from ego.serial.protocol import Firmware
 
 if TYPE_CHECKING:
     from ego.camera import FrameSource
@@ -75,10 +75,11 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         camera_source: FrameSource | None = None,
         i2c: I2CBus | None = None,
         handle_signals: bool = False,
-        **options: Any,
+        environment: Environment | None = None,
+        **options: object,
     ) -> None:
         self._closed = True  # until the channel is up, close() has nothing to stop
-        self._opened = self._open(port, channel, options)
+        self._opened = self._open(port, channel, options, environment)
         if i2c is not None:
             self._opened.i2c = given_bus(i2c)
         #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.core.channel). Its
@@ -104,21 +105,27 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         self.steps = 0
         self._listeners: list[Callable[[Robot], None]] = []
         self._guards: list[Callable[[Robot], None]] = []
-        _OPEN_ROBOTS.add(self)
-        register(self)
+        OPEN_ROBOTS.opened(self)
         if handle_signals:
             install_signal_handlers()
         log.info("robot on %s, firmware %s", self.port, self.channel.info.firmware)
 
-    def _open(self, port: str | None, channel: Channel | None, options: dict[str, Any]) -> Opened:
+    def _open(
+        self,
+        port: str | None,
+        channel: Channel | None,
+        options: dict[str, object],
+        environment: Environment | None,
+    ) -> Opened:
         """Open ``port`` through its backend with ``options``, or take the given ``channel``."""
-        options = {name: value for name, value in options.items() if value is not None}
         if channel is None:
-            self.port = resolve_port(port)
-            firmware = Firmware.choose(options.pop("firmware", None))
-            return open_port(self.port, firmware=firmware, **options)
-        if options:
-            raise ValueError(f"options {sorted(options)} are for a port, not a given channel")
+            environment = environment or read_environment()
+            self.port = resolve_port(port, environment.port)
+            # Every option goes to the backend, None ones too: bound and checked there
+            # (None: the backend's default), so a misspelt one is never dropped unseen.
+            return open_port(self.port, environment=environment, **options)
+        if given := sorted(name for name, value in options.items() if value is not None):
+            raise ValueError(f"options {given} are for a port, not a given channel")
         self.port = channel.name
         return Opened(channel)
 
@@ -196,7 +203,7 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         if self._closed:
             return
         self._closed = True
-        _OPEN_ROBOTS.discard(self)
+        OPEN_ROBOTS.closed(self)
         if not self._lost:
             # ego's own view of the actuators follows the stop the finalizer sends.
             self.motors.stop_request()
@@ -222,13 +229,6 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
 # -- stopping robots however the controller ends --------------------------------------
 
 
-_OPEN_ROBOTS: weakref.WeakSet[Robot] = weakref.WeakSet()
-
-
 def close_all_robots() -> None:
     """Close every robot of this process that is still open (each one stops first)."""
-    for robot in list(_OPEN_ROBOTS):
-        try:
-            robot.close()
-        except Exception:
-            log.exception("could not close %r", robot)
+    OPEN_ROBOTS.close_all()

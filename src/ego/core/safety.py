@@ -16,6 +16,10 @@ Three mechanisms, each covering what the others cannot:
 - :class:`RobotKeeper` (what ``ego run`` uses) holds strong references to each robot
   opened while it is active and stops them itself, so that nothing depends on the order
   in which a finished controller's globals are torn down.
+
+Who holds the robots is one explicit object, :data:`OPEN_ROBOTS` (an :class:`OpenRobots`):
+the robots open in this process (weakly) and the keepers active in it. A ``Robot`` tells
+it when it opens and when it closes; nothing else in ego keeps a registry of robots.
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ import contextlib
 import logging
 import signal
 import threading
+import weakref
 from types import FrameType
 from typing import TYPE_CHECKING, Protocol
 
@@ -33,7 +38,9 @@ if TYPE_CHECKING:
     from ego.core.channel import Channel
 
 __all__ = [
+    "OPEN_ROBOTS",
     "TERMINATING_SIGNALS",
+    "OpenRobots",
     "RobotKeeper",
     "SignalExit",
     "install_signal_handlers",
@@ -164,6 +171,49 @@ class Closable(Protocol):
     def close(self) -> None: ...
 
 
+class OpenRobots:
+    """The robots open in this process (held weakly: dropping one still stops it), and
+    the keepers active in it, which hold each robot opened meanwhile strongly."""
+
+    def __init__(self) -> None:
+        self._open: weakref.WeakSet[Closable] = weakref.WeakSet()
+        self._keepers: list[RobotKeeper] = []
+        self._lock = threading.Lock()
+
+    def opened(self, robot: Closable) -> None:
+        """A robot opened: count it, and hand it to every active keeper."""
+        with self._lock:
+            self._open.add(robot)
+            for keeper in self._keepers:
+                keeper.robots.append(robot)
+
+    def closed(self, robot: Closable) -> None:
+        """A robot closed (its keepers close it again harmlessly: close is idempotent)."""
+        with self._lock:
+            self._open.discard(robot)
+
+    def robots(self) -> list[Closable]:
+        """The robots open now."""
+        with self._lock:
+            return list(self._open)
+
+    def close_all(self) -> None:
+        """Close every robot still open (each one stops first); one failing spares none."""
+        for robot in self.robots():
+            try:
+                robot.close()
+            except Exception:
+                log.exception("could not close %r", robot)
+
+    def _enter(self, keeper: RobotKeeper) -> None:
+        with self._lock:
+            self._keepers.append(keeper)
+
+    def _leave(self, keeper: RobotKeeper) -> None:
+        with self._lock:
+            self._keepers.remove(keeper)
+
+
 class RobotKeeper:
     """Strong references to every robot opened while it is active; stops them on exit.
 
@@ -171,20 +221,20 @@ class RobotKeeper:
     ...     run_the_controller()                       # its robots go into kept.robots
     ...                                                # leaving the block closes them
 
-    Robots register themselves through :func:`register`; keepers nest.
+    Robots reach it through ``registry`` (:data:`OPEN_ROBOTS`, where each Robot says it
+    opened); keepers nest.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, registry: OpenRobots | None = None) -> None:
         self.robots: list[Closable] = []
+        self._registry = registry if registry is not None else OPEN_ROBOTS
 
     def __enter__(self) -> RobotKeeper:
-        with _keepers_lock:
-            _keepers.append(self)
+        self._registry._enter(self)
         return self
 
     def __exit__(self, *exc_info: object) -> None:
-        with _keepers_lock:
-            _keepers.remove(self)
+        self._registry._leave(self)
         self.close_all()
 
     def close_all(self) -> None:
@@ -197,12 +247,5 @@ class RobotKeeper:
                 log.exception("could not close %r", robot)
 
 
-_keepers: list[RobotKeeper] = []
-_keepers_lock = threading.Lock()
-
-
-def register(robot: Closable) -> None:
-    """Hand a newly opened robot to every active keeper."""
-    with _keepers_lock:
-        for keeper in _keepers:
-            keeper.robots.append(robot)
+#: The robots of this process and its active keepers: the one registry of robots.
+OPEN_ROBOTS = OpenRobots()

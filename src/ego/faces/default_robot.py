@@ -1,45 +1,67 @@
-"""The context the C-style faces (``ego.webots``, ``ego.overo``) act in: options and robot.
+"""A controller run's context, for every face: its options, its environment, its robot.
 
-A :class:`FaceContext` holds a run's options and the one robot that ``wb_robot_init()``
-or ``overo_serial_init()`` opens. ``ego run`` makes one for the controller it runs and
-activates it (:func:`activate`); the C-style functions, which take no such argument by
-their nature, find it with :func:`current_context`: the context activated in this
-``contextvars`` context, else one made (with default options) at first use, as a plain
-script gets. Nothing here is a module global holding a robot: two contexts never share
-one, and a thread (which starts in a fresh ``contextvars`` context) gets its own.
+A :class:`FaceContext` holds a run's options (:class:`~ego.faces.runtime.RunOptions`),
+the environment's settings (read once, here at the faces' edge: :mod:`ego.core.environment`)
+and the one robot that ``wb_robot_init()`` or ``overo_serial_init()`` opens; every face
+opens its robot through :meth:`FaceContext.new_robot`, so that each port gets its own
+options and rate. ``ego run`` runs its controller inside :func:`run_context` (a context of
+its own, active while the controller runs, whose robots are all stopped and closed at
+the end); the C-style functions, which take no such argument by their nature, find it
+with :func:`current_context`: the context activated in this ``contextvars`` context, else
+one made (with default options) at first use, as a plain script gets. Nothing here is a
+module global holding a robot: two contexts never share one, and a thread (which starts
+in a fresh ``contextvars`` context) gets its own.
 
-The module-level functions (``open_robot``, ``get``, ``step``, ``is_open``, ``close``)
-act on the current context.
+The module-level functions (``open_robot``, ``get``, ``step``, ``is_open``, ``close``,
+``current_options``, ``set_options``) act on the current context.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
 
+from ego.core.environment import Environment, read_environment
+from ego.core.ports import call_baud, resolve_port
 from ego.core.robot import Robot
+from ego.core.safety import RobotKeeper
 from ego.errors import EgoError
 from ego.faces.runtime import RunOptions
-from ego.serial.protocol import DEFAULT_BAUD
+from ego.serial.protocol import Firmware
 
 __all__ = [
     "FaceContext",
     "activate",
     "close",
     "current_context",
+    "current_options",
     "get",
     "is_open",
     "open_robot",
+    "run_context",
+    "set_options",
     "step",
 ]
 
 
 class FaceContext:
-    """A run's options, and the robot the C-style faces drive in it (none until opened)."""
+    """A run's options and environment, and the robot the C-style faces drive in it (none
+    until opened).
 
-    def __init__(self, options: RunOptions | None = None) -> None:
+    ``environment`` None: this process's, read now. ``make_robot`` opens a robot (the
+    core :class:`~ego.core.robot.Robot`; a test passes its own to see what a face asks).
+    """
+
+    def __init__(
+        self,
+        options: RunOptions | None = None,
+        environment: Environment | None = None,
+        make_robot: Callable[..., Robot] = Robot,
+    ) -> None:
         self.options = options if options is not None else RunOptions()
+        self.environment = environment if environment is not None else read_environment()
+        self._make_robot = make_robot
         self._robot: Robot | None = None
         #: What ``wbr_has_failed()`` answers: ``wbr_init`` failed, or a step returned -1.
         self.failed = False
@@ -47,15 +69,36 @@ class FaceContext:
         #: R2023b's constructors by name (``Motor("left wheel motor")``) find it here.
         self.webots_robot: object | None = None
 
+    def new_robot(
+        self,
+        port: str | None = None,
+        baudrate: int | None = None,
+        options: RunOptions | None = None,
+    ) -> Robot:
+        """A robot on ``port`` (None: the options', else EGO_PORT, else /dev/ttyS0) with
+        the run's ``options`` (None: this context's), opened for a face that holds it
+        itself (the Webots Robot, which then calls the options' ``on_robot`` callbacks).
+
+        ``baudrate`` is what a controller's own call asks for (``overo_serial_init``): it
+        applies only where the controller sets the line, the Overo's own UART with the
+        stock firmware (:func:`ego.core.ports.call_baud`); every other port opens at its
+        own rate (a Webots-firmware or Bluetooth port at 115200), and a served robot, a
+        Zenoh node or a recording is given none.
+        """
+        options = options if options is not None else self.options
+        resolved = resolve_port(port or options.port, self.environment.port)
+        given = options.robot_options()
+        rate = call_baud(resolved, Firmware.choose(options.firmware), baudrate)
+        if rate is not None:
+            given["baudrate"] = rate
+        return self._make_robot(resolved, environment=self.environment, **given)
+
     def open_robot(self, port: str | None = None, baudrate: int | None = None) -> Robot:
-        """Open the robot (closing a previous one); ``port`` None: the options' or EGO_PORT."""
+        """Open the C-style faces' robot (closing a previous one): :meth:`new_robot`,
+        then each of the options' ``on_robot`` callbacks."""
         self.close()
-        options = self.options
-        robot = Robot(
-            port or options.port, baudrate=baudrate or DEFAULT_BAUD, **options.robot_options()
-        )
-        self._robot = robot
-        for callback in options.on_robot:
+        robot = self._robot = self.new_robot(port, baudrate)
+        for callback in self.options.on_robot:
             callback(robot)
         return robot
 
@@ -110,6 +153,31 @@ def activate(context: FaceContext) -> Iterator[FaceContext]:
         yield context
     finally:
         _CURRENT.reset(token)
+
+
+@contextmanager
+def run_context(
+    options: RunOptions, environment: Environment | None = None
+) -> Iterator[FaceContext]:
+    """A controller run's own context, active inside the ``with`` block: its faces read
+    ``options`` there, and every robot opened meanwhile (by a face, or by ``ego.Robot``
+    itself) is kept, then stopped and closed when the block ends, however it ends."""
+    context = FaceContext(options, environment)
+    with RobotKeeper(), activate(context):
+        try:
+            yield context
+        finally:
+            context.close()
+
+
+def current_options() -> RunOptions:
+    """The options of the current face context (what ``ego run`` was given)."""
+    return current_context().options
+
+
+def set_options(options: RunOptions) -> None:
+    """Give the current face context ``options`` (its robot, if any, stays open)."""
+    current_context().options = options
 
 
 def open_robot(port: str | None = None, baudrate: int | None = None) -> Robot:

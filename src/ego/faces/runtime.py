@@ -3,20 +3,20 @@
 A Webots controller constructs ``Robot()`` with no arguments; the port, a time limit and
 progress listeners therefore come from the run's :class:`RunOptions` (made by ``ego run``
 / ``ego demo``, held by the current :class:`ego.faces.default_robot.FaceContext`), or from
-``EGO_PORT``. This module holds no state of its own: :func:`current` and
-:func:`set_options` read and change the current face context's options.
+``EGO_PORT``. This module is data only: the run's context (which options are current, the
+robot the faces opened) is :mod:`ego.faces.default_robot`'s.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot
 
-__all__ = ["RunOptions", "current", "set_options"]
+__all__ = ["RunOptions"]
 
 
 @dataclass
@@ -43,15 +43,17 @@ class RunOptions:
     #: Called with each core Robot a face creates (progress displays subscribe here).
     on_robot: list[Callable[[Robot], None]] = field(default_factory=list)
 
-    def robot_options(self) -> dict[str, Any]:
-        """The options the faces open their robot with (None: the backend's default)."""
-        return {
+    def robot_options(self) -> dict[str, object]:
+        """The options the faces open their robot with: those this run sets (one left
+        None is not set, and goes to no backend: each port's backend takes its own)."""
+        given = {
             "firmware": self.firmware,
             "seed": self.seed,
             "world": self.world,
             "virtual_time": True if self.fast else None,
             "secret": self.secret,
         }
+        return {name: value for name, value in given.items() if value is not None}
 
     def time_is_up(self, time_s: float) -> bool:
         """Whether a controller at ``time_s`` of controller time has used up ``duration_s``.
@@ -61,16 +63,3 @@ class RunOptions:
         """
         return self.duration_s is not None and time_s >= self.duration_s - 1e-9
 
-
-def current() -> RunOptions:
-    """The options of the current face context (:func:`ego.faces.default_robot.current_context`)."""
-    from ego.faces.default_robot import current_context
-
-    return current_context().options
-
-
-def set_options(options: RunOptions) -> None:
-    """Give the current face context ``options`` (its robot, if any, stays open)."""
-    from ego.faces.default_robot import current_context
-
-    current_context().options = options

@@ -31,7 +31,6 @@ __all__ = [
     "load_secret",
     "new_nonce",
     "new_secret",
-    "secret_from_environment",
     "server_proof",
     "write_secret",
 ]
@@ -128,14 +127,6 @@ def write_secret(path: str) -> str:
     with os.fdopen(fd, "w") as f:
         f.write(secret + "\n")
     return secret
-
-
-def secret_from_environment() -> bytes | None:
-    """``EGO_SECRET_FILE`` (a path) or ``EGO_SECRET`` (the secret itself), else None."""
-    path = os.environ.get("EGO_SECRET_FILE")
-    if path:
-        return load_secret(path)
-    return coerce_secret(os.environ.get("EGO_SECRET"))
 
 
 def is_loopback(host: str) -> bool:

@@ -23,7 +23,7 @@ from typing import IO, TYPE_CHECKING, Any
 
 from mcap.writer import Writer
 
-from ego import __version__
+from ego._version import __version__
 from ego.camera.encode import encode_jpeg
 from ego.core.channel import TappedChannel, as_channel_base
 from ego.core.telemetry import Telemetry, describe_robot, describe_world

@@ -14,7 +14,6 @@ test's traffic on loopback.
 from __future__ import annotations
 
 import json
-import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -23,6 +22,8 @@ from ego.net.auth import is_loopback
 
 if TYPE_CHECKING:
     import zenoh
+
+    from ego.core.environment import Environment
 
 __all__ = ["ZenohSettings", "endpoint_host", "open_session"]
 
@@ -42,8 +43,9 @@ def endpoint_host(endpoint: str) -> str:
 class ZenohSettings:
     """Where a session listens and connects, and the Zenoh configuration file, if any.
 
-    From the environment by default: ``EGO_ZENOH_CONNECT`` and ``EGO_ZENOH_LISTEN``
-    (comma-separated endpoints), ``EGO_ZENOH_CONFIG`` (a Zenoh JSON5 file).
+    Nothing by default; :meth:`from_environment` fills in what is not given from
+    ``EGO_ZENOH_CONNECT`` and ``EGO_ZENOH_LISTEN`` (comma-separated endpoints) and
+    ``EGO_ZENOH_CONFIG`` (a Zenoh JSON5 file), as :mod:`ego.core.environment` read them.
     """
 
     def __init__(
@@ -52,12 +54,24 @@ class ZenohSettings:
         connect: Sequence[str] | None = None,
         config_file: str | None = None,
     ) -> None:
-        env = os.environ
-        self.listen = list(listen if listen is not None else _split(env.get("EGO_ZENOH_LISTEN")))
-        self.connect = list(
-            connect if connect is not None else _split(env.get("EGO_ZENOH_CONNECT"))
+        self.listen = list(listen or ())
+        self.connect = list(connect or ())
+        self.config_file = config_file or None
+
+    @classmethod
+    def from_environment(
+        cls,
+        environment: Environment,
+        listen: Sequence[str] | None = None,
+        connect: Sequence[str] | None = None,
+        config_file: str | None = None,
+    ) -> ZenohSettings:
+        """The settings given, the environment's where one is None."""
+        return cls(
+            listen if listen is not None else environment.zenoh_listen,
+            connect if connect is not None else environment.zenoh_connect,
+            config_file or environment.zenoh_config,
         )
-        self.config_file = config_file or env.get("EGO_ZENOH_CONFIG") or None
 
     def check(self, config: zenoh.Config) -> None:
         """Refuse endpoints off loopback unless the configuration authenticates peers."""
@@ -74,10 +88,6 @@ class ZenohSettings:
                 "authentication: a --zenoh-config file with transport.auth.usrpwd, or "
                 "tls/ endpoints"
             )
-
-
-def _split(text: str | None) -> list[str]:
-    return [part.strip() for part in (text or "").split(",") if part.strip()]
 
 
 def open_session(settings: ZenohSettings) -> zenoh.Session:

@@ -47,7 +47,7 @@ from ego.errors import (
     RobotBusyError,
     RobotResetError,
 )
-from ego.net.auth import coerce_secret, secret_from_environment
+from ego.net.auth import coerce_secret
 from ego.net.messages import (
     Ascii,
     CameraClose,
@@ -94,7 +94,7 @@ def info_from(fields: dict[str, Any]) -> FirmwareInfo:
 class RemoteChannel(ChannelBase):
     """A robot served by ``ego serve``, over TCP or UDP: the Channel a Robot steps through.
 
-    ``secret`` defaults to ``EGO_SECRET_FILE`` / ``EGO_SECRET`` from the environment; a
+    ``secret`` (None: none; ``Robot`` fills in ``EGO_SECRET_FILE`` / ``EGO_SECRET``); a
     client that has one refuses a server that cannot prove it has it too. ``timeout_s``
     bounds one request (the server may retry the serial line meanwhile); a lost server
     is reconnected to within ``settings.reconnect_timeout_s``, after which the robot's
@@ -119,7 +119,7 @@ class RemoteChannel(ChannelBase):
         self._address = (host, port, protocol)
         shown = f"[{host}]" if ":" in host else host
         self._name = f"unix://{host}" if protocol == "unix" else f"{protocol}://{shown}:{port}"
-        self.secret = coerce_secret(secret) if secret is not None else secret_from_environment()
+        self.secret = coerce_secret(secret)
         self.settings = settings or LinkSettings()
         self.timeout_s = timeout_s
         self.heartbeat = heartbeat

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import ego.errors
-from ego import __version__
+from ego._version import __version__
 from ego.errors import (
     EgoError,
     FrameError,
