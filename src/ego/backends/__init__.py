@@ -50,6 +50,8 @@ from ego.backends.base import Backend, BackendOptions, Opened
 from ego.errors import BackendOptionError, PortNotFoundError
 
 if TYPE_CHECKING:
+    from importlib.metadata import EntryPoint
+
     from ego.core.environment import Environment
 
 __all__ = [
@@ -98,7 +100,7 @@ def scheme_of(port: str) -> str:
     return "serial"  # a path, or a URL pyserial handles (socket://, loop://, spy://)
 
 
-def _declared(scheme: str) -> Any:
+def _declared(scheme: str) -> EntryPoint | None:
     # Imported here: importlib.metadata costs the Overo ~4 MB and is needed only for a
     # scheme that is not built in.
     from importlib.metadata import entry_points
