@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import enum
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Final
 
 from ego.errors import FrameError, OutOfRangeError, ProtocolError
@@ -138,7 +138,7 @@ class SensorReply:
     """One sensor packet, decoded (the 104-byte WiFi layout), and its bytes."""
 
     sensors: SensorPacket
-    data: bytes
+    data: bytes = field(repr=False)
 
 
 @dataclass(frozen=True, slots=True)
