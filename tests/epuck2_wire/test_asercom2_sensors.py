@@ -46,8 +46,8 @@ def sample_packet() -> bytearray:
     put_float(buf, INCL_F, 2.5)
     for axis, value in enumerate((-131, 262, -1)):
         put16(buf, GYRO + 2 * axis, value)
-    for axis, value in enumerate((-20.5, 31.25, 0.125)):
-        put_float(buf, MAGNET + 4 * axis, value)
+    for axis, field in enumerate((-20.5, 31.25, 0.125)):
+        put_float(buf, MAGNET + 4 * axis, field)
     buf[TEMP] = (-3) & 0xFF  # signed char getTemperature()
     for k in range(8):
         put16(buf, PROX + 2 * k, 100 + k)

@@ -230,7 +230,7 @@ class ReplyParser:
         if len(buf) < size:
             if self._ended:
                 raise FrameError(
-                    f"the robot closed the stream inside a {kind.name.lower()} reply"
+                    f"the robot closed the stream inside {kind.name.lower()} reply"
                     f" ({len(buf) - 1} of {size - 1} bytes)"
                 )
             return NEED_DATA
