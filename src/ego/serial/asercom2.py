@@ -363,9 +363,11 @@ def rgb_percent(color: int) -> Rgb:
     nearest percentage [the rounding is ego's choice; the firmware only says 0..100].
     """
     _check_int("colour", color, 0, 0xFFFFFF)
-    return tuple(  # type: ignore[return-value]
-        (((color >> shift) & 0xFF) * 100 * 2 + 255) // 510 for shift in (16, 8, 0)
-    )
+
+    def percent(byte: int) -> int:
+        return (byte * 200 + 255) // 510  # round(byte * 100 / 255); no byte lands on .5
+
+    return (percent(color >> 16), percent((color >> 8) & 0xFF), percent(color & 0xFF))
 
 
 def _pack(state: Actuators, settings: Settings, first: int, second: int, sound: Sound) -> bytes:
