@@ -195,7 +195,8 @@ class SensorPacket:
     ambient: tuple[int, int, int, int, int, int, int, int]
     #: VL53L0X distance in mm (``uint16_t VL53L0X_get_dist_mm``); 397-405.
     tof_mm: int
-    #: volume of mic0..mic3; 407-419.
+    #: volume of mic0..mic3, which are right, left, back, front (MAIN:src/audio/
+    #: microphone.h:27-31), scaled ``>> 4`` to 12 bits (e_micro.c:35-39); 407-419.
     microphones: tuple[int, int, int, int]
     #: left, right step counters, i16 (the low 16 bits of an int32 count): 421-427.
     steps: tuple[int, int]
