@@ -50,12 +50,29 @@ class Command(enum.IntEnum):
     MIC_AMPLITUDE = 0x8B  # u
     MIC_BUFFER = 0xAB  # U
     BATTERY = 0x9E  # b
+    # The e-puck2's asercom v2 adds commands below 'A' (docs/protocol.md, "e-puck2"):
+    # their bytes are -0x08 .. -0x11, and the gyro's is the e-puck1 letter 'g'.
+    GYRO_RAW = 0x99  # g
+    ALL_SENSORS = 0xF8  # -0x08: the 103-byte sensor packet (ego.serial.asercom2)
+    ALL_ACTUATORS = 0xF7  # -0x09: the 19-byte actuator payload
+    RGB_LEDS = 0xF6  # -0x0A: 12 bytes, LED2/4/6/8 as R,G,B in percent
+    BUTTON = 0xF5  # -0x0B
+    MICROPHONES_4 = 0xF4  # -0x0C: the four microphones' amplitudes
+    TOF = 0xF3  # -0x0D: the VL53L0X's distance in mm
+    SD_STATE = 0xF2  # -0x0E
+    MAGNETOMETER_ENABLE = 0xF1  # -0x0F
+    PROXIMITY_MODE = 0xF0  # -0x10
+    TOF_ENABLE = 0xEF  # -0x11
     END = 0x00
 
     @property
     def letter(self) -> str:
-        """The ASCII letter this command is the negative of ('' for END)."""
-        return chr((-self.value) & 0xFF) if self.value else ""
+        """The ASCII letter this command is the negative of ('' for END; the e-puck2's
+        commands below 'A' have none: their hex byte, "-0x08")."""
+        if not self.value:
+            return ""
+        code = (-self.value) & 0xFF
+        return chr(code) if code >= 0x20 else f"-0x{code:02X}"
 
 
 class Firmware(str, enum.Enum):
