@@ -15,8 +15,9 @@ from zenoh_support import client_session, served_node
 
 import ego
 from ego.backends.zenoh_remote import ZenohChannel
-from ego.controller.radio import _radio
+from ego.controller.radio import RobotRadio
 from ego.core.channel import TappedChannel
+from ego.core.environment import read_environment
 from ego.errors import LinkLostError
 from ego.recording.writer import Recorder
 from ego.serial.protocol import Command, Request, encode_batch
@@ -49,7 +50,7 @@ def test_a_recorded_zenoh_robot_s_radio_shares_its_session(tmp_path: Path) -> No
         recorder.attach(robot)
         try:
             assert isinstance(robot.channel, TappedChannel)
-            radio = _radio(robot)
+            radio = RobotRadio(robot, read_environment({})).get()
             assert radio.session is robot.channel.session_of(zenoh.Session)
             assert radio.session is not None
         finally:
