@@ -25,8 +25,8 @@ from pathlib import Path
 import pytest
 import zenoh
 
+from ego.backends import open_port
 from ego.backends.remote.channel import RemoteChannel
-from ego.backends.replay import ReplayBackend
 from ego.backends.zenoh_remote import ZenohChannel
 from ego.core.channel import Channel, ChannelBase, TappedChannel
 from ego.core.robot import Robot
@@ -46,6 +46,7 @@ from ego.servers.socket.server import Server, ServerThread
 from ego.servers.zenoh_node.node import RobotNode
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 from firmware_sim import Emulator
+from firmware_sim.ego_backend import EmulatorTruth
 
 SECRET = "contract-secret-0123"
 FAST = LinkSettings(resync_quiet_s=0.02, reconnect_timeout_s=0.5)
@@ -107,7 +108,8 @@ def zenoh_channel(firmware: str) -> Iterator[tuple[Channel, Emulator]]:
         endpoint = free_endpoint()
         served = open_session(ZenohSettings(listen=[endpoint], connect=[]))
         stack.callback(served.close)
-        node = RobotNode(link, served, "contract", deadline_s=5.0, world=emu.world).start()
+        node = RobotNode(link, served, "contract", deadline_s=5.0,
+                         world=EmulatorTruth(emu.world, emu)).start()
         stack.callback(node.close)
         mine = open_session(ZenohSettings(listen=[free_endpoint()], connect=[endpoint]))
         channel = ZenohChannel("contract", mine)  # it owns, and closes, its session
@@ -136,7 +138,8 @@ def recording_of(firmware: str) -> Path:
 
 @contextlib.contextmanager
 def replay_channel(firmware: str) -> Iterator[tuple[Channel, None]]:
-    channel = ReplayBackend().open(f"replay://{recording_of(firmware)}", firmware=None).channel
+    opened = open_port(f"replay://{recording_of(firmware)}")
+    channel = opened.channel
     try:
         yield channel, None
     finally:
