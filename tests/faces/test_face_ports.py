@@ -82,8 +82,8 @@ def test_each_face_opens_a_webots_firmware_port_at_115200(face: str) -> None:
         context = FaceContext(RunOptions(port=emu.path, firmware="webots"), EMPTY)
         robot = _open_with(face, context)
         try:
-            assert isinstance(robot.link, Link)
-            assert robot.link.transport.baudrate == 115200
+            assert isinstance(robot.channel, Link)
+            assert robot.channel.transport.baudrate == 115200
         finally:
             robot.close()
             context.close()

@@ -94,8 +94,8 @@ def test_a_goodbye_during_a_frame_closes_the_camera_only_once_the_frame_is_read(
             assert source.reading.wait(5)
             client.send(MessageType.BYE)  # a stop with the camera's close, while it reads
             wait_for(lambda: running.server.controller is None, 5)
-            assert running.server.service.channel_lock.acquire(timeout=5)  # the stop ran
-            running.server.service.channel_lock.release()
+            assert running.server.service.channel.lock.acquire(timeout=5)  # the stop ran
+            running.server.service.channel.lock.release()
             assert source.closed_while_reading == 0
         finally:
             source.go.set()

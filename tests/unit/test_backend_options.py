@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 
 import pytest
+from helpers import emulator_of
 
 import ego
 from ego.backends import bind_options, open_port, option_names, takes_option
@@ -82,9 +83,9 @@ def test_an_option_given_is_never_lost() -> None:
     bound = bind_options("sim", given, EMPTY)
     assert {name: getattr(bound, name) for name in given} == given
     with ego.Robot("sim", seed=0, ground_module=False, selector=0, firmware="gctronic") as robot:
-        dspic = robot.emulator.dspic  # falsy values reach the emulator
+        dspic = emulator_of(robot).dspic  # falsy values reach the emulator
         assert (dspic.selector, dspic.ground_module) == (0, False)
-        assert robot.link.info.firmware is Firmware.GCTRONIC
+        assert robot.channel.info.firmware is Firmware.GCTRONIC
 
 
 def test_takes_option_is_answered_from_the_declaration() -> None:
