@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import socket
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import ClassVar
@@ -28,7 +29,7 @@ from ego.backends.epuck2.requests import WIFI_PROFILE
 from ego.backends.epuck2.wifi_packets import DEFAULT_PORT
 from ego.errors import BackendOptionError, PortNotFoundError
 
-__all__ = ["Epuck2Backend", "Epuck2Options", "parse_port", "resolve"]
+__all__ = ["Epuck2Backend", "Epuck2Options", "parse_port", "probe", "resolve"]
 
 SCHEME = "epuck2"
 
@@ -85,6 +86,31 @@ def resolve(port: str) -> tuple[str, int]:
         raise PortNotFoundError(f"{port}: cannot resolve {host!r}: {exc}") from None
     address = found[0][4]
     return str(address[0]), int(address[1])
+
+
+def probe(port: str, timeout_s: float = 1.0) -> bool:
+    """Whether an e-puck2's radio answers at ``port`` within ``timeout_s``.
+
+    A probe may not connect and leave: the radio would wedge (socket_e-puck2.c:164-196).
+    So it sends a valid command at once, the stop (every actuator off) with the request
+    byte 0, waits for its empty ``0x03`` reply, and only then closes: probing a robot
+    stops it. An address that cannot be resolved or reached is simply not a robot.
+    """
+    from ego.backends.epuck2.connection import WifiConnection, connect
+    from ego.backends.epuck2.wifi_packets import Request, encode_command
+    from ego.errors import LinkError
+    from ego.serial.asercom2 import Actuators, encode_actuators
+
+    stop = encode_command(Request(0), encode_actuators(Actuators()))
+    try:
+        conn = WifiConnection(port, connect(port, resolve(port), stop, timeout_s))
+    except LinkError:
+        return False
+    try:
+        heard = conn.wait("empties", 0, time.monotonic() + timeout_s)
+        return heard is not None and heard.empties > 0
+    finally:
+        conn.close()
 
 
 class Epuck2Backend:
