@@ -96,3 +96,19 @@ def test_what_wifi_cannot_serve_is_refused_naming_the_transport(url: str) -> Non
         e_puck1 = PROFILES[Firmware.GCTRONIC]  # U, which the e-puck2 never answers
         with pytest.raises(UnsupportedDeviceError, match=r"epuck2://.*mic_buffer"):
             robot.channel.exchange(encode_batch([Request(Command.MIC_BUFFER)], e_puck1))
+
+
+def test_the_e_puck1_families_read_through_the_wifi_packet(wifi: Epuck2Emulator, url: str) -> None:
+    # Every family a WiFi robot serves decodes the translated replies as over USB.
+    with ego.Robot(url) as robot:
+        for family in (robot.proximity, robot.light, robot.accelerometer, robot.encoders,
+                       robot.microphones, robot.floor):  # fmt: skip
+            family.enable(16)
+        robot.motors.set_speed(200, 200)
+        for _ in range(10):
+            assert robot.step(16) == 0
+        assert len(robot.proximity.values) == 8 and len(robot.light.values) == 8
+        x, y, z = robot.accelerometer.values
+        assert abs(z) > max(abs(x), abs(y))  # gravity, in the firmware's counts
+        left, right = robot.encoders.values
+        assert left > 0 and right > 0  # the wheels turned forward

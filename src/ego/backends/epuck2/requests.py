@@ -71,9 +71,9 @@ WIFI_COMMANDS: Final[Mapping[Command, WireFormat]] = MappingProxyType(
         Command.PROXIMITY: _fmt(reply="8H"),  # 895-901
         Command.LIGHT: _fmt(reply="8H"),  # 902-908
         Command.GET_STEPS: _fmt(reply="2h"),  # 934-941
-        # The packet's accelerometer is centred on 0, 768 counts a g (the profile says
-        # so): not -'a''s filtered, 2048-centred value.
-        Command.ACCELEROMETER_RAW: _fmt(reply="3h"),
+        # -'a''s convention, 2048 for 0 g (e_acc.c:48), from the packet's value, which is
+        # centred on 0 (e_acc.c:17-32); both 768 counts a g, with the same axis signs.
+        Command.ACCELEROMETER_RAW: _fmt(reply="3H"),
         Command.ACCELEROMETER_SPHERICAL: _fmt(reply="3f"),  # 748-782
         Command.GYRO_RAW: _fmt(reply="3h"),  # 822-839
         Command.MIC_AMPLITUDE: _fmt(reply="3H"),  # 951-963: mic0..mic2
@@ -88,6 +88,9 @@ WIFI_COMMANDS: Final[Mapping[Command, WireFormat]] = MappingProxyType(
     }
 )
 
+#: -'a''s 0 g (MAIN:src/epuck1x/a_d/advance_ad_scan/e_acc.c:48 adds 2048).
+ACC_ZERO_COUNTS: Final = 2048
+
 #: The e-puck2 over WiFi: red LEDs 0, 2, 4, 6, RGB LEDs 1, 3, 5, 7, body 8, front 9.
 WIFI_PROFILE: Final[Profile] = GCTRONIC_BLUETOOTH.but(
     commands=WIFI_COMMANDS,
@@ -95,7 +98,7 @@ WIFI_PROFILE: Final[Profile] = GCTRONIC_BLUETOOTH.but(
     description="e-puck2 over WiFi (radio firmware, selector 15)",
     work_s=MappingProxyType({}),
     i2c=MappingProxyType({}),
-    acc_zero_counts=0,
+    acc_zero_counts=ACC_ZERO_COUNTS,
     acc_counts_per_g=768,
 )
 
@@ -106,7 +109,10 @@ ANSWERS: Final[Mapping[Command, Callable[[SensorPacket, bytes], tuple[object, ..
             Command.PROXIMITY: lambda p, _: p.proximity,
             Command.LIGHT: lambda p, _: p.ambient,
             Command.GET_STEPS: lambda p, _: p.steps,
-            Command.ACCELEROMETER_RAW: lambda p, _: p.acceleration,
+            # e_get_acc's values stay within +-1536 (e_acc.c:17-32): 512..3584 here.
+            Command.ACCELEROMETER_RAW: lambda p, _: tuple(
+                v + ACC_ZERO_COUNTS for v in p.acceleration
+            ),
             Command.ACCELEROMETER_SPHERICAL: lambda p, _: (
                 p.acceleration_magnitude,
                 p.orientation_deg,
