@@ -112,3 +112,17 @@ def test_the_e_puck1_families_read_through_the_wifi_packet(wifi: Epuck2Emulator,
         assert abs(z) > max(abs(x), abs(y))  # gravity, in the firmware's counts
         left, right = robot.encoders.values
         assert left > 0 and right > 0  # the wheels turned forward
+
+
+def test_a_refused_batch_changes_nothing(wifi: Epuck2Emulator, url: str) -> None:
+    opened = open_port(url)
+    try:
+        with pytest.raises(ego.errors.OutOfRangeError, match="LED 12"):
+            opened.channel.exchange(
+                batch(Request(Command.SET_SPEED, (500, 500)), Request(Command.SET_LED, (12, 1)))
+            )
+        reply = opened.channel.exchange(batch(Request(Command.GET_SPEED)))
+        time.sleep(0.05)
+    finally:
+        opened.close()
+    assert reply == struct.pack("<2h", 0, 0)

@@ -27,6 +27,7 @@ transport, except ``K``'s calibration, which is the command's settings bit 0.
 
 from __future__ import annotations
 
+import copy
 import logging
 import time
 from dataclasses import dataclass
@@ -97,7 +98,12 @@ class Epuck2Channel(ChannelBase):
     # -- the channel -------------------------------------------------------------------
 
     def _exchange(self, batch: Batch) -> bytes:
-        getters = translate(batch.requests, self._encoder, self._name)
+        before = copy.copy(self._encoder)
+        try:
+            getters = translate(batch.requests, self._encoder, self._name)
+        except BaseException:
+            self._encoder = before  # a refused batch changes nothing
+            raise
         self._flush()
         if not getters:
             return b""
@@ -145,8 +151,12 @@ class Epuck2Channel(ChannelBase):
             self._camera_open = is_open
             if not is_open:
                 self._image_until = 0.0
-                if not self._closed:
+                if self._closed or self._conn.heard.lost is not None:
+                    return  # the next connection's first command asks no image
+                try:
                     self._flush()
+                except LinkError as exc:  # the next step's batch meets it again
+                    log.warning("%s: could not stop the image stream: %s", self._name, exc)
 
     def next_image(self) -> bytes:
         """An image newer than the last one handed on (160x120 RGB565 big-endian),
