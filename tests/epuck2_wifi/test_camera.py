@@ -55,3 +55,16 @@ def test_the_image_is_asked_only_while_the_camera_reads(relay: Relay, relay_url:
         robot.camera.close()  # no reader left: the robot stops sending frames
         time.sleep(0.1)
         assert _received_over(relay, robot, 0.5) < IMAGE_SIZE
+
+
+def test_frames_come_again_after_a_drop(relay: Relay, relay_url: str) -> None:
+    with ego.Robot(relay_url) as robot:
+        robot.camera.enable(32)
+        robot.step(32)
+        frames = robot.camera.frame_count
+        relay.cut()
+        time.sleep(0.1)
+        for _ in range(3):
+            robot.step(32)
+        assert robot.camera.frame_count == frames + 3
+        assert robot.channel.stats.reconnects == 1

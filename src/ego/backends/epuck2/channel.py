@@ -160,21 +160,24 @@ class Epuck2Channel(ChannelBase):
 
     def next_image(self) -> bytes:
         """An image newer than the last one handed on (160x120 RGB565 big-endian),
-        asking for the stream if it was not on; LinkTimeoutError if none comes within
-        ``timeout_s`` (the next step's batch reconnects after a drop)."""
-        with self._lock:
-            self._check_open()
-            self._image_until = time.monotonic() + IMAGE_IDLE_S
-            self._flush()
-            conn, seq = self._conn, self._seen("image_seq")
-        heard = conn.wait("image_seq", seq, time.monotonic() + self.settings.timeout_s)
-        if heard is None or heard.image is None or heard.image_seq <= seq:
-            raise LinkTimeoutError(
-                f"{self._name}: no image within {self.settings.timeout_s} s"
-                + (f" ({heard.lost})" if heard is not None and heard.lost else "")
-            )
-        self._answered["image_seq"] = (conn, heard.image_seq)
-        return heard.image
+        asking for the stream if it was not on and reconnecting after a drop;
+        LinkTimeoutError if none comes within ``timeout_s``, LinkLostError when the robot
+        does not come back."""
+        deadline = time.monotonic() + self.settings.timeout_s
+        while True:
+            with self._lock:
+                self._check_open()
+                self._image_until = time.monotonic() + IMAGE_IDLE_S
+                if self._conn.heard.lost is not None:
+                    self._recover(self._conn.heard.lost, self._command())
+                self._flush()
+                conn, seq = self._conn, self._seen("image_seq")
+            heard = conn.wait("image_seq", seq, deadline)
+            if heard is not None and heard.image is not None and heard.image_seq > seq:
+                self._answered["image_seq"] = (conn, heard.image_seq)
+                return heard.image
+            if heard is None:
+                raise LinkTimeoutError(f"{self._name}: no image within {self.settings.timeout_s} s")
 
     # -- commands and connections ----------------------------------------------------------
 
