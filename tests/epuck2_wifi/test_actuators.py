@@ -8,6 +8,7 @@ import struct
 import time
 
 import pytest
+from wifi_helpers import until
 
 import ego
 from ego.backends import open_port
@@ -42,12 +43,10 @@ def test_negative_speeds_keep_their_sign_on_the_wheels(wifi: Epuck2Emulator, url
     with ego.Robot(url) as robot:
         robot.motors.set_speed(-300, 200)
         robot.step(16)
-        time.sleep(0.05)
-        assert wifi.world.speeds == (-300, 200)
+        assert until(lambda: wifi.world.speeds == (-300, 200))
         robot.motors.set_speed(150, -1000)
         robot.step(16)
-        time.sleep(0.05)
-        assert wifi.world.speeds == (150, -1000)
+        assert until(lambda: wifi.world.speeds == (150, -1000))
 
 
 def test_get_speed_answers_signed_bytes(url: str) -> None:
@@ -68,11 +67,11 @@ def test_the_leds_bytes(wifi: Epuck2Emulator, url: str) -> None:
             Request(Command.SET_LED, (8, 1)),  # body
             Request(Command.RGB_LEDS, (100, 0, 0, 0, 0, 0, 0, 50, 0, 0, 0, 100)),
         ))  # fmt: skip
-        time.sleep(0.05)
         leds = wifi.robot.leds
+        assert until(lambda: leds.body)
         assert leds.red == [True, False, False, False]
         assert leds.rgb == [[100, 0, 0], [0, 0, 0], [0, 50, 0], [0, 0, 100]]
-        assert leds.body and not leds.front
+        assert not leds.front
     finally:
         opened.close()
 
@@ -122,7 +121,6 @@ def test_a_refused_batch_changes_nothing(wifi: Epuck2Emulator, url: str) -> None
                 batch(Request(Command.SET_SPEED, (500, 500)), Request(Command.SET_LED, (12, 1)))
             )
         reply = opened.channel.exchange(batch(Request(Command.GET_SPEED)))
-        time.sleep(0.05)
     finally:
         opened.close()
     assert reply == struct.pack("<2h", 0, 0)

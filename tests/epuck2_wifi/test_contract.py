@@ -7,10 +7,10 @@ from __future__ import annotations
 
 import dataclasses
 import threading
-import time
 from collections.abc import Iterator
 
 import pytest
+from wifi_helpers import until
 
 from ego.backends import open_port
 from ego.backends.epuck2.channel import Epuck2Channel
@@ -92,9 +92,7 @@ def test_the_safe_stop_is_confirmed_through_it(
 ) -> None:
     set_speed = encode_batch([Request(Command.SET_SPEED, (300, 300))], channel.profile)
     channel.exchange(set_speed)
-    time.sleep(0.05)
-    assert wifi.world.speeds == (300, 300)
+    assert until(lambda: wifi.world.speeds == (300, 300))
     send_stop(channel)
     assert channel.exchange(read_batch(channel))[:4] == bytes(4)
-    time.sleep(0.05)
-    assert wifi.world.speeds == (0, 0)
+    assert until(lambda: wifi.world.speeds == (0, 0))
