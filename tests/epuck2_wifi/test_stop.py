@@ -32,7 +32,8 @@ def test_closing_a_robot_stops_it_whatever_the_radio_s_phase(
         if camera:
             robot.camera.enable(16)
         robot.step(16)
-        assert until(lambda: wifi.world.speeds == (400 + trial, 400 + trial))
+        speeds = (400 + trial, 400 + trial)
+        assert until(lambda speeds=speeds: wifi.world.speeds == speeds)
         robot.close()
         assert wifi.radio.wait_for(ACCEPT, 5.0)
         assert wifi.world.speeds == (0, 0), f"trial {trial}: the stop was lost"
