@@ -21,6 +21,7 @@ SECTIONS = {
     "camera_tables": "Camera: acquisition, rotation, encoding (Tables 5.1-5.8) and peers",
     "memory": "Memory: peak resident set of a controller and of the emulator",
     "remote_roundtrip": "Remote control: step round trip over TCP/UDP vs the pty link",
+    "epuck2_link": "The e-puck2 over USB and WiFi (with and without its camera) beside the e-puck1",
     "security": "Remote control under attack: the deadman and the client under floods",
     "webots_camera": "The Webots face's camera calls at 52x39, 160x120 and 640x480",
     "dashboard": "Watching a run: the dashboard's and the recorder's cost per step",

@@ -196,6 +196,9 @@ class SimOptions(BackendOptions):
     faults: Sequence[FaultSpec] | None = None
     timings: FaultTimings | None = None
     dspic_work: bool | None = None
+    # The e-puck2 on its radio's WiFi (open_epuck2_wifi): ``robot="epuck2", wifi=True``.
+    robot: str | None = None
+    wifi: bool | None = None
 
 #: The options that go to the Emulator as they are, when given.
 _EMULATOR_OPTIONS = (
@@ -220,6 +223,8 @@ class SimBackend:
 
     def open(self, port: str, options: BackendOptions) -> Opened:
         given = SimOptions.narrow(options)
+        if given.wifi:
+            return open_epuck2_wifi(given)
         firmware = given.firmware
         name = (firmware or Firmware.WEBOTS).value
         emulator_options: dict[str, Any] = {
@@ -270,3 +275,34 @@ class SimBackend:
     def main(argv: list[str], prog: str = "ego sim") -> int:
         """``ego sim ARGS``: the emulator's own command line."""
         return cli_main(argv, prog)
+
+
+def open_epuck2_wifi(given: SimOptions) -> Opened:
+    """``Robot("sim", robot="epuck2", wifi=True)``: an emulated e-puck2 in selector 15, its
+    radio's WiFi server on a free loopback port, opened as ``epuck2://127.0.0.1:PORT``
+    (ego's WiFi backend, :mod:`ego.backends.epuck2`, exactly as a real robot's)."""
+    from ego.backends.epuck2.camera import WifiCamera
+    from ego.backends.epuck2.channel import Epuck2Channel
+    from ego.errors import BackendOptionError
+    from firmware_sim.epuck2 import Epuck2Emulator
+
+    if given.robot not in (None, "epuck2"):
+        raise BackendOptionError(
+            f"sim option wifi=True is the e-puck2's radio (robot='epuck2'), not {given.robot!r}'s"
+        )
+    spec = given.world
+    world = load_world(spec, given.seed) if isinstance(spec, str) else spec
+    emulator = Epuck2Emulator(world or World(seed=given.seed), seed=given.seed, wifi=True,
+                              port=0, ground_module=bool(given.ground_module))  # fmt: skip
+    assert emulator.wifi_address is not None
+    host, port = emulator.wifi_address
+    try:
+        channel = Epuck2Channel(f"epuck2://{host}:{port}", (host, port))
+    except BaseException:
+        emulator.close()
+        raise
+    camera = lambda: WifiCamera(channel)  # noqa: E731
+    truth = EmulatorTruth(emulator.world)
+    return Opened(
+        channel, camera, truth, [emulator.close], remote=True, scene=Scene(emulator.world)
+    )

@@ -296,7 +296,8 @@ def _add_run(sub: Any) -> None:
                  seed_parent(None, " (port sim)"), world_parent("the emulator's world (port sim)")],
     )  # fmt: skip
     run.add_argument("--port", default=None, help="serial port, pyserial URL, 'sim', tcp://, "
-                     "udp://, unix://, zenoh:// (default: EGO_PORT or /dev/ttyS0)")  # fmt: skip
+                     "udp://, unix://, zenoh://, epuck2://HOST (an e-puck2 over WiFi) "
+                     "(default: EGO_PORT or /dev/ttyS0)")  # fmt: skip
     run.add_argument("--duration", type=_positive, default=None,
                      help="stop after this many seconds of controller time")  # fmt: skip
     run.add_argument("--time-step", type=_positive, default=32.0,

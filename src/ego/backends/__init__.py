@@ -16,6 +16,8 @@ scheme        backend
               :mod:`ego.backends.zenoh_remote`
 ``replay``    a run recorded with ``ego run --record`` (``replay://run.mcap``), answering
               a controller as the robot did: :mod:`ego.backends.replay`
+``epuck2``    a GCtronic e-puck2 over WiFi (``epuck2://HOST[:PORT]``, selector 15):
+              :mod:`ego.backends.epuck2`
 ============  ==========================================================================
 
 Each backend opens a :class:`~ego.core.channel.Channel` (the seam under ``Robot``) and takes
@@ -80,6 +82,7 @@ BUILT_IN: dict[str, tuple[str, str]] = {
     "unix": ("ego.backends.remote", "RemoteBackend"),
     "replay": ("ego.backends.replay", "ReplayBackend"),
     "zenoh": ("ego.backends.zenoh_remote", "ZenohBackend"),
+    "epuck2": ("ego.backends.epuck2", "Epuck2Backend"),
 }
 
 _REGISTRY: dict[str, Callable[[], Backend]] = {}
