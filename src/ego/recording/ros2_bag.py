@@ -1,0 +1,227 @@
+"""The ROS 2 flavour of a recording (``ego run --record run.mcap --record-format ros2``).
+
+An MCAP file as rosbag2's MCAP storage writes one, so that ``ros2 bag play run.mcap``,
+Foxglove and rosbags' reader open it:
+
+- the header's profile is ``ros2`` (rosbag2 opens its writer with
+  ``mcap::McapWriterOptions("ros2")``, ``ros2/rosbag2@02860327af01cd28f31a64668d6fe91e033b7aa4:
+  rosbag2_storage_mcap/src/mcap_storage.cpp`` (struct McapWriterOptions); rosbags'
+  reader refuses any other, ``rosbags/rosbag2/storage_mcap.py`` ``McapReader._open``);
+- one schema a type: its name ``pkg/msg/Name``, encoding ``ros2msg``, its data the
+  ``.msg`` text with each dependency after a line of 80 ``=`` and ``MSG: pkg/Name``, as
+  rosbags' ``Typestore.generate_msgdef(..., ros_version=2)`` makes it for its rosbag2
+  writer (``MCAPStorage::create_topic`` stores the definition rosbag2 hands it the same way);
+- one channel a topic, message encoding ``cdr``, with the metadata rosbag2 gives a channel:
+  ``offered_qos_profiles`` (YAML) and ``topic_type_hash`` (RIHS01; empty on Humble)
+  (``MCAPStorage::create_topic``; read back in ``MCAPStorage::read_metadata``);
+- messages in CDR with the encapsulation header (:mod:`ego.ros2.messages`);
+- for Jazzy and Kilted, a metadata record ``rosbag2`` whose ``serialized_metadata`` is the
+  bag's metadata YAML, version 9 (``MCAPStorage::update_metadata``; rosbags' writer
+  writes the same). Humble's storage reads none, and its QoS YAML is the older
+  numeric form.
+
+Every channel carries CDR: rosbag2's reader wants one serialization format in a bag. So
+ego's own channels, which keep what ``ego replay`` needs (``/ego/exchange``,
+``/ego/sensors``, ``/ego/log``), carry their JSON as a ``std_msgs/msg/String`` here,
+and the camera's frames are ``/image_raw/compressed``. This module does no I/O: it
+registers on the writer it is handed and turns steps into (channel, bytes).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from io import StringIO
+from typing import TYPE_CHECKING, Any
+
+from ego.devices.table import CAMERA, TABLE, DeviceTable
+from ego.recording.ros2_topics import Ros2Topic, StepData, ros2_topics
+from ego.ros2.distros import Distro, distro_format
+from ego.ros2.extras import missing
+from ego.ros2.messages import encode_message, message_class, typestore
+
+if TYPE_CHECKING:
+    import numpy as np
+    from mcap.writer import Writer
+
+__all__ = ["EGO_STRING_TOPICS", "FORMAT", "Ros2Bag"]
+
+#: The value of the ``format`` key in the ``ego`` metadata of a ROS 2 recording.
+FORMAT = "ros2"
+#: ego's channels kept in a ROS 2 recording, their JSON in a std_msgs/msg/String.
+EGO_STRING_TOPICS = ("/ego/sensors", "/ego/exchange", "/ego/log")
+_STRING = "std_msgs/msg/String"
+#: rosbag2's metadata version written for a distribution (None: no metadata record).
+_BAG_VERSION = {Distro.HUMBLE: None, Distro.JAZZY: 9, Distro.KILTED: 9}
+_CAMERA_TOPICS = (("/image_raw", "sensor_msgs/msg/Image"),
+                  ("/image_raw/compressed", "sensor_msgs/msg/CompressedImage"),
+                  ("/camera_info", "sensor_msgs/msg/CameraInfo"))  # fmt: skip
+
+
+@dataclass
+class _Channel:
+    topic: str
+    type_name: str
+    depth: int
+    id: int = 0
+    count: int = 0
+
+
+class Ros2Bag:
+    """The ROS 2 channels of one recording in ``distro`` (a name or :class:`Distro`)."""
+
+    def __init__(self, distro: Distro | str, table: DeviceTable = TABLE) -> None:
+        distro_format(distro)  # an unknown name: one line listing the known ones
+        self.distro = Distro(distro)
+        self.table = table
+        typestore(self.distro)  # rosbags missing: one line naming the extra
+        self.topics: tuple[Ros2Topic, ...] = ros2_topics(self.table)
+        wanted = [(t.topic, t.type_name, 100 if t.topic == "/tf" else 1) for t in self.topics]
+        if any(row.family == CAMERA for row in self.table.devices):
+            wanted += [(topic, type_name, 1) for topic, type_name in _CAMERA_TOPICS]
+        wanted += [(topic, _STRING, 10) for topic in EGO_STRING_TOPICS]
+        self.channels = {topic: _Channel(topic, kind, depth) for topic, kind, depth in wanted}
+
+    # -- registering ----------------------------------------------------------------------
+
+    def register(self, writer: Writer) -> None:
+        """Register every type's schema and every topic's channel on ``writer`` (started
+        with :meth:`header`'s profile)."""
+        store = typestore(self.distro)
+        hashed = distro_format(self.distro).fixed_type_hash is None
+        schemas: dict[str, int] = {}
+        for channel in self.channels.values():
+            if channel.type_name not in schemas:
+                text, _ = store.generate_msgdef(channel.type_name, ros_version=2)
+                schemas[channel.type_name] = writer.register_schema(
+                    channel.type_name, "ros2msg", text.encode())
+            metadata = {
+                "offered_qos_profiles": self._qos_yaml(channel.depth),
+                "topic_type_hash": store.hash_rihs01(channel.type_name) if hashed else "",
+            }
+            channel.id = writer.register_channel(channel.topic, "cdr",
+                                                 schemas[channel.type_name], metadata)  # fmt: skip
+
+    @staticmethod
+    def header(library: str) -> dict[str, str]:
+        """What ``Writer.start`` takes for a ROS 2 recording."""
+        return {"profile": "ros2", "library": library}
+
+    # -- messages -------------------------------------------------------------------------
+
+    def make(self, type_name: str, **fields: Any) -> Any:
+        """A ``type_name`` message of this distribution; a field the distribution's
+        definition lacks (Humble's Range has no ``variance``) is left out."""
+        cls = message_class(type_name, self.distro)
+        known = cls.__dataclass_fields__
+        return cls(**{k: v for k, v in fields.items() if k in known})
+
+    def _emit(self, topic: str, message: Any) -> tuple[int, bytes]:
+        channel = self.channels[topic]
+        channel.count += 1
+        return channel.id, encode_message(message, self.distro)
+
+    def ego(self, topic: str, message: dict[str, Any]) -> tuple[int, bytes] | None:
+        """ego's JSON ``message`` on ``topic`` as a std_msgs/msg/String (None: a topic a
+        ROS 2 recording leaves out, such as Foxglove's poses: /odom and /tf hold them)."""
+        if topic not in EGO_STRING_TOPICS:
+            return None
+        return self._emit(topic, self.make(_STRING, data=json.dumps(message)))
+
+    def step(self, sample: dict[str, Any], time_ns: int) -> list[tuple[int, bytes]]:
+        """Every topic's message of one telemetry ``sample`` stamped ``time_ns``."""
+        data = StepData(sample, time_ns, self.make)
+        out = []
+        for topic in self.topics:
+            message = topic.build(data)
+            if message is not None:
+                out.append(self._emit(topic.topic, message))
+        return out
+
+    def frame(self, image: np.ndarray, jpeg: bytes, time_ns: int) -> list[tuple[int, bytes]]:
+        """A camera frame (RGB, H×W×3) as Image, CompressedImage (its ``jpeg``) and
+        CameraInfo (uncalibrated: zero intrinsics)."""
+        import numpy as np
+
+        if "/image_raw" not in self.channels:
+            return []
+        header = StepData({}, time_ns, self.make).header("camera")
+        height, width = int(image.shape[0]), int(image.shape[1])
+        raw = self.make("sensor_msgs/msg/Image", header=header, height=height, width=width,
+                        encoding="rgb8", is_bigendian=0, step=width * 3,
+                        data=np.ascontiguousarray(image, dtype=np.uint8).reshape(-1))  # fmt: skip
+        packed = self.make("sensor_msgs/msg/CompressedImage", header=header, format="jpeg",
+                           data=np.frombuffer(jpeg, dtype=np.uint8))  # fmt: skip
+        roi = self.make("sensor_msgs/msg/RegionOfInterest", x_offset=0, y_offset=0, height=0,
+                        width=0, do_rectify=False)  # fmt: skip
+        info = self.make("sensor_msgs/msg/CameraInfo", header=header, height=height,
+                         width=width, distortion_model="", d=np.zeros(0), k=np.zeros(9),
+                         r=np.zeros(9), p=np.zeros(12), binning_x=0, binning_y=0,
+                         roi=roi)  # fmt: skip
+        return [self._emit("/image_raw", raw), self._emit("/image_raw/compressed", packed),
+                self._emit("/camera_info", info)]  # fmt: skip
+
+    # -- the end --------------------------------------------------------------------------
+
+    def finish(self, writer: Writer, name: str, start_ns: int, end_ns: int) -> None:
+        """Add rosbag2's ``rosbag2`` metadata record (Jazzy, Kilted) before ``finish``."""
+        version = _BAG_VERSION[self.distro]
+        if version is None:
+            return
+        count = sum(c.count for c in self.channels.values())
+        duration = max(0, end_ns - start_ns) if count else 0
+        info = {
+            "version": version, "storage_identifier": "mcap", "relative_file_paths": [name],
+            "duration": {"nanoseconds": duration},
+            "starting_time": {"nanoseconds_since_epoch": start_ns if count else 0},
+            "message_count": count,
+            "topics_with_message_count": [
+                {"topic_metadata": {"name": c.topic, "type": c.type_name,
+                                    "serialization_format": "cdr",
+                                    "offered_qos_profiles": self._qos(c.depth),
+                                    "type_description_hash": typestore(self.distro)
+                                    .hash_rihs01(c.type_name)},
+                 "message_count": c.count}
+                for c in self.channels.values()
+            ],
+            "compression_format": "", "compression_mode": "",
+            "files": [{"path": name, "starting_time": {"nanoseconds_since_epoch": start_ns},
+                       "duration": {"nanoseconds": duration}, "message_count": count}],
+            "custom_data": None, "ros_distro": self.distro.value,
+        }  # fmt: skip
+        writer.add_metadata("rosbag2", {"serialized_metadata": _yaml(info)})
+
+    def _qos(self, depth: int) -> Any:
+        """The publisher's offered QoS as rosbag2's metadata holds it: epuck_ros2's
+        ``create_publisher(topic, depth)``, i.e. keep last, reliable, volatile."""
+        try:
+            from rosbags.interfaces import (
+                Qos,
+                QosDurability,
+                QosHistory,
+                QosLiveliness,
+                QosReliability,
+                QosTime,
+            )
+            from rosbags.rosbag2.metadata import dump_qos_v8, dump_qos_v9
+        except ModuleNotFoundError as exc:  # pragma: no cover - typestore() said it first
+            raise missing(exc, "rosbags", "rosbags") from exc
+        unset = QosTime(0, 0)  # rmw's "unspecified" duration: the default, infinite
+        qos = Qos(QosHistory.KEEP_LAST, depth, QosReliability.RELIABLE, QosDurability.VOLATILE,
+                  unset, unset, QosLiveliness.AUTOMATIC, unset, False)  # fmt: skip
+        dump = dump_qos_v8 if _BAG_VERSION[self.distro] is None else dump_qos_v9
+        return dump([qos])
+
+    def _qos_yaml(self, depth: int) -> str:
+        qos = self._qos(depth)
+        return qos if isinstance(qos, str) else _yaml(qos)
+
+
+def _yaml(value: Any) -> str:
+    from ruamel.yaml import YAML
+
+    yaml = YAML(typ="safe")
+    yaml.default_flow_style = False
+    stream = StringIO()
+    yaml.dump(value, stream)
+    return stream.getvalue().strip()
