@@ -210,7 +210,7 @@ def test_a_family_the_table_gains_appears_with_its_topic(tmp_path: Path) -> None
     path = tmp_path / "e2.mcap"
     bag = write_bag(path, "jazzy", [{**SAMPLES[0], "tof": [123.0], "gyro": [0.5, -1.0, 2.0]}],
                     table)  # fmt: skip
-    assert "/tof" in bag.channels and "/tof" not in Ros2Bag("jazzy").channels
+    assert "/tof" in bag.registered and "/tof" not in Ros2Bag("jazzy").channels
     found = read_all(path)
     ((_, tof),) = found["/tof"]
     assert tof.range == pytest.approx(0.123) and tof.max_range == pytest.approx(1.0)
@@ -220,6 +220,14 @@ def test_a_family_the_table_gains_appears_with_its_topic(tmp_path: Path) -> None
     assert [rate.x, rate.y, rate.z] == [0.5, -1.0, 2.0]
     ((_, scan),) = found["/scan"]
     assert scan.ranges[10] == pytest.approx(0.123 + 0.035)  # the 0° ray is the ToF's
+
+
+def test_a_topic_gets_its_channel_with_its_first_message_only(tmp_path: Path) -> None:
+    bag = write_bag(tmp_path / "few.mcap", "jazzy", [sample(1, light=LIGHT)])
+    assert set(bag.registered) == {*(f"/ls{i}" for i in range(8)), "/cmd_vel", "/odom", "/tf",
+                                   "/ego/sensors", "/ego/exchange", "/ego/log"}  # fmt: skip
+    with AnyReader([tmp_path / "few.mcap"]) as reader:
+        assert sorted(c.topic for c in reader.connections) == sorted(bag.registered)
 
 
 def test_an_unknown_distribution_is_one_line_listing_the_known_ones() -> None:

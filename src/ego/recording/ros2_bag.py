@@ -63,7 +63,7 @@ class _Channel:
     topic: str
     type_name: str
     depth: int
-    id: int = 0
+    id: int | None = None  # None until its first message registers it
     count: int = 0
 
 
@@ -81,26 +81,40 @@ class Ros2Bag:
             wanted += [(topic, type_name, 1) for topic, type_name in _CAMERA_TOPICS]
         wanted += [(topic, _STRING, 10) for topic in EGO_STRING_TOPICS]
         self.channels = {topic: _Channel(topic, kind, depth) for topic, kind, depth in wanted}
+        self._writer: Writer | None = None
+        self._schemas: dict[str, int] = {}
 
     # -- registering ----------------------------------------------------------------------
 
     def register(self, writer: Writer) -> None:
-        """Register every type's schema and every topic's channel on ``writer`` (started
-        with :meth:`header`'s profile)."""
+        """Register ego's channels on ``writer`` (started with :meth:`header`'s profile);
+        a ROS 2 topic's channel (and its type's schema) is registered with its first
+        message, so a sensor never read leaves no empty topic in ``ros2 bag info``."""
+        self._writer = writer
+        for topic in EGO_STRING_TOPICS:
+            self._register(self.channels[topic])
+
+    def _register(self, channel: _Channel) -> int:
+        assert self._writer is not None, "register(writer) first"
         store = typestore(self.distro)
+        if channel.type_name not in self._schemas:
+            text, _ = store.generate_msgdef(channel.type_name, ros_version=2)
+            self._schemas[channel.type_name] = self._writer.register_schema(
+                channel.type_name, "ros2msg", text.encode())
         hashed = distro_format(self.distro).fixed_type_hash is None
-        schemas: dict[str, int] = {}
-        for channel in self.channels.values():
-            if channel.type_name not in schemas:
-                text, _ = store.generate_msgdef(channel.type_name, ros_version=2)
-                schemas[channel.type_name] = writer.register_schema(
-                    channel.type_name, "ros2msg", text.encode())
-            metadata = {
-                "offered_qos_profiles": self._qos_yaml(channel.depth),
-                "topic_type_hash": store.hash_rihs01(channel.type_name) if hashed else "",
-            }
-            channel.id = writer.register_channel(channel.topic, "cdr",
-                                                 schemas[channel.type_name], metadata)  # fmt: skip
+        metadata = {
+            "offered_qos_profiles": self._qos_yaml(channel.depth),
+            "topic_type_hash": store.hash_rihs01(channel.type_name) if hashed else "",
+        }
+        channel.id = self._writer.register_channel(channel.topic, "cdr",
+                                                   self._schemas[channel.type_name],
+                                                   metadata)  # fmt: skip
+        return channel.id
+
+    @property
+    def registered(self) -> list[str]:
+        """The topics with a channel in the file so far."""
+        return [c.topic for c in self.channels.values() if c.id is not None]
 
     @staticmethod
     def header(library: str) -> dict[str, str]:
@@ -118,6 +132,8 @@ class Ros2Bag:
 
     def _emit(self, topic: str, message: Any) -> tuple[int, bytes]:
         channel = self.channels[topic]
+        if channel.id is None:
+            channel.id = self._register(channel)
         channel.count += 1
         return channel.id, encode_message(message, self.distro)
 
@@ -182,7 +198,7 @@ class Ros2Bag:
                                     "type_description_hash": typestore(self.distro)
                                     .hash_rihs01(c.type_name)},
                  "message_count": c.count}
-                for c in self.channels.values()
+                for c in self.channels.values() if c.id is not None
             ],
             "compression_format": "", "compression_mode": "",
             "files": [{"path": name, "starting_time": {"nanoseconds_since_epoch": start_ns},
