@@ -165,3 +165,14 @@ def test_the_header_says_ros2_and_every_channel_is_cdr_with_a_ros2msg_schema(
         *(f"/ps{i}" for i in range(8)), "/imu", "/joint_states", "/odom", "/tf", "/scan",
         "/cmd_vel", "/ego/exchange", "/ego/sensors", "/ego/log",
     }  # fmt: skip
+
+
+def test_a_supervised_run_passes_the_ros2_format_to_its_controllers_process(
+    tmp_path: Path,
+) -> None:
+    _ego("run", "--port", "sim", "--supervised", "--duration", "0.5", "--record", "s.mcap",
+         "--record-format", "ros2", "--ros2-distro", "humble", str(LOGGER), "log.json",
+         cwd=tmp_path)  # fmt: skip
+    recording = Recording.open(tmp_path / "s.mcap")
+    assert (recording.metadata["format"], recording.metadata["ros2_distro"]) == ("ros2", "humble")
+    assert recording.exchanges
