@@ -177,11 +177,19 @@ def test_channels_carry_rosbag2s_metadata_and_the_bag_its_rosbag2_record(
         assert channel.metadata["topic_type_hash"] == expected_hash
         # Humble's rosbag2 reads the numeric QoS form; Jazzy's and Kilted's the named one.
         assert qos["reliability"] == (1 if distro == "humble" else "reliable")
-    if distro == "humble":
-        assert "rosbag2" not in records
+    if distro == "humble":  # Humble's storage writes the distribution, and reads nothing
+        assert records["rosbag2"] == {"ROS_DISTRO": "humble"}
         return
     info = yaml.load(records["rosbag2"]["serialized_metadata"])
     assert info["version"] == 9 and info["storage_identifier"] == "mcap"
+    # Every field Jazzy's decoder reads for version 9, of the kind it reads it as
+    # (ros2/rosbag2@64717ee8 rosbag2_storage/include/rosbag2_storage/yaml.hpp:277-307).
+    assert isinstance(info["custom_data"], dict) and info["compression_format"] == ""
+    assert info["relative_file_paths"] == [path.name]
+    assert isinstance(info["duration"]["nanoseconds"], int)
+    assert isinstance(info["starting_time"]["nanoseconds_since_epoch"], int)
+    (one_file,) = info["files"]
+    assert one_file["message_count"] == total and one_file["path"] == path.name
     assert info["message_count"] == total and info["ros_distro"] == distro
     topics = {t["topic_metadata"]["name"]: t for t in info["topics_with_message_count"]}
     assert topics["/ps0"]["message_count"] == 2

@@ -1,27 +1,30 @@
 """The ROS 2 flavour of a recording (``ego run --record run.mcap --record-format ros2``).
 
 An MCAP file as rosbag2's MCAP storage writes one, so that ``ros2 bag play run.mcap``,
-Foxglove and rosbags' reader open it:
+Foxglove and rosbags' reader open it. Read in ``ros2/rosbag2``, ``rosbag2_storage_mcap/
+src/mcap_storage.cpp`` at the branches' heads: humble ``d256a5bad515cae54c5274edf1a870e3ee8668b2``
+(H) and jazzy ``64717ee802a29b15acdcecd36f3f8ef286ad18b8`` (J; Kilted's branch is not in
+that mirror: ego writes Jazzy's format for it):
 
-- the header's profile is ``ros2`` (rosbag2 opens its writer with
-  ``mcap::McapWriterOptions("ros2")``, ``ros2/rosbag2@02860327af01cd28f31a64668d6fe91e033b7aa4:
-  rosbag2_storage_mcap/src/mcap_storage.cpp`` (struct McapWriterOptions); rosbags'
-  reader refuses any other, ``rosbags/rosbag2/storage_mcap.py`` ``McapReader._open``);
-- one schema a type: its name ``pkg/msg/Name``, encoding ``ros2msg``, its data the
-  ``.msg`` text with each dependency after a line of 80 ``=`` and ``MSG: pkg/Name``, as
-  rosbags' ``Typestore.generate_msgdef(..., ros_version=2)`` makes it for its rosbag2
-  writer (``MCAPStorage::create_topic`` stores the definition rosbag2 hands it the same way);
-- one channel a topic, message encoding ``cdr``, with the metadata rosbag2 gives a channel:
-  ``offered_qos_profiles`` (YAML) and ``topic_type_hash`` (RIHS01; empty on Humble)
-  (``MCAPStorage::create_topic``; read back in ``MCAPStorage::read_metadata``);
-- messages in CDR with the encapsulation header (:mod:`ego.ros2.messages`);
-- for Jazzy and Kilted, a metadata record ``rosbag2`` whose ``serialized_metadata`` is the
-  bag's metadata YAML, version 9 (``MCAPStorage::update_metadata``; rosbags' writer
-  writes the same). Humble's storage reads none, and its QoS YAML is the older
-  numeric form.
+- the header's profile is ``ros2``: ``mcap::McapWriterOptions("ros2")`` (H :91, J :97);
+  rosbags' reader refuses any other (``rosbags/rosbag2/storage_mcap.py``, ``McapReader._open``);
+- one schema a type: name ``pkg/msg/Name``, encoding ``ros2msg`` (H :748, J :916), data
+  the ``.msg`` text with each dependency after a line of 80 ``=`` and ``MSG: pkg/Name``,
+  as rosbags' ``Typestore.generate_msgdef(..., ros_version=2)`` makes it for its own
+  rosbag2 writer; a channel without a schema is refused (J :470-473);
+- one channel a topic, message encoding ``cdr``; its metadata ``offered_qos_profiles``
+  (YAML; H stores the string for its player, J :483-488 parses it and reads either form)
+  and, from J on, ``topic_type_hash`` (J :935-938, the RIHS01 hash);
+- every channel CDR: rosbag2's reader refuses a bag whose topics have different
+  serialization formats (``rosbag2_cpp/src/rosbag2_cpp/readers/sequential_reader.cpp``
+  J :315-322, ``check_topics_serialization_formats``);
+- a metadata record ``rosbag2``: H writes ``ROS_DISTRO`` in it (H :807-817,
+  ``ensure_rosdistro_metadata_added``); J writes and reads ``serialized_metadata``, the
+  bag's metadata YAML of version 9 (J :414-451, :956-965; the fields its decoder requires,
+  ``custom_data`` a map, in ``rosbag2_storage/include/rosbag2_storage/yaml.hpp`` J :277-307);
+- messages in CDR with the encapsulation header (:mod:`ego.ros2.messages`).
 
-Every channel carries CDR: rosbag2's reader wants one serialization format in a bag. So
-ego's own channels, which keep what ``ego replay`` needs (``/ego/exchange``,
+So ego's own channels, which keep what ``ego replay`` needs (``/ego/exchange``,
 ``/ego/sensors``, ``/ego/log``), carry their JSON as a ``std_msgs/msg/String`` here,
 and the camera's frames are ``/image_raw/compressed``. This module does no I/O: it
 registers on the writer it is handed and turns steps into (channel, bytes).
@@ -51,7 +54,7 @@ FORMAT = "ros2"
 #: ego's channels kept in a ROS 2 recording, their JSON in a std_msgs/msg/String.
 EGO_STRING_TOPICS = ("/ego/sensors", "/ego/exchange", "/ego/log")
 _STRING = "std_msgs/msg/String"
-#: rosbag2's metadata version written for a distribution (None: no metadata record).
+#: rosbag2's metadata version written for a distribution (None: Humble's record, no YAML).
 _BAG_VERSION = {Distro.HUMBLE: None, Distro.JAZZY: 9, Distro.KILTED: 9}
 _CAMERA_TOPICS = (("/image_raw", "sensor_msgs/msg/Image"),
                   ("/image_raw/compressed", "sensor_msgs/msg/CompressedImage"),
@@ -180,9 +183,10 @@ class Ros2Bag:
     # -- the end --------------------------------------------------------------------------
 
     def finish(self, writer: Writer, name: str, start_ns: int, end_ns: int) -> None:
-        """Add rosbag2's ``rosbag2`` metadata record (Jazzy, Kilted) before ``finish``."""
+        """Add rosbag2's ``rosbag2`` metadata record, before ``writer.finish``."""
         version = _BAG_VERSION[self.distro]
-        if version is None:
+        if version is None:  # Humble's: the distribution only
+            writer.add_metadata("rosbag2", {"ROS_DISTRO": self.distro.value})
             return
         count = sum(c.count for c in self.channels.values())
         duration = max(0, end_ns - start_ns) if count else 0
@@ -203,7 +207,7 @@ class Ros2Bag:
             "compression_format": "", "compression_mode": "",
             "files": [{"path": name, "starting_time": {"nanoseconds_since_epoch": start_ns},
                        "duration": {"nanoseconds": duration}, "message_count": count}],
-            "custom_data": None, "ros_distro": self.distro.value,
+            "custom_data": {}, "ros_distro": self.distro.value,
         }  # fmt: skip
         writer.add_metadata("rosbag2", {"serialized_metadata": _yaml(info)})
 
