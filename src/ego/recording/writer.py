@@ -8,6 +8,11 @@ it, onto a queue. A writer thread JSON-encodes, JPEG-encodes and writes them wit
 
 The file's ``ego`` metadata holds what replaying needs: the firmware and its profile,
 the port, and, on the emulator, the world as the dashboard draws it.
+
+``Recorder(path, ros2_distro="jazzy")`` (``--record-format ros2``) writes a ROS 2 bag
+instead (:mod:`ego.recording.ros2_bag`): epuck_ros2's topics in CDR, with ego's
+exchanges and samples kept as JSON in ``std_msgs/msg/String`` so that it replays alike;
+its ``ego`` metadata adds ``format: ros2`` and the distribution.
 """
 
 from __future__ import annotations
