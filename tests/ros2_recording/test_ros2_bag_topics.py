@@ -233,7 +233,8 @@ def test_a_family_the_table_gains_appears_with_its_topic(tmp_path: Path) -> None
 def test_a_topic_gets_its_channel_with_its_first_message_only(tmp_path: Path) -> None:
     bag = write_bag(tmp_path / "few.mcap", "jazzy", [sample(1, light=LIGHT)])
     assert set(bag.registered) == {*(f"/ls{i}" for i in range(8)), "/cmd_vel", "/odom", "/tf",
-                                   "/ego/sensors", "/ego/exchange", "/ego/log"}  # fmt: skip
+                                   "/tf_static", "/ego/sensors", "/ego/exchange",
+                                   "/ego/log"}  # fmt: skip
     with AnyReader([tmp_path / "few.mcap"]) as reader:
         assert sorted(c.topic for c in reader.connections) == sorted(bag.registered)
 
@@ -244,3 +245,26 @@ def test_an_unknown_distribution_is_one_line_listing_the_known_ones() -> None:
     assert str(error.value) == (
         "ROS 2 distribution 'rolling' is not one ego speaks (known: humble, jazzy, kilted)"
     )
+
+
+def test_tf_static_places_the_sensors_frames_once_as_epuck_ros2_does(
+    bag: tuple[str, Path],
+) -> None:
+    distro, path = bag
+    ((_, static),) = read_all(path)["/tf_static"]  # one message, with the first step
+    frames = {t.child_frame_id: t for t in static.transforms}
+    assert set(frames) == {"laser_scanner", *(f"ps{i}" for i in range(8)),
+                           *(f"ls{i}" for i in range(8)), "gs0", "gs1", "gs2"}  # fmt: skip
+    assert all(t.header.frame_id == "base_link" for t in static.transforms)
+    ps2 = frames["ps2"].transform  # driver.cpp: -90°, 0.035 m from the centre
+    assert (ps2.translation.x, ps2.translation.y) == pytest.approx((0.0, -0.035), abs=1e-12)
+    assert yaw(ps2.rotation) == pytest.approx(math.radians(-90))
+    gs1 = frames["gs1"].transform.translation
+    assert (gs1.x, gs1.y) == pytest.approx((0.03, 0.0))
+    with open(path, "rb") as file:
+        summary = make_reader(file).get_summary()
+    assert summary is not None
+    (channel,) = [c for c in summary.channels.values() if c.topic == "/tf_static"]
+    (qos,) = YAML(typ="safe").load(channel.metadata["offered_qos_profiles"])
+    # tf2_ros's static broadcaster offers transient local, so late joiners get it.
+    assert qos["durability"] == (1 if distro == "humble" else "transient_local")

@@ -38,7 +38,7 @@ from io import StringIO
 from typing import TYPE_CHECKING, Any
 
 from ego.devices.table import CAMERA, TABLE, DeviceTable
-from ego.recording.ros2_topics import Ros2Topic, StepData, ros2_topics
+from ego.recording.ros2_topics import Ros2Topic, StepData, ros2_topics, static_transforms
 from ego.ros2.distros import Distro, distro_format
 from ego.ros2.extras import missing
 from ego.ros2.messages import encode_message, message_class, typestore
@@ -66,6 +66,7 @@ class _Channel:
     topic: str
     type_name: str
     depth: int
+    latched: bool = False  # transient local, as tf2_ros's static broadcaster offers it
     id: int | None = None  # None until its first message registers it
     count: int = 0
 
@@ -84,6 +85,9 @@ class Ros2Bag:
             wanted += [(topic, type_name, 1) for topic, type_name in _CAMERA_TOPICS]
         wanted += [(topic, _STRING, 10) for topic in EGO_STRING_TOPICS]
         self.channels = {topic: _Channel(topic, kind, depth) for topic, kind, depth in wanted}
+        self._static: Ros2Topic | None = static_transforms(self.table)
+        self.channels[self._static.topic] = _Channel(self._static.topic, self._static.type_name,
+                                                     1, latched=True)  # fmt: skip
         self._writer: Writer | None = None
         self._schemas: dict[str, int] = {}
 
@@ -106,7 +110,7 @@ class Ros2Bag:
                 channel.type_name, "ros2msg", text.encode())
         hashed = distro_format(self.distro).fixed_type_hash is None
         metadata = {
-            "offered_qos_profiles": self._qos_yaml(channel.depth),
+            "offered_qos_profiles": self._qos_yaml(channel.depth, channel.latched),
             "topic_type_hash": store.hash_rihs01(channel.type_name) if hashed else "",
         }
         channel.id = self._writer.register_channel(channel.topic, "cdr",
@@ -151,6 +155,9 @@ class Ros2Bag:
         """Every topic's message of one telemetry ``sample`` stamped ``time_ns``."""
         data = StepData(sample, time_ns, self.make)
         out = []
+        if self._static is not None:  # the sensors' frames, once, with the first step
+            out.append(self._emit(self._static.topic, self._static.build(data)))
+            self._static = None
         for topic in self.topics:
             message = topic.build(data)
             if message is not None:
@@ -198,7 +205,7 @@ class Ros2Bag:
             "topics_with_message_count": [
                 {"topic_metadata": {"name": c.topic, "type": c.type_name,
                                     "serialization_format": "cdr",
-                                    "offered_qos_profiles": self._qos(c.depth),
+                                    "offered_qos_profiles": self._qos(c.depth, c.latched),
                                     "type_description_hash": typestore(self.distro)
                                     .hash_rihs01(c.type_name)},
                  "message_count": c.count}
@@ -211,9 +218,10 @@ class Ros2Bag:
         }  # fmt: skip
         writer.add_metadata("rosbag2", {"serialized_metadata": _yaml(info)})
 
-    def _qos(self, depth: int) -> Any:
+    def _qos(self, depth: int, latched: bool = False) -> Any:
         """The publisher's offered QoS as rosbag2's metadata holds it: epuck_ros2's
-        ``create_publisher(topic, depth)``, i.e. keep last, reliable, volatile."""
+        ``create_publisher(topic, depth)``, i.e. keep last, reliable, volatile; transient
+        local where ``latched`` (tf2_ros's static broadcaster)."""
         try:
             from rosbags.interfaces import (
                 Qos,
@@ -227,13 +235,14 @@ class Ros2Bag:
         except ModuleNotFoundError as exc:  # pragma: no cover - typestore() said it first
             raise missing(exc, "rosbags", "rosbags") from exc
         unset = QosTime(0, 0)  # rmw's "unspecified" duration: the default, infinite
-        qos = Qos(QosHistory.KEEP_LAST, depth, QosReliability.RELIABLE, QosDurability.VOLATILE,
+        durability = QosDurability.TRANSIENT_LOCAL if latched else QosDurability.VOLATILE
+        qos = Qos(QosHistory.KEEP_LAST, depth, QosReliability.RELIABLE, durability,
                   unset, unset, QosLiveliness.AUTOMATIC, unset, False)  # fmt: skip
         dump = dump_qos_v8 if _BAG_VERSION[self.distro] is None else dump_qos_v9
         return dump([qos])
 
-    def _qos_yaml(self, depth: int) -> str:
-        qos = self._qos(depth)
+    def _qos_yaml(self, depth: int, latched: bool) -> str:
+        qos = self._qos(depth, latched)
         return qos if isinstance(qos, str) else _yaml(qos)
 
 

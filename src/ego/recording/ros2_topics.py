@@ -17,7 +17,8 @@ Camera              ``/image_raw``, ``/image_raw/compressed``,   Image, Compress
 ==================  ==========================================  =========================
 
 and always ``/odom`` and ``/tf`` (ego's odometry) and, with the proximity sensors,
-``/scan``. A row of another kind (LEDs, microphones) has no epuck_ros2 topic.
+``/scan``; ``/tf_static`` places the sensors' frames once (:func:`static_transforms`).
+A row of another kind (LEDs, microphones) has no epuck_ros2 topic.
 
 The conversions follow epuck_ros2's driver as read at
 ``cyberbotics/epuck_ros2@4ac67cf2bf1eb25fb73006b8a0628fd6898d239e:epuck_ros2_driver/src/driver.cpp``:
@@ -49,6 +50,7 @@ __all__ = [
     "StepData",
     "interpolate",
     "ros2_topics",
+    "static_transforms",
 ]
 
 #: driver.cpp INFRARED_TABLE and GROUND_TABLE: (metres, raw count), counts descending.
@@ -296,6 +298,50 @@ def _scan_topic(table: DeviceTable) -> Ros2Topic:
         )  # fmt: skip
 
     return Ros2Topic("/scan", "sensor_msgs/msg/LaserScan", build)
+
+
+#: driver.cpp DISTANCE_SENSOR_ANGLE: each IR sensor's heading (degrees), ps0..ps7.
+_IR_DEGREES = (-15, -45, -90, -150, 150, 90, 45, 15)
+
+
+def _mount(name: str) -> tuple[float, float, float] | None:
+    """Where driver.cpp's static broadcasters put a sensor's frame on ``base_link``:
+    (x m, y m, yaw rad); None for a device it does not place."""
+    prefix, number = name.rstrip("0123456789"), name[len(name.rstrip("0123456789")):]
+    index = int(number) if number else -1
+    if prefix in ("ps", "ls") and 0 <= index < 8:
+        yaw = math.radians(_IR_DEGREES[index])
+        return (_SENSOR_FROM_CENTER_M * math.cos(yaw), _SENSOR_FROM_CENTER_M * math.sin(yaw), yaw)
+    if prefix == "gs" and 0 <= index < 3:  # as driver.cpp writes it: the ps angles reused
+        return (_SENSOR_FROM_CENTER_M - 0.005, 0.009 - index * 0.009,
+                math.radians(_IR_DEGREES[index]))  # fmt: skip
+    if name == "tof":
+        return (_SENSOR_FROM_CENTER_M, 0.0, 0.0)
+    return None
+
+
+def static_transforms(table: DeviceTable = TABLE) -> Ros2Topic:
+    """``/tf_static``: ``base_link`` to ``laser_scanner`` and to each sensor's frame the
+    table has and driver.cpp places (its StaticTransformBroadcasters), once."""
+    mounts = {"laser_scanner": (0.0, 0.0, 0.0)}
+    for row in table.devices:
+        found = _mount(row.name) if row.kind in ("DistanceSensor", "LightSensor") else None
+        if found is not None:
+            mounts[row.name] = found
+
+    def build(step: StepData) -> Any:
+        transforms = []
+        for frame, (x, y, heading) in mounts.items():
+            shift = step.make("geometry_msgs/msg/Vector3", x=x, y=y, z=0.0)
+            turn = step.make("geometry_msgs/msg/Quaternion", x=0.0, y=0.0,
+                             z=math.sin(heading / 2), w=math.cos(heading / 2))  # fmt: skip
+            transform = step.make("geometry_msgs/msg/Transform", translation=shift, rotation=turn)
+            transforms.append(step.make("geometry_msgs/msg/TransformStamped",
+                                        header=step.header("base_link"), child_frame_id=frame,
+                                        transform=transform))  # fmt: skip
+        return step.make("tf2_msgs/msg/TFMessage", transforms=transforms)
+
+    return Ros2Topic("/tf_static", "tf2_msgs/msg/TFMessage", build)
 
 
 def ros2_topics(table: DeviceTable = TABLE) -> tuple[Ros2Topic, ...]:
