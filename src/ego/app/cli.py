@@ -157,6 +157,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from ego.servers.supervisor import wants_supervision
 
     _no_address_for_a_controller([args.controller])
+    if args.record_format != "ego" and not args.record:
+        raise EgoError(f"--record-format {args.record_format} says how to record: it needs "
+                       "--record FILE.mcap too")  # fmt: skip
     if args.fast and args.port != "sim":
         raise EgoError(f"--fast runs the emulator in virtual time: it needs --port sim, "
                        f"not {args.port or 'a real robot'}")  # fmt: skip
