@@ -211,14 +211,18 @@ def test_humbles_range_has_no_variance_field_in_its_schema_or_payload(tmp_path: 
 
 
 def test_a_family_the_table_gains_appears_with_its_topic(tmp_path: Path) -> None:
-    # The e-puck2's rows as issue 25 adds them: a ToF in mm and a gyro (here in rad/s).
+    # The e-puck2's ToF row as issue 25 adds it (a DistanceSensor in mm; added here unless
+    # the table has it already), and a gyro in rad/s, a family no table has yet.
     epuck2 = frozenset({"webots"})
-    table = TABLE.extended(rows=[("tof", "tof", 0, "DistanceSensor", "mm", epuck2),
-                                 ("gyro", "gyro", 0, "Gyro", "rad/s", epuck2)])  # fmt: skip
+    rows = [("rate gyro", "rate_gyro", 0, "Gyro", "rad/s", epuck2)]
+    if TABLE.find("tof") is None:
+        rows.append(("tof", "tof", 0, "DistanceSensor", "mm", epuck2))
+        assert "/tof" not in Ros2Bag("jazzy").channels
+    table = TABLE.extended(rows=rows)
     path = tmp_path / "e2.mcap"
-    bag = write_bag(path, "jazzy", [{**SAMPLES[0], "tof": [123.0], "gyro": [0.5, -1.0, 2.0]}],
-                    table)  # fmt: skip
-    assert "/tof" in bag.registered and "/tof" not in Ros2Bag("jazzy").channels
+    readings = {"tof": [123.0], "rate_gyro": [0.5, -1.0, 2.0]}
+    bag = write_bag(path, "jazzy", [{**SAMPLES[0], **readings}], table)
+    assert "/tof" in bag.registered
     found = read_all(path)
     ((_, tof),) = found["/tof"]
     assert tof.range == pytest.approx(0.123) and tof.max_range == pytest.approx(1.0)
@@ -226,8 +230,12 @@ def test_a_family_the_table_gains_appears_with_its_topic(tmp_path: Path) -> None
     ((_, imu),) = found["/imu"]
     rate = imu.angular_velocity
     assert [rate.x, rate.y, rate.z] == [0.5, -1.0, 2.0]
+    assert imu.angular_velocity_covariance[0] == 0.0  # known now, not REP-145's -1
     ((_, scan),) = found["/scan"]
     assert scan.ranges[10] == pytest.approx(0.123 + 0.035)  # the 0° ray is the ToF's
+    ((_, static),) = found["/tf_static"]
+    tof_frame = next(t for t in static.transforms if t.child_frame_id == "tof")
+    assert tof_frame.transform.translation.x == pytest.approx(0.035)
 
 
 def test_a_topic_gets_its_channel_with_its_first_message_only(tmp_path: Path) -> None:
@@ -253,8 +261,9 @@ def test_tf_static_places_the_sensors_frames_once_as_epuck_ros2_does(
     distro, path = bag
     ((_, static),) = read_all(path)["/tf_static"]  # one message, with the first step
     frames = {t.child_frame_id: t for t in static.transforms}
+    tof = {"tof"} if TABLE.find("tof") is not None else set()  # the e-puck2's, once merged
     assert set(frames) == {"laser_scanner", *(f"ps{i}" for i in range(8)),
-                           *(f"ls{i}" for i in range(8)), "gs0", "gs1", "gs2"}  # fmt: skip
+                           *(f"ls{i}" for i in range(8)), "gs0", "gs1", "gs2", *tof}  # fmt: skip
     assert all(t.header.frame_id == "base_link" for t in static.transforms)
     ps2 = frames["ps2"].transform  # driver.cpp: -90°, 0.035 m from the centre
     assert (ps2.translation.x, ps2.translation.y) == pytest.approx((0.0, -0.035), abs=1e-12)
