@@ -157,6 +157,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from ego.servers.supervisor import wants_supervision
 
     _no_address_for_a_controller([args.controller])
+    if args.record_format != "ego" and not args.record:
+        raise EgoError(f"--record-format {args.record_format} says how to record: it needs "
+                       "--record FILE.mcap too")  # fmt: skip
     if args.fast and args.port != "sim":
         raise EgoError(f"--fast runs the emulator in virtual time: it needs --port sim, "
                        f"not {args.port or 'a real robot'}")  # fmt: skip
@@ -175,8 +178,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
         camera_size=args.camera, world=args.world, secret=secret if wanted else None,
         fast=args.fast,
     )  # fmt: skip
+    ros2 = args.ros2_distro if args.record_format == "ros2" else None
     with observe_run(options, dashboard=args.dashboard, secret_file=args.secret_file,
-                     record=args.record):  # fmt: skip
+                     record=args.record, record_ros2=ros2):  # fmt: skip
         run_controller(args.controller, options, args.args)
     return 0
 
@@ -197,6 +201,8 @@ def _run_supervised(args: argparse.Namespace, secret: bytes | None) -> int:
         *(["--dashboard-address", args.dashboard] if args.dashboard else []),
         *(["--secret-file", args.secret_file] if args.secret_file else []),
         *(["--record", args.record] if args.record else []),
+        *(["--record-format", args.record_format, "--ros2-distro", args.ros2_distro]
+          if args.record and args.record_format != "ego" else []),
     ]
     try:
         return run_supervised(
@@ -328,6 +334,12 @@ def _add_run(sub: Any) -> None:
                           "and of a dashboard off loopback")  # fmt: skip
     run.add_argument("--record", default=None, metavar="FILE.mcap",
                      help="record every step to MCAP")  # fmt: skip
+    run.add_argument("--record-format", choices=("ego", "ros2"), default="ego",
+                     help="ros2: a ROS 2 bag (epuck_ros2's topics, CDR) that ego replay "
+                     "still replays; needs ego[ros2] (default: ego's JSON)")  # fmt: skip
+    run.add_argument("--ros2-distro", default="jazzy", metavar="DISTRO",
+                     help="the ROS 2 distribution of --record-format ros2: humble, jazzy "
+                     "or kilted (default jazzy)")  # fmt: skip
     run.add_argument("controller", help="the controller's .py file")
     run.add_argument("args", nargs=argparse.REMAINDER, help="arguments for the controller")
     _add_verbosity(run, default=argparse.SUPPRESS)

@@ -24,15 +24,17 @@ def observe_run(
     dashboard: str | None = None,
     secret_file: str | None = None,
     record: str | None = None,
+    record_ros2: str | None = None,
     out: TextIO = sys.stderr,
 ) -> contextlib.ExitStack:
     """Attach a dashboard at ``dashboard`` (``HOST:PORT``; None: none) and a recorder to
-    ``record`` (an .mcap path; None: none) to the run of ``options``; close them on exit."""
+    ``record`` (an .mcap path; None: none) to the run of ``options``; close them on exit.
+    ``record_ros2``: the recording is a ROS 2 bag of that distribution (``jazzy``)."""
     stack = contextlib.ExitStack()
     if record is not None:
         from ego.recording.writer import Recorder
 
-        recorder = Recorder(record)
+        recorder = Recorder(record, ros2_distro=record_ros2)
         stack.callback(recorder.close)
         options.on_robot.append(recorder.attach)
     if dashboard is not None:

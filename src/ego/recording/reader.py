@@ -95,6 +95,10 @@ class Recording:
         metadata = raw.metadata.get("ego")
         if not metadata:
             raise RecordingError(f"{path}: an MCAP file, but not an ego recording")
+        if metadata.get("format") == "ros2":  # ego.recording.ros2_bag: its JSON inside CDR
+            from ego.recording.ros2_reading import from_ros2
+
+            raw = from_ros2(raw, str(path), metadata.get("ros2_distro", ""))
         recording = cls(path, metadata, [], [], [], [])
         recording._check(raw)
         for message in raw.messages:

@@ -8,6 +8,11 @@ it, onto a queue. A writer thread JSON-encodes, JPEG-encodes and writes them wit
 
 The file's ``ego`` metadata holds what replaying needs: the firmware and its profile,
 the port, and, on the emulator, the world as the dashboard draws it.
+
+``Recorder(path, ros2_distro="jazzy")`` (``--record-format ros2``) writes a ROS 2 bag
+instead (:mod:`ego.recording.ros2_bag`): epuck_ros2's topics in CDR, with ego's
+exchanges and samples kept as JSON in ``std_msgs/msg/String`` so that it replays alike;
+its ``ego`` metadata adds ``format: ros2`` and the distribution.
 """
 
 from __future__ import annotations
@@ -28,6 +33,7 @@ from ego.camera.encode import encode_jpeg
 from ego.core.channel import TappedChannel, as_channel_base
 from ego.core.telemetry import Telemetry, describe_robot, describe_world
 from ego.errors import EgoError
+from ego.recording.ros2_bag import FORMAT, Ros2Bag
 from ego.recording.schemas import CHANNELS, log_message, pose_message, schema_bytes, stamp
 
 if TYPE_CHECKING:
@@ -47,10 +53,15 @@ _LEVEL = {"retries": 3, "resyncs": 3, "restarts": 4, "overruns": 3}
 class Recorder:
     """Records the first robot it is attached to (``attach`` fits RunOptions.on_robot)."""
 
-    def __init__(self, path: str | Path) -> None:
+    def __init__(self, path: str | Path, ros2_distro: str | None = None) -> None:
         self.path = Path(path)
         if self.path.suffix != ".mcap":
             raise ValueError(f"a recording is an .mcap file, not {str(self.path)!r}")
+        # ROS 2 (ego.recording.ros2_bag): checked before the file is made, one line if not.
+        self._bag = Ros2Bag(ros2_distro) if ros2_distro is not None else None
+        self._channels: dict[str, int] = {}
+        self._sequence = 0
+        self._span = (0, 0)  # the first and last message times (ns)
         self._file: IO[bytes] = open(self.path, "wb")  # noqa: SIM115 - closed by close()
         self._queue: queue.SimpleQueue[tuple[str, Any, int] | None] = queue.SimpleQueue()
         self._writer: threading.Thread | None = None
@@ -113,46 +124,73 @@ class Recorder:
     def _write(self, metadata: dict[str, str]) -> None:
         try:
             writer = Writer(self._file)
-            writer.start(profile="", library=f"ego {__version__}")
-            schemas: dict[str, int] = {}
-            channels: dict[str, int] = {}
-            for topic, schema in CHANNELS.items():
-                if schema not in schemas:
-                    schemas[schema] = writer.register_schema(schema, "jsonschema",
-                                                             schema_bytes(schema))  # fmt: skip
-                channels[topic] = writer.register_channel(topic, "json", schemas[schema])
-            writer.add_metadata("ego", metadata)
-            sequence = 0
-
-            def put(topic: str, message: dict[str, Any], time_ns: int) -> None:
-                nonlocal sequence
-                sequence += 1
-                writer.add_message(channels[topic], time_ns, json.dumps(message).encode(),
-                                   time_ns, sequence)  # fmt: skip
-
+            self._start(writer, metadata)
             while (item := self._queue.get()) is not None:
                 kind, payload, time_ns = item
+                self._span = (self._span[0] or time_ns, time_ns)
                 if kind == "exchange":
                     step, t, tx, rx = payload
-                    put("/ego/exchange", {"step": step, "t": t, "tx": _b64(tx), "rx": _b64(rx)},
-                        time_ns)  # fmt: skip
+                    self._put(writer, "/ego/exchange", {"step": step, "t": t, "tx": _b64(tx),
+                                                        "rx": _b64(rx)}, time_ns)  # fmt: skip
                 elif kind == "image":
-                    put("/camera/image", {"timestamp": stamp(time_ns), "frame_id": "camera",
-                                          "data": _b64(encode_jpeg(payload, JPEG_QUALITY)),
-                                          "format": "jpeg"}, time_ns)  # fmt: skip
+                    self._image(writer, payload, time_ns)
                 else:
-                    put("/ego/sensors", payload, time_ns)
-                    put("/ego/pose/odometry", pose_message(time_ns, payload["odometry"]), time_ns)
-                    if payload["truth"] is not None:
-                        put("/ego/pose/truth", pose_message(time_ns, payload["truth"]), time_ns)
-                    for level, text in self._events(payload):
-                        put("/ego/log", log_message(time_ns, level, text), time_ns)
+                    self._sample(writer, payload, time_ns)
+            if self._bag is not None:
+                self._bag.finish(writer, self.path.name, *self._span)
             writer.finish()  # type: ignore[no-untyped-call]
         except (OSError, ValueError, EgoError) as exc:
             self.failure = exc
             log.error("recording to %s failed: %s", self.path, exc)
         finally:
             self._file.close()
+
+    def _start(self, writer: Writer, metadata: dict[str, str]) -> None:
+        """The header, schemas and channels: ego's JSON ones, or (ROS 2) the bag's."""
+        library = f"ego {__version__}"
+        if self._bag is not None:
+            writer.start(**self._bag.header(library))
+            self._bag.register(writer)
+            metadata = {**metadata, "format": FORMAT, "ros2_distro": self._bag.distro.value}
+        else:
+            writer.start(profile="", library=library)
+            schemas: dict[str, int] = {}
+            for topic, schema in CHANNELS.items():
+                if schema not in schemas:
+                    schemas[schema] = writer.register_schema(schema, "jsonschema",
+                                                             schema_bytes(schema))  # fmt: skip
+                self._channels[topic] = writer.register_channel(topic, "json", schemas[schema])
+        writer.add_metadata("ego", metadata)
+
+    def _add(self, writer: Writer, channel: int, data: bytes, time_ns: int) -> None:
+        self._sequence += 1
+        writer.add_message(channel, time_ns, data, time_ns, self._sequence)
+
+    def _put(self, writer: Writer, topic: str, message: dict[str, Any], time_ns: int) -> None:
+        if self._bag is None:
+            self._add(writer, self._channels[topic], json.dumps(message).encode(), time_ns)
+        elif (found := self._bag.ego(topic, message)) is not None:
+            self._add(writer, *found, time_ns)
+
+    def _image(self, writer: Writer, image: np.ndarray, time_ns: int) -> None:
+        jpeg = encode_jpeg(image, JPEG_QUALITY)
+        if self._bag is not None:
+            for channel, data in self._bag.frame(image, jpeg, time_ns):
+                self._add(writer, channel, data, time_ns)
+            return
+        self._put(writer, "/camera/image", {"timestamp": stamp(time_ns), "frame_id": "camera",
+                                            "data": _b64(jpeg), "format": "jpeg"}, time_ns)
+
+    def _sample(self, writer: Writer, sample: dict[str, Any], time_ns: int) -> None:
+        self._put(writer, "/ego/sensors", sample, time_ns)
+        self._put(writer, "/ego/pose/odometry", pose_message(time_ns, sample["odometry"]), time_ns)
+        if sample["truth"] is not None:
+            self._put(writer, "/ego/pose/truth", pose_message(time_ns, sample["truth"]), time_ns)
+        for level, text in self._events(sample):
+            self._put(writer, "/ego/log", log_message(time_ns, level, text), time_ns)
+        if self._bag is not None:
+            for channel, data in self._bag.step(sample, time_ns):
+                self._add(writer, channel, data, time_ns)
 
     def _events(self, sample: dict[str, Any]) -> list[tuple[int, str]]:
         """Link events since the last step: a counter that grew is one log line."""
