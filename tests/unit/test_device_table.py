@@ -38,6 +38,11 @@ PUBLISHED_NAMES = (
     *(f"led{i}" for i in range(10)),
     *(f"mic{i}" for i in range(3)),
     "camera",
+    # Appended for the e-puck2 (issue 25): the e-puck1's tags above never move.
+    "tof",
+    "gyro",
+    "mic3",
+    "speaker",
 )
 #: Webots' e-puck model: the node type of each family's devices (None: no Webots device).
 E_PUCK_NODES = {
@@ -51,6 +56,14 @@ E_PUCK_NODES = {
     "camera": "Camera",
     "microphones": None,
     "battery": None,
+    # The e-puck2's (Webots' E-puck.proto, version "2"):
+    "tof": "DistanceSensor",
+    "gyro": "Gyro",
+    "sound": "Speaker",
+    "magnetometer": None,
+    "temperature": None,
+    "button": None,
+    "selector": None,
 }
 #: The Webots node types that Webots' e-puck has a device class for.
 WEBOTS_KINDS = {kind for kind in E_PUCK_NODES.values() if kind is not None}

@@ -148,6 +148,12 @@ class Device:
         """The names that exist under the connected firmware."""
         return self.names
 
+    def served_names(self, table: DeviceTable = TABLE) -> tuple[str, ...]:
+        """The family's names whose table row the connected firmware serves (a family
+        the device table gives to some firmwares only: the e-puck2's ``tof``...)."""
+        firmware = self._profile.firmware
+        return tuple(n for n in self.names if table.spec(n).served_by(firmware))
+
     def check_name(self, name: str) -> str:
         if name not in self.member_names:
             raise UnknownDeviceError(
