@@ -32,6 +32,8 @@ class Gyro(Sensor):
     family = "gyro"
     table_family = "gyro"
     command = Command.GYRO_RAW
+    #: Webots' e-puck gyro (E-puck.proto): rad/s in, counts out, 1:1 with the firmware's.
+    webots_lookup = (-13.315805, -100000.0, 0.003, 13.315805, 100000.0, 0.003)
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)

@@ -56,6 +56,25 @@ class Speaker(Device):
         """The robot's way of sending an ASCII line (this family does no I/O itself)."""
         self._send = send
 
+    @staticmethod
+    def melody_named(sound: str) -> Melody | None:
+        """The sound a file name means (``sounds/mario.wav``, ``Star Wars``, ``tone_4khz``),
+        None for another: its base name, case, extension, spaces and ``_`` aside."""
+        if not isinstance(sound, str):
+            return None
+        base = sound.replace("\\", "/").rsplit("/", 1)[-1].rsplit(".", 1)[0]
+        key = "".join(c for c in base.lower() if c.isalnum())
+        for melody in Melody:
+            name = melody.name.lower().replace("_", "")
+            if key in (name, name.removeprefix("tone")):
+                return melody
+        return None
+
+    @staticmethod
+    def sound_names() -> str:
+        """The sounds by the names :meth:`melody_named` knows, for messages."""
+        return ", ".join(m.name.lower() for m in Melody)
+
     def play(self, melody: Melody | int) -> None:
         """Play ``melody`` once (1..5, :class:`Melody`); it replaces what was playing."""
         if isinstance(melody, bool) or not isinstance(melody, int) or melody not in set(Melody):

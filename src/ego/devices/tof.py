@@ -41,6 +41,13 @@ class TofSensor(ArraySensor):
     command = Command.TOF
     #: The VL53L0X answers 8190 (8191 at most) when nothing reflects (its no-target value).
     value_range: ClassVar[tuple[int, int]] = (0, 8191)
+    webots_lookup = (*TOF_LOOKUP[0], 0.0, *TOF_LOOKUP[1], 0.0)
+    webots_aperture_rad = TOF_APERTURE_RAD
+    webots_sensor_type = "generic"
+
+    def webots_value(self, reading: float) -> float:
+        """The millimetres as Webots' ``tof`` reports them (its lookup table)."""
+        return webots_value(reading)
 
     @property
     def member_names(self) -> tuple[str, ...]:
