@@ -180,7 +180,7 @@ ROBOTS = ("epuck", "epuck2")
 def check_robot(robot: object) -> str | None:
     """``robot`` if it names a robot the emulator models; OutOfRangeError naming them else."""
     if robot is None or robot in ROBOTS:
-        return robot  # type: ignore[return-value]
+        return robot
     raise OutOfRangeError(f"robot {robot!r} is not one of {', '.join(ROBOTS)}")
 
 
@@ -295,6 +295,11 @@ def open_epuck2_serial(given: SimOptions) -> Opened:
     (selector 8) or, with ``selector=3``, its Bluetooth link (115200 baud, plus
     ``latency_s`` each way). ego finds the e-puck2 by its ``V`` as on a real port. It has
     no camera ego reads over these links (the WiFi link streams one)."""
+    if given.firmware not in (None, Firmware.EPUCK2):
+        raise OutOfRangeError(
+            f"the emulated e-puck2 runs its own firmware ({Firmware.EPUCK2}), not "
+            f"{given.firmware}: leave firmware unset (auto) or give {Firmware.EPUCK2}"
+        )
     spec = given.world
     world = load_world(spec, given.seed) if isinstance(spec, str) else spec
     bluetooth = given.selector == BLUETOOTH_SELECTOR
