@@ -122,11 +122,11 @@ def run_demo(
         run_controller(path, options)
     report.wall_time_s = time.monotonic() - started
     if report.robots:
-        robot = report.robots[0]
-        report.steps = robot.steps
-        report.overruns = robot.overruns
-        report.controller_time_s = robot.time_s
-        truth = robot.ground_truth
+        driven = report.robots[0]
+        report.steps = driven.steps
+        report.overruns = driven.overruns
+        report.controller_time_s = driven.time_s
+        truth = driven.ground_truth
         true_world = truth.true_world if truth is not None else None
         if true_world is not None:
             report.distance_m = true_world.distance_travelled_m
