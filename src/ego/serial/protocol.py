@@ -204,17 +204,23 @@ EPUCK2_USB_BAUD = 10_000_000
 
 #: The e-puck2 over USB (selector 8).
 #:
-#: Batch strategy (docs/protocol.md, "e-puck2"; measured on the emulator with
-#: benchmarks/epuck2_batch.py, the table in docs/performance.md): a step's sensors go as
-#: the e-puck1 commands (``N``, ``O``, ``Q``, ``g``, ``-0x0D``...) unless the "all
-#: sensors" packet ``-0x08`` is cheaper, by :meth:`Profile.cost_s` (bytes at the line
-#: rate plus the firmware's work): its 104 bytes cost more than any set of the short
-#: commands over Bluetooth and about the same over USB, but ``-'a'`` costs 60 ms of
-#: filtering, so the accelerometer, and what only the packet holds (magnetometer,
-#: temperature, selector), bring the packet in, and then every sensor it holds rides in
-#: it for free. The "all actuators" ``-0x09`` is never used: over USB it sleeps 10 ms
-#: (Asercom2.c:481), and over both links it costs 20 bytes against ``D``'s 5 and
-#: ``L``'s 3; the RGB LEDs go as ``-0x0A`` (13 bytes, no sleep), sound as ASCII ``T``.
+#: Batch strategy, measured on the emulator (``python -m benchmarks.epuck2_batch``,
+#: median round trips; the full table is in docs/protocol.md, "e-puck2"): a step's reads
+#: go as the e-puck1 commands (``N``, ``O``, ``Q``, ``g``, ``-0x0D``...) unless the "all
+#: sensors" packet ``-0x08`` costs less by :meth:`Profile.cost_s` (bytes at the line
+#: rate plus the firmware's work). Its 104 bytes lose to every set of short commands:
+#: over Bluetooth ps+enc is 23 B, 3.1 ms against 105 B, 10.1 ms, and even every sensor
+#: but the accelerometer (62 B) is 6.4 ms against 10.1; over USB, where bytes are nearly
+#: free, 0.8-1.1 ms against 1.1-1.6 ms. But ``-'a'`` filters for 60 ms, so the
+#: accelerometer (ps+enc+acc: 60.7 ms as commands, 1.1 ms as the packet over USB; 63.7
+#: against 10.1 over Bluetooth), and what only the packet holds (magnetometer,
+#: temperature, selector), bring the packet in, and every read it holds then rides in
+#: it. The "all actuators" ``-0x09`` is not used: over USB it sleeps 10 ms (Asercom2.c:
+#: 481; speeds 10.6 ms against D+E's 0.5 ms), and over Bluetooth it wins (3.2 against
+#: 4.6 ms) only when the speeds, six LEDs and the RGB LEDs all change in one step, while
+#: a usual step changes the speeds alone (D+E 1.9 ms against 3.2); it would also have to
+#: resend every actuator each time. The RGB LEDs go as ``-0x0A`` (13 bytes, no sleep),
+#: sound as ASCII ``T``.
 EPUCK2_USB = Profile(
     Firmware.EPUCK2,
     MappingProxyType(_epuck2),
