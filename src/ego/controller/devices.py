@@ -404,7 +404,8 @@ class Motor(Device):
 
     def getMaxVelocity(self) -> float:
         """The model's maxVelocity (Webots' e-puck: 6.28 rad/s; e-puck2: 7.536)."""
-        return steps_to_rad_s(self._core.channel.profile.model_speed_steps)
+        model = self._core.channel.profile.model_max_velocity_rad_s
+        return self._drivable_rad_s() if model is None else model
 
     def _drivable_rad_s(self) -> float:
         """The fastest the firmware drives the wheel (e-puck2: 1100 steps/s, 6.91 rad/s)."""

@@ -178,9 +178,9 @@ class Profile:
     i2c: Mapping[Command, str] = field(default_factory=dict, repr=False)
     #: The fastest speed the firmware drives a wheel at, in steps/s: ego refuses more.
     max_speed_steps: int = 1000
-    #: The speed Webots' model of this robot lets its motors reach (their maxVelocity),
-    #: in steps/s: 1000 for the e-puck (6.28 rad/s), 1200 for the e-puck2 (7.536).
-    model_speed_steps: int = 1000
+    #: The maxVelocity of Webots' model of this robot's motors, rad/s, where it exceeds
+    #: what the firmware drives (the e-puck2's PROTO: 7.536); None: the firmware's limit.
+    model_max_velocity_rad_s: float | None = None
     #: The LEDs that are RGB (set by ``RGB_LEDS`` as percentages, in this order); the
     #: others are on/off through ``L``.
     rgb_leds: tuple[int, ...] = field(default=(), repr=False)

@@ -246,7 +246,7 @@ EPUCK2_USB = Profile(
     acc_counts_per_g=768,  # e_acc.c:17-32: (v>>4) - (v>>6) of 16384 a g
     rev13=True,  # the battery answers an ADC count, as on an e-puck rev 1.3
     max_speed_steps=1100,  # MAIN:src/motors.h:7 MOTOR_SPEED_LIMIT, motors.c:298-305
-    model_speed_steps=1200,  # Webots' E-puck.proto, version "2": maxVelocity 7.536 rad/s
+    model_max_velocity_rad_s=7.536,  # Webots' E-puck.proto, version "2" (1200 steps/s)
     rgb_leds=(1, 3, 5, 7),  # LED2, 4, 6, 8 of the firmware, in -0x0A's order
     all_sensors=_EPUCK2_COVER,
 )
