@@ -107,7 +107,7 @@ def test_ascii_s_leaves_body_front_and_the_echo() -> None:
 def test_the_speed_limit_is_the_firmwares_clamp_and_the_models_is_higher() -> None:
     # Corrections box: the firmware clamps at 1100 steps/s; Webots' e-puck2 model uses 1200.
     assert EPUCK2_USB.max_speed_steps == EPUCK2_BLUETOOTH.max_speed_steps == 1100
-    assert EPUCK2_USB.model_speed_steps == 1200
+    assert EPUCK2_USB.model_max_velocity_rad_s == 7.536
     assert PROFILES[Firmware.WEBOTS].max_speed_steps == 1000
 
 

@@ -31,7 +31,7 @@ from ego.servers.dashboard.control import ControlDesk
 SRC = Path(__file__).resolve().parents[2] / "src" / "ego"
 #: The e-puck2's time-of-flight sensor: a Webots DistanceSensor, its range in mm.
 SONAR_ROW = ("sonar", "sonar", 0, "DistanceSensor", "mm", frozenset({"webots"}))
-SONAR = FamilySpec("sonar", f"{__name__}:Sonar", 9, Command.PROXIMITY,
+SONAR = FamilySpec("sonar", f"{__name__}:Sonar", 99, Command.PROXIMITY,
                  Series("sonar", "mm", ("sonar",)))  # fmt: skip
 WITH_SONAR = TABLE.extended(rows=[SONAR_ROW], families=[SONAR])
 

@@ -26,6 +26,7 @@ class Button(ArraySensor):
     family = "button"
     table_family = "button"
     command = Command.BUTTON
+    webots_device = False  # Webots' e-puck2 model has no device for it
 
     @property
     def member_names(self) -> tuple[str, ...]:

@@ -22,6 +22,7 @@ class PacketSensor(Sensor):
     """A sensor family read from the "all sensors" packet: its values are ``fields``."""
 
     command = Command.ALL_SENSORS
+    webots_device = False  # Webots' e-puck2 model has no device for these
     #: Where the family's values lie among the packet's 49.
     fields: ClassVar[slice] = slice(0, 0)
 
