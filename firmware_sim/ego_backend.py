@@ -22,13 +22,14 @@ from ego.backends.base import BackendOptions, Opened, check
 from ego.backends.serial_line import open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
 from ego.core.ground_truth import Box, Layout, TruePose
-from ego.errors import CameraCaptureError, CameraError, WorldFileError
+from ego.errors import CameraCaptureError, CameraError, OutOfRangeError, WorldFileError
 from ego.i2c.bus import given_bus
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import Firmware
+from ego.serial.protocol import DEFAULT_BAUD, Firmware
 from ego.serial.transport import SerialTransport, check_baudrate
 from firmware_sim.camera import SimulatedSource
 from firmware_sim.cli import main as cli_main
+from firmware_sim.epuck2.emulator import BLUETOOTH_SELECTOR, UART_BAUD, Epuck2Emulator
 from firmware_sim.faults import FaultSpec, FaultTimings
 from firmware_sim.scene import Scene
 from firmware_sim.server import Emulator
@@ -134,7 +135,7 @@ class EmulatorTruth:
     :attr:`world`.
     """
 
-    def __init__(self, world: World, emulator: Emulator | None = None) -> None:
+    def __init__(self, world: World, emulator: Emulator | Epuck2Emulator | None = None) -> None:
         self.world = world
         self.emulator = emulator
         self._true_world = WorldTruth(world)
@@ -171,6 +172,18 @@ class VirtualPacer:
         """Nothing to release."""
 
 
+#: The robots the emulator models: the e-puck (its dsPIC, firmware_sim.server) and the
+#: e-puck2 (its main processor's asercom v2, firmware_sim.epuck2).
+ROBOTS = ("epuck", "epuck2")
+
+
+def check_robot(robot: object) -> str | None:
+    """``robot`` if it names a robot the emulator models; OutOfRangeError naming them else."""
+    if robot is None or robot in ROBOTS:
+        return robot
+    raise OutOfRangeError(f"robot {robot!r} is not one of {', '.join(ROBOTS)}")
+
+
 @dataclass(frozen=True, kw_only=True)
 class SimOptions(BackendOptions):
     """The emulator's options; None: the default each names (the Emulator's own, for
@@ -186,6 +199,9 @@ class SimOptions(BackendOptions):
     virtual_time: bool | None = None
     #: A built-in world's name, a world file, or a World (None: the default arena).
     world: str | World | None = None
+    #: Which robot: "epuck" (None: the default) or "epuck2" (its USB link; with
+    #: ``selector=3`` its Bluetooth link, paced at 115200 baud).
+    robot: str | None = field(default=None, metadata=check(check_robot))
     # The Emulator's own options (firmware_sim.server.Emulator), passed on when given:
     hardware_version: int | None = None
     rev13: bool | None = None
@@ -196,8 +212,7 @@ class SimOptions(BackendOptions):
     faults: Sequence[FaultSpec] | None = None
     timings: FaultTimings | None = None
     dspic_work: bool | None = None
-    # The e-puck2 on its radio's WiFi (open_epuck2_wifi): ``robot="epuck2", wifi=True``.
-    robot: str | None = None
+    #: The e-puck2 on its radio's WiFi (open_epuck2_wifi): ``robot="epuck2", wifi=True``.
     wifi: bool | None = None
 
 #: The options that go to the Emulator as they are, when given.
@@ -225,6 +240,8 @@ class SimBackend:
         given = SimOptions.narrow(options)
         if given.wifi:
             return open_epuck2_wifi(given)
+        if given.robot == "epuck2":
+            return open_epuck2_serial(given)
         firmware = given.firmware
         name = (firmware or Firmware.WEBOTS).value
         emulator_options: dict[str, Any] = {
@@ -306,3 +323,39 @@ def open_epuck2_wifi(given: SimOptions) -> Opened:
     return Opened(
         channel, camera, truth, [emulator.close], remote=True, scene=Scene(emulator.world)
     )
+
+
+def open_epuck2_serial(given: SimOptions) -> Opened:
+    """``Robot("sim", robot="epuck2")``: an emulated e-puck2 on a pty, its USB link
+    (selector 8) or, with ``selector=3``, its Bluetooth link (115200 baud, plus
+    ``latency_s`` each way). ego finds the e-puck2 by its ``V`` as on a real port. It has
+    no camera ego reads over these links (the WiFi link streams one)."""
+    if given.firmware not in (None, Firmware.EPUCK2):
+        raise OutOfRangeError(
+            f"the emulated e-puck2 runs its own firmware ({Firmware.EPUCK2}), not "
+            f"{given.firmware}: leave firmware unset (auto) or give {Firmware.EPUCK2}"
+        )
+    spec = given.world
+    world = load_world(spec, given.seed) if isinstance(spec, str) else spec
+    bluetooth = given.selector == BLUETOOTH_SELECTOR
+    emulator = Epuck2Emulator(world, seed=given.seed, bluetooth=bluetooth,
+                              latency_s=given.latency_s or 0.0,
+                              ground_module=bool(given.ground_module))  # fmt: skip
+    path = emulator.pty_path
+    assert path is not None  # a serial mode always has its pty
+    # USB CDC has no line rate: the port opens at ego's default, which it ignores.
+    baud = given.baudrate or (UART_BAUD if bluetooth else DEFAULT_BAUD)
+    try:
+        transport = SerialTransport(path, baud)
+        channel = open_link(transport, given.firmware, given.link_settings)
+    except BaseException:
+        emulator.close()
+        raise
+    pacer = None
+    if given.virtual_time:
+        clock = VirtualClock()
+        emulator.world.use_clock(clock)
+        pacer = VirtualPacer(clock)
+    truth = EmulatorTruth(emulator.world, emulator)
+    return Opened(channel, None, truth, [emulator.close], scene=Scene(emulator.world),
+                  pacer=pacer)  # fmt: skip

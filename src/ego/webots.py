@@ -17,6 +17,7 @@ from ego.controller.devices import (
     Camera,
     Device,
     DistanceSensor,
+    Gyro,
     LightSensor,
     encoder_steps,
     view_class,
@@ -53,6 +54,9 @@ __all__ = [
     "wb_distance_sensor_disable",
     "wb_distance_sensor_enable",
     "wb_distance_sensor_get_value",
+    "wb_gyro_disable",
+    "wb_gyro_enable",
+    "wb_gyro_get_values",
     "wb_led_set",
     "wb_light_sensor_disable",
     "wb_light_sensor_enable",
@@ -254,8 +258,22 @@ def wb_distance_sensor_get_value(tag: Tag) -> float:
     return _distance(tag).getValue()
 
 
+def wb_gyro_enable(tag: Tag, ms: int) -> None:
+    _view(tag, Gyro).enable(ms)
+
+
+def wb_gyro_disable(tag: Tag) -> None:
+    _view(tag, Gyro).disable()
+
+
+def wb_gyro_get_values(tag: Tag) -> list[float]:
+    """x, y, z as Webots' gyro gives them (NaN while not enabled)."""
+    return _view(tag, Gyro).getValues()
+
+
 def wb_led_set(tag: Tag, value: int) -> None:
-    """An int, as C's ``wb_led_set`` takes (a float or a bool is a TypeError here)."""
+    """An int, as C's ``wb_led_set`` takes (a float or a bool is a TypeError here); an
+    RGB LED's value is its colour ``0xRRGGBB``."""
     _view(tag, LED, strict=True).set(value)
 
 

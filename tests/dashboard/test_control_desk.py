@@ -30,6 +30,7 @@ class StandInMotors:
 @dataclass
 class StandInLeds:
     on: dict[int, int] = field(default_factory=dict)
+    rgb: tuple[int, ...] = ()  # the LEDs that take a colour (an e-puck2's)
 
     def set(self, index: int, value: int) -> None:
         self.on[index] = value

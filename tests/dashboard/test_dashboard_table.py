@@ -15,22 +15,22 @@ from ego.serial.protocol import PROFILES, Command, Firmware
 from ego.servers.dashboard.control import ControlDesk, Reply
 from ego.servers.dashboard.server import DashboardServer
 
-TOF = FamilySpec("tof", "ego.devices.proximity:ProximitySensors", 9, Command.PROXIMITY,
-                 Series("time of flight", "mm", ("tof",)))  # fmt: skip
-WITH_TOF = TABLE.extended(rows=[("tof", "tof", 0, "DistanceSensor", "mm", frozenset())],
-                          families=[TOF])  # fmt: skip
+SONAR = FamilySpec("sonar", "ego.devices.proximity:ProximitySensors", 99, Command.PROXIMITY,
+                 Series("sonar", "mm", ("sonar",)))  # fmt: skip
+WITH_SONAR = TABLE.extended(rows=[("sonar", "sonar", 0, "DistanceSensor", "mm", frozenset())],
+                          families=[SONAR])  # fmt: skip
 
 
 class _TableFeed:
-    """A served robot's feed whose table holds the tof row."""
+    """A served robot's feed whose table holds the sonar row."""
 
     def __init__(self) -> None:
-        self.desk = ControlDesk(can_act=False, table=WITH_TOF)
+        self.desk = ControlDesk(can_act=False, table=WITH_SONAR)
 
     def hello(self) -> dict[str, Any]:
-        robot = describe_firmware(FirmwareInfo(PROFILES[Firmware.WEBOTS]), "tof-robot",
+        robot = describe_firmware(FirmwareInfo(PROFILES[Firmware.WEBOTS]), "sonar-robot",
                                   remote=False, proximity_count=8, led_count=10,
-                                  families=["proximity", "tof"], table=WITH_TOF)  # fmt: skip
+                                  families=["proximity", "sonar"], table=WITH_SONAR)  # fmt: skip
         return {"mode": "served", "robot": robot, "world": None}
 
     def state(self, client: object) -> dict[str, Any]:
@@ -47,19 +47,19 @@ class _TableFeed:
 
 
 def test_the_page_plots_a_family_it_was_told_of(page: Any) -> None:
-    sampler = Sampler(table=WITH_TOF)
+    sampler = Sampler(table=WITH_SONAR)
     with DashboardServer(_TableFeed(), "127.0.0.1", 0) as server:  # type: ignore[arg-type]
         page.goto(server.url)
         page.wait_for_function("document.getElementById('link-status').textContent === 'live'")
-        page.wait_for_selector("#plot-series option[value='tof']", state="attached")
+        page.wait_for_selector("#plot-series option[value='sonar']", state="attached")
         options = page.eval_on_selector_all(
             "#plot-series option", "(os) => os.map((o) => [o.value, o.textContent])"
         )
-        page.select_option("#plot-series", "tof")
+        page.select_option("#plot-series", "sonar")
         for step in range(40):
             server.publish(sampler.sample(
                 t_s=step * 0.05, step=step, step_ms=50.0, wall_ms=50.0, overruns=0,
-                readings={"tof": [float(100 + step)], "proximity": [1.0] * 8},
+                readings={"sonar": [float(100 + step)], "proximity": [1.0] * 8},
                 speed=[0, 0], leds=[0] * 10, battery=None, truth=None, stats=LinkStats(),
             ))  # fmt: skip
             time.sleep(0.05)
@@ -67,7 +67,7 @@ def test_the_page_plots_a_family_it_was_told_of(page: Any) -> None:
         legend = page.eval_on_selector_all("#plot-legend li",
                                            "(li) => li.map((i) => i.textContent)")
         units = page.get_attribute("#plot", "data-units")
-    assert ["tof", "time of flight (mm)"] in [list(o) for o in options], json.dumps(options)
+    assert ["sonar", "sonar (mm)"] in [list(o) for o in options], json.dumps(options)
     keys = [value for value, _ in options]
-    assert keys[: len(TABLE.sampled) + 1] == [*(f.name for f in TABLE.sampled), "tof"]
-    assert legend == ["tof"] and units == "mm"
+    assert keys[: len(TABLE.sampled) + 1] == [*(f.name for f in TABLE.sampled), "sonar"]
+    assert legend == ["sonar"] and units == "mm"

@@ -267,6 +267,7 @@ def namespace() -> Iterator[Namespace]:
             )
         )
         remote_robot = stack.enter_context(ego.Robot(open_server.url))
+        epuck2_robot = stack.enter_context(ego.Robot("sim", robot="epuck2", seed=3))
 
         dashboard = stack.enter_context(DashboardProbe(RobotFeed(robot)))
 
@@ -305,6 +306,7 @@ def namespace() -> Iterator[Namespace]:
             server_tcp=served.urls[0],
             server_udp=served.urls[1],
             remote_robot=remote_robot,
+            epuck2_robot=epuck2_robot,
             pipelined=pipelined,
             udp_request=udp_request,
             ego_cli=ego_cli(tmp_path),

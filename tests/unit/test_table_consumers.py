@@ -2,7 +2,7 @@
 names from it, and every consumer's list of families is the table's.
 
 A copy of the table with one more row and family (the e-puck2's time-of-flight sensor,
-``tof``) is handed to each consumer, never patched in: each picks it up with no edit of
+``sonar``) is handed to each consumer, never patched in: each picks it up with no edit of
 its own. The faces read the table's rows (test_device_table.py), the page its series
 (tests/dashboard/test_dashboard_table.py).
 """
@@ -30,17 +30,17 @@ from ego.servers.dashboard.control import ControlDesk
 
 SRC = Path(__file__).resolve().parents[2] / "src" / "ego"
 #: The e-puck2's time-of-flight sensor: a Webots DistanceSensor, its range in mm.
-TOF_ROW = ("tof", "tof", 0, "DistanceSensor", "mm", frozenset({"webots"}))
-TOF = FamilySpec("tof", f"{__name__}:TimeOfFlight", 9, Command.PROXIMITY,
-                 Series("time of flight", "mm", ("tof",)))  # fmt: skip
-WITH_TOF = TABLE.extended(rows=[TOF_ROW], families=[TOF])
+SONAR_ROW = ("sonar", "sonar", 0, "DistanceSensor", "mm", frozenset({"webots"}))
+SONAR = FamilySpec("sonar", f"{__name__}:Sonar", 99, Command.PROXIMITY,
+                 Series("sonar", "mm", ("sonar",)))  # fmt: skip
+WITH_SONAR = TABLE.extended(rows=[SONAR_ROW], families=[SONAR])
 
 
-class TimeOfFlight(ArraySensor, table=WITH_TOF):
+class Sonar(ArraySensor, table=WITH_SONAR):
     """A family written against the copy: its names are the copy's row."""
 
-    table_family = "tof"
-    family = "time of flight"
+    table_family = "sonar"
+    family = "sonar"
     command = Command.PROXIMITY
 
     def take(self, values: Sequence[float]) -> None:
@@ -85,25 +85,26 @@ def test_no_family_module_writes_a_device_name() -> None:
 
 
 def test_a_family_written_against_a_copy_takes_the_copys_row() -> None:
-    assert TimeOfFlight.names == ("tof",)
-    with pytest.raises(UnknownDeviceError, match="'tof'"):
-        TABLE.names_of("tof")  # the e-puck's own table is untouched
-    assert WITH_TOF.spec_of_tag(len(TABLE.devices) + 1).name == "tof"
+    assert Sonar.names == ("sonar",)
+    with pytest.raises(UnknownDeviceError, match="'sonar'"):
+        TABLE.names_of("sonar")  # the e-puck's own table is untouched
+    assert WITH_SONAR.spec_of_tag(len(TABLE.devices) + 1).name == "sonar"
 
 
 def test_the_robots_families_are_the_tables_in_webots_order() -> None:
     profile = PROFILES[Firmware.WEBOTS]
     made = make_families(profile)
     assert list(made) == ["motors", "leds", "encoders", "accelerometer", "proximity", "floor",
-                          "light", "microphones", "battery"]  # fmt: skip
-    with_tof = make_families(profile, WITH_TOF)
-    assert list(with_tof)[-1] == "tof" and type(with_tof["tof"]) is TimeOfFlight
-    assert with_tof["tof"].member_names == ("tof",)
+                          "light", "microphones", "battery", "tof", "gyro", "magnetometer",
+                          "temperature", "button", "selector", "sound"]  # fmt: skip
+    with_sonar = make_families(profile, WITH_SONAR)
+    assert list(with_sonar)[-1] == "sonar" and type(with_sonar["sonar"]) is Sonar
+    assert with_sonar["sonar"].member_names == ("sonar",)
 
 
 def test_a_table_row_naming_a_wrong_class_is_refused() -> None:
-    wrong = FamilySpec("tof", "ego.devices.light:LightSensors", 9)
-    with pytest.raises(UnknownDeviceError, match="serves the table's family 'light', not 'tof'"):
+    wrong = FamilySpec("sonar", "ego.devices.light:LightSensors", 9)
+    with pytest.raises(UnknownDeviceError, match="serves the table's family 'light', not 'sonar'"):
         family_class(wrong)
 
 
@@ -113,7 +114,8 @@ SAMPLED = tuple(f.name for f in TABLE.sampled)
 
 
 def test_every_consumers_list_of_families_is_the_tables() -> None:
-    assert SAMPLED == ("proximity", "light", "floor", "accelerometer", "encoders", "microphones")
+    assert SAMPLED == ("proximity", "light", "floor", "accelerometer", "encoders", "microphones",
+                       "tof", "gyro", "magnetometer", "temperature", "button", "selector")
     assert telemetry.SENSOR_FAMILIES == SAMPLED
     assert (*SAMPLED, "camera") == control.SWITCHABLE
     assert served._SAMPLED_FAMILIES == SAMPLED
@@ -128,35 +130,35 @@ def _sample(table_sampler: Sampler, readings: dict[str, list[float] | None]) -> 
 
 
 def test_telemetry_samples_a_family_added_to_the_table() -> None:
-    assert "tof" not in _sample(Sampler(), {"tof": [42.0]})
-    sample = _sample(Sampler(table=WITH_TOF), {"tof": [42.0], "proximity": [1.0] * 8})
-    assert sample["tof"] == [42.0] and sample["proximity"] == [1.0] * 8
+    assert "sonar" not in _sample(Sampler(), {"sonar": [42.0]})
+    sample = _sample(Sampler(table=WITH_SONAR), {"sonar": [42.0], "proximity": [1.0] * 8})
+    assert sample["sonar"] == [42.0] and sample["proximity"] == [1.0] * 8
 
 
 def test_the_dashboard_may_switch_and_draws_a_family_added_to_the_table() -> None:
     client = object()
-    for desk, accepted in ((ControlDesk(), False), (ControlDesk(table=WITH_TOF), True)):
+    for desk, accepted in ((ControlDesk(), False), (ControlDesk(table=WITH_SONAR), True)):
         desk.handle(client, {"type": "take"})
-        reply = desk.handle(client, {"type": "sensor", "family": "tof", "on": True})
+        reply = desk.handle(client, {"type": "sensor", "family": "sonar", "on": True})
         assert (reply.message is None) is accepted, reply
     info = FirmwareInfo(PROFILES[Firmware.WEBOTS])
     hello = describe_firmware(info, "sim", remote=False, proximity_count=8, led_count=10,
-                              families=["tof"], table=WITH_TOF)  # fmt: skip
-    assert hello["series"][-1] == {"key": "tof", "title": "time of flight", "unit": "mm",
-                                   "lines": ["tof"]}  # fmt: skip
+                              families=["sonar"], table=WITH_SONAR)  # fmt: skip
+    assert hello["series"][-1] == {"key": "sonar", "title": "sonar", "unit": "mm",
+                                   "lines": ["sonar"]}  # fmt: skip
     assert [s["key"] for s in hello["series"][:-1]] == list(SAMPLED)
 
 
 def test_a_recording_describes_and_plots_a_family_added_to_the_table() -> None:
-    assert "tof" not in sensors_schema()["properties"]
-    assert sensors_schema(WITH_TOF)["properties"]["tof"]["type"] == ["array", "null"]
+    assert "sonar" not in sensors_schema()["properties"]
+    assert sensors_schema(WITH_SONAR)["properties"]["sonar"]["type"] == ["array", "null"]
     from ego.app.plot import sensors_figure
 
-    samples = [{"t": k * 0.032, "tof": [float(100 + k)], "speed": None} for k in range(5)]
-    fig = sensors_figure(samples, WITH_TOF)
+    samples = [{"t": k * 0.032, "sonar": [float(100 + k)], "speed": None} for k in range(5)]
+    fig = sensors_figure(samples, WITH_SONAR)
     panels = {ax.get_title(loc="left"): ax for ax in fig.axes}
-    assert set(panels) == {"time of flight"}
-    assert panels["time of flight"].get_ylabel() == "mm"
-    legend = panels["time of flight"].get_legend()
-    assert [t.get_text() for t in legend.get_texts()] == ["tof"]
-    assert sensors_figure(samples).axes[0].get_title(loc="left") != "time of flight"
+    assert set(panels) == {"sonar"}
+    assert panels["sonar"].get_ylabel() == "mm"
+    legend = panels["sonar"].get_legend()
+    assert [t.get_text() for t in legend.get_texts()] == ["sonar"]
+    assert sensors_figure(samples).axes[0].get_title(loc="left") != "sonar"

@@ -21,6 +21,7 @@ from ego.app.cli_options import (
     error_line,
     firmware_parent,
     missing_extra,
+    robot_parent,
     seed_parent,
     world_parent,
 )
@@ -75,7 +76,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
     dashboard = None if args.no_dashboard else (args.dashboard or DEFAULT_DASHBOARD)
     run_demo(args.duration, args.firmware, args.seed, world=args.world, dashboard=dashboard,
-             record=args.record)  # fmt: skip
+             record=args.record, robot=args.robot)  # fmt: skip
     return 0
 
 
@@ -176,7 +177,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         port=args.port, firmware=args.firmware, duration_s=args.duration,
         basic_time_step_ms=args.time_step, seed=args.seed, strict=args.strict,
         camera_size=args.camera, world=args.world, secret=secret if wanted else None,
-        fast=args.fast,
+        fast=args.fast, robot=args.robot,
     )  # fmt: skip
     ros2 = args.ros2_distro if args.record_format == "ros2" else None
     with observe_run(options, dashboard=args.dashboard, secret_file=args.secret_file,
@@ -285,7 +286,7 @@ def _add_demo(sub: Any) -> None:
     demo = sub.add_parser(
         "demo", help="obstacle avoidance on the built-in emulator, shown live",
         parents=[firmware_parent(emulated=True, default="webots"), seed_parent(1, ""),
-                 world_parent("the emulator's world")],
+                 world_parent("the emulator's world"), robot_parent("the emulated robot")],
     )  # fmt: skip
     demo.add_argument("--duration", type=_positive, default=20.0, help="seconds (default 20)")
     add_dashboard_options(demo, "the live dashboard, on unless --no-dashboard", secret=False,
@@ -299,7 +300,8 @@ def _add_run(sub: Any) -> None:
     run = sub.add_parser(
         "run", help="run a Webots controller file unchanged",
         parents=[firmware_parent(emulated=False, default=None),
-                 seed_parent(None, " (port sim)"), world_parent("the emulator's world (port sim)")],
+                 seed_parent(None, " (port sim)"), world_parent("the emulator's world (port sim)"),
+                 robot_parent("the emulated robot (port sim)")],
     )  # fmt: skip
     run.add_argument("--port", default=None, help="serial port, pyserial URL, 'sim', tcp://, "
                      "udp://, unix://, zenoh://, epuck2://HOST (an e-puck2 over WiFi) "

@@ -15,13 +15,14 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES
+from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmware
 
 __all__ = [
     "DEFAULT_DASHBOARD",
     "CommandParser",
     "add_dashboard_options",
     "firmware_parent",
+    "robot_parent",
     "seed_parent",
     "world_parent",
 ]
@@ -137,7 +138,9 @@ def add_dashboard_options(
 def firmware_parent(*, emulated: bool, default: str | None) -> argparse.ArgumentParser:
     """``--firmware``: the one the emulator answers as (``emulated``), else the robot's."""
     parent = argparse.ArgumentParser(add_help=False)
-    choices = FIRMWARE_CHOICES[1:] if emulated else FIRMWARE_CHOICES
+    # The emulator's e-puck answers as either e-puck1 firmware; its e-puck2 is --robot's.
+    emulator_firmwares = tuple(c for c in FIRMWARE_CHOICES[1:] if c != Firmware.EPUCK2.value)
+    choices = emulator_firmwares if emulated else FIRMWARE_CHOICES
     help_text = (
         f"which firmware the emulator answers as (default: {default})"
         if emulated
@@ -146,6 +149,16 @@ def firmware_parent(*, emulated: bool, default: str | None) -> argparse.Argument
     parent.add_argument(
         "--firmware", choices=(*choices, *DEPRECATED_FIRMWARE_NAMES), default=default,
         metavar="{" + ",".join(choices) + "}", help=help_text,
+    )  # fmt: skip
+    return parent
+
+
+def robot_parent(what: str) -> argparse.ArgumentParser:
+    """``--robot epuck|epuck2``: which robot the emulator models (port sim)."""
+    parent = argparse.ArgumentParser(add_help=False)
+    parent.add_argument(
+        "--robot", choices=("epuck", "epuck2"), default=None,
+        help=f"{what}: an e-puck (default) or a GCtronic e-puck2 on its USB link",
     )  # fmt: skip
     return parent
 

@@ -89,24 +89,30 @@ def run_demo(
     world: str | None = None,
     dashboard: str | None = None,
     record: str | None = None,
+    robot: str | None = None,
 ) -> DemoReport:
     """Run the bundled obstacle-avoidance controller on the built-in emulator, with a
-    live dashboard at ``dashboard`` (HOST:PORT) and a recording to ``record`` if asked."""
+    live dashboard at ``dashboard`` (HOST:PORT) and a recording to ``record`` if asked;
+    ``robot`` "epuck2" emulates an e-puck2 on its USB link instead of an e-puck."""
     report = DemoReport()
     # With a dashboard, the emulated camera is shown at Webots' e-puck size.
     progress = _Progress(out, report, camera_size=WEBOTS_CAMERA_SIZE if dashboard else None)
     options = runtime.RunOptions(
         port="sim",
-        firmware=firmware,
+        firmware=None if robot == "epuck2" else firmware,  # the e-puck2 is found by its V
         duration_s=duration_s,
         seed=seed,
         world=world,
+        robot=robot,
         on_robot=[progress.attach],
     )
-    baud = default_baud("sim", Firmware.choose(firmware))
+    if robot == "epuck2":
+        link = "its asercom v2 over a USB pty"
+    else:
+        link = f"{firmware} firmware, {default_baud('sim', Firmware.choose(firmware))} baud pty"
     out.write(
-        f"ego demo: a Webots obstacle-avoidance controller drives the emulated e-puck "
-        f"({firmware} firmware, {baud} baud pty) for {duration_s:g} s\n"
+        f"ego demo: a Webots obstacle-avoidance controller drives the emulated "
+        f"{'e-puck2' if robot == 'epuck2' else 'e-puck'} ({link}) for {duration_s:g} s\n"
     )
     controller = resources.files("ego.examples") / "obstacle_avoidance.py"
     started = time.monotonic()
@@ -116,11 +122,11 @@ def run_demo(
         run_controller(path, options)
     report.wall_time_s = time.monotonic() - started
     if report.robots:
-        robot = report.robots[0]
-        report.steps = robot.steps
-        report.overruns = robot.overruns
-        report.controller_time_s = robot.time_s
-        truth = robot.ground_truth
+        driven = report.robots[0]
+        report.steps = driven.steps
+        report.overruns = driven.overruns
+        report.controller_time_s = driven.time_s
+        truth = driven.ground_truth
         true_world = truth.true_world if truth is not None else None
         if true_world is not None:
             report.distance_m = true_world.distance_travelled_m

@@ -119,7 +119,7 @@ class ReplayChannel(ChannelBase):
         asked = [request.command for request in batch.requests]
         then = [request.command for request in parse_batch(recorded.tx, self.profile).requests]
         if asked != then:
-            if list(batch.requests) == stop_requests(self.profile.leds):
+            if list(batch.requests) == stop_requests(self.profile.leds, self.profile.rgb_leds):
                 return bytes(batch.reply_size)  # stopped: wheels at (0, 0)
             raise ReplayDivergedError(
                 f"{self.name}: at step {recorded.step} the controller asks "

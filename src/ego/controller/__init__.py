@@ -15,7 +15,6 @@ from ego.controller.absent import (
     Connector,
     Display,
     Field,
-    Gyro,
     InertialUnit,
     Lidar,
     LidarPoint,
@@ -26,7 +25,6 @@ from ego.controller.absent import (
     RadarTarget,
     RangeFinder,
     Skin,
-    Speaker,
     TouchSensor,
     VacuumGripper,
 )
@@ -36,10 +34,12 @@ from ego.controller.devices import (
     Camera,
     Device,
     DistanceSensor,
+    Gyro,
     LightSensor,
     Motor,
     PositionSensor,
     Sensor,
+    Speaker,
 )
 from ego.controller.inputs import Joystick, Keyboard, Mouse
 from ego.controller.radio import Emitter, Receiver

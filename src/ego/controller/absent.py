@@ -29,7 +29,6 @@ __all__ = [
     "Connector",
     "Display",
     "Field",
-    "Gyro",
     "InertialUnit",
     "Lidar",
     "Node",
@@ -37,7 +36,6 @@ __all__ = [
     "Radar",
     "RangeFinder",
     "Skin",
-    "Speaker",
     "TouchSensor",
     "VacuumGripper",
 ]
@@ -135,12 +133,6 @@ class GPS(_GroundTruth):
     _node_type = "GPS"
 
 
-class Gyro(Device):
-    """Webots' Gyro; the e-puck (rev 1.3 and older) has none."""
-
-    _node_type = "GYRO"
-
-
 class InertialUnit(Device):
     """Webots' InertialUnit; the e-puck has none."""
 
@@ -175,12 +167,6 @@ class Skin(Device):
     """Webots' Skin; the e-puck has none."""
 
     _node_type = "SKIN"
-
-
-class Speaker(Device):
-    """Webots' Speaker; the e-puck's speaker is not served by its serial protocol."""
-
-    _node_type = "SPEAKER"
 
 
 class TouchSensor(_GroundTruth):

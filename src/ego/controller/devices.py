@@ -6,17 +6,17 @@ import logging
 import math
 import numbers
 import sys
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
 from ego.controller.node_types import node_type
 from ego.devices.base import ArraySensor, Sampled
-from ego.devices.motors import MAX_SPEED_RAD_S, rad_s_to_steps
+from ego.devices.motors import rad_s_to_steps, steps_to_rad_s
 from ego.devices.position_control import position_speed
 from ego.devices.table import find, spec
-from ego.errors import EgoError, OutOfRangeError, UnknownDeviceError
+from ego.errors import EgoError, OutOfRangeError, UnknownDeviceError, UnsupportedDeviceError
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot as CoreRobot
@@ -27,9 +27,11 @@ __all__ = [
     "Camera",
     "Device",
     "DistanceSensor",
+    "Gyro",
     "LightSensor",
     "Motor",
     "PositionSensor",
+    "Speaker",
     "encoder_steps",
     "view_class",
     "webots_camera_size",
@@ -248,17 +250,24 @@ class _ValueSensor(Sensor):
     #: The family serving this sensor, found at the first read (it never changes).
     _array: ArraySensor | None = None
 
-    def getValue(self) -> float:
+    def _array_family(self) -> ArraySensor:
         array = self._array
         if array is None:
             family = self._family()
             assert isinstance(family, ArraySensor)
             array = self._array = family
-        return array.reading(self._name)
+        return array
+
+    def getValue(self) -> float:
+        """The reading as Webots' model gives it (its family says how: ``webots_value``)."""
+        array = self._array_family()
+        return array.webots_value(array.reading(self._name))
 
     def getLookupTable(self) -> list[float]:
-        """Webots' e-puck table (distance m, value, noise per row), flattened."""
-        return list(self._table)
+        """Webots' table (distance m, value, noise per row), flattened: the family's own
+        where Webots' model gives this device another (the e-puck2's ``tof``)."""
+        own = self._array_family().webots_lookup
+        return list(self._table if own is None else own)
 
     value = property(lambda self: self.getValue())
     lookup_table = property(lambda self: self.getLookupTable())
@@ -273,18 +282,24 @@ class DistanceSensor(_ValueSensor):
     SONAR = 2
     LASER = 3
 
+    _TYPES: ClassVar[dict[str, int]] = {
+        "generic": GENERIC, "infra-red": INFRA_RED, "sonar": SONAR, "laser": LASER
+    }  # fmt: skip
+
     def getMinValue(self) -> float:
         """The table's smallest value, as Webots gives it."""
-        return min(self._table[1::3])
+        return min(self.getLookupTable()[1::3])
 
     def getMaxValue(self) -> float:
-        return max(self._table[1::3])
+        return max(self.getLookupTable()[1::3])
 
     def getAperture(self) -> float:
-        return PROXIMITY_APERTURE_RAD
+        own = self._array_family().webots_aperture_rad
+        return PROXIMITY_APERTURE_RAD if own is None else own
 
     def getType(self) -> int:
-        return self.INFRA_RED
+        own = self._array_family().webots_sensor_type
+        return self.INFRA_RED if own is None else self._TYPES[own]
 
     min_value = property(lambda self: self.getMinValue())
     max_value = property(lambda self: self.getMaxValue())
@@ -376,7 +391,9 @@ class Motor(Device):
         #: The encoders' sampling period when position control enables them (ms); None:
         #: the current face context's basic time step.
         self._period_ms = basic_time_step_ms
-        self._velocity = MAX_SPEED_RAD_S
+        self._velocity = self._drivable_rad_s()
+        #: Whether the firmware's clamp below the model's maxVelocity was told (once).
+        self._told_clamp = False
         self._target = 0.0  # Webots' default: position control towards 0 rad
         self._acceleration = -1.0
         #: The speed (rad/s) sent last, for the acceleration ramp.
@@ -386,7 +403,13 @@ class Motor(Device):
     LINEAR = 1
 
     def getMaxVelocity(self) -> float:
-        return MAX_SPEED_RAD_S
+        """The model's maxVelocity (Webots' e-puck: 6.28 rad/s; e-puck2: 7.536)."""
+        model = self._core.channel.profile.model_max_velocity_rad_s
+        return self._drivable_rad_s() if model is None else model
+
+    def _drivable_rad_s(self) -> float:
+        """The fastest the firmware drives the wheel (e-puck2: 1100 steps/s, 6.91 rad/s)."""
+        return steps_to_rad_s(self._core.channel.profile.max_speed_steps)
 
     def getType(self) -> int:
         return self.ROTATIONAL
@@ -453,20 +476,42 @@ class Motor(Device):
             return
         if not _is_real(velocity):
             raise TypeError(f"velocity must be a number of rad/s, not {velocity!r}")
-        if abs(velocity) > MAX_SPEED_RAD_S + 1e-9:
+        most = self.getMaxVelocity()
+        if abs(velocity) > most + 1e-9:
             if self._strict:
                 raise OutOfRangeError(
-                    f"velocity {velocity} rad/s is outside +-{MAX_SPEED_RAD_S:.2f} rad/s: "
+                    f"velocity {velocity} rad/s is outside +-{most:.2f} rad/s: "
                     "refused, not clamped"
                 )
             print(
                 f'WARNING: e-puck > RotationalMotor "{self._name}": The requested velocity '
-                f"{velocity:g} exceeds 'maxVelocity' = {MAX_SPEED_RAD_S:g}.",
+                f"{velocity:g} exceeds 'maxVelocity' = {most:g}.",
                 file=sys.stderr,
             )
-            velocity = math.copysign(MAX_SPEED_RAD_S, velocity)
-        self._velocity = float(velocity)
+            velocity = math.copysign(most, velocity)
+        self._velocity = self._drivable(float(velocity))
         self._apply()
+
+    def _drivable(self, velocity: float) -> float:
+        """``velocity`` within what the firmware drives, where the model allows more (the
+        e-puck2: maxVelocity 7.536 rad/s, the firmware clamps at 1100 steps/s): clamped
+        with one warning a motor, refused under ``--strict`` (docs/webots-compat.md)."""
+        drivable = self._drivable_rad_s()
+        if abs(velocity) <= drivable + 1e-9:
+            return velocity
+        profile = self._core.channel.profile
+        why = (
+            f"the {profile.firmware} firmware drives a wheel at {profile.max_speed_steps} "
+            f"steps/s ({drivable:.4g} rad/s) at most, below the model's maxVelocity "
+            f"{self.getMaxVelocity():.4g}"
+        )
+        if self._strict:
+            raise OutOfRangeError(f"velocity {velocity:g} rad/s of {self._name!r}: {why}")
+        if not self._told_clamp:
+            self._told_clamp = True
+            log.warning("%s: velocity %g rad/s clamped to %.4g: %s (said once)",
+                        self._name, velocity, drivable, why)  # fmt: skip
+        return math.copysign(drivable, velocity)
 
     def setPosition(self, position: float) -> None:
         """``inf`` for velocity control; a finite angle (rad) to drive the wheel there."""
@@ -522,7 +567,9 @@ class Motor(Device):
 
 
 class LED(Device):
-    """An LED: ``set(0)`` off, any other value on (Webots' meaning for the e-puck's LEDs)."""
+    """An LED: ``set(0)`` off, any other value on (Webots' meaning for the e-puck's LEDs);
+    an RGB LED (where the firmware has them: the e-puck2's led1, led3, led5, led7) takes
+    its colour, ``set(0xRRGGBB)``, as Webots' RGB LEDs do."""
 
     def set(self, value: int) -> None:
         """Any number, as Webots takes it (``True`` and ``1.0`` switch it on); strict: ints."""
@@ -530,7 +577,11 @@ class LED(Device):
             raise TypeError(f"LED value must be an int, not {type(value).__name__}")
         if not isinstance(value, numbers.Real):
             raise TypeError(f"LED value must be a number, not {type(value).__name__}")
-        self._core.leds.set(self._name, 1 if int(value) else 0)
+        leds = self._core.leds
+        if leds.index(self._name) in leds.rgb:
+            leds.set(self._name, int(value))
+        else:
+            leds.set(self._name, 1 if int(value) else 0)
 
     def get(self) -> int:
         return self._core.leds.get(self._name)
@@ -678,6 +729,62 @@ class Camera(Sensor):
     imageGetGrey = imageGetGray
 
 
+class Gyro(Sensor):
+    """Webots' Gyro: x, y, z through the model's lookup table (NaN while not enabled)."""
+
+    def getValues(self) -> list[float]:
+        family = self._core.device(self._name)
+        readings = family.readings() if self._readable() else None
+        if readings is None:
+            return [_NAN, _NAN, _NAN]
+        return [family.webots_value(v) for v in readings]
+
+    def getLookupTable(self) -> list[float]:
+        return list(self._core.device(self._name).webots_lookup or ())
+
+    value = property(lambda self: self.getValues())
+    lookup_table = property(lambda self: self.getLookupTable())
+
+
+class Speaker(Device):
+    """Webots' Speaker on the robot's own sounds: ``playSound`` plays the firmware's sound
+    a file is named after (``mario.wav``, ``star_wars``, ``tone_4khz``...: the family's
+    :class:`~ego.devices.sound.Melody`); any other sound, and ``speak``, are refused
+    under ``--strict`` and told on stderr otherwise, as Webots tells a missing file."""
+
+    @staticmethod
+    def playSound(
+        left: Speaker, right: Speaker, sound: str, volume: float = 1.0, pitch: float = 1.0,
+        balance: float = 0.0, loop: bool = False,
+    ) -> None:  # fmt: skip
+        speaker = left if isinstance(left, Speaker) else right
+        family = speaker._core.sound
+        melody = family.melody_named(sound)
+        if melody is None:
+            speaker._refuse(f"cannot play {sound!r}: the robot plays {family.sound_names()}")
+            return
+        family.play(melody)
+
+    def stop(self, sound: str | None = None) -> None:
+        self._core.sound.stop()
+
+    def isSoundPlaying(self, sound: str | None = None) -> bool:
+        """Whether ego asked a sound last (the firmware does not say when one ends)."""
+        last = self._core.sound.last
+        return last is not None and (sound is None or self._core.sound.melody_named(sound) == last)
+
+    def speak(self, text: str, volume: float = 1.0) -> None:
+        self._refuse("the robot has no speech synthesis")
+
+    def isSpeaking(self) -> bool:
+        return False
+
+    def _refuse(self, why: str) -> None:
+        if self._strict:
+            raise UnsupportedDeviceError(f"speaker {self._name!r}: {why}")
+        print(f"Error: speaker {self._name!r}: {why}.", file=sys.stderr)
+
+
 #: The view class of each kind of :mod:`ego.devices.table` that Webots' e-puck has.
 _VIEWS: dict[str, type[Device]] = {
     "DistanceSensor": DistanceSensor,
@@ -687,6 +794,8 @@ _VIEWS: dict[str, type[Device]] = {
     "PositionSensor": PositionSensor,
     "Accelerometer": Accelerometer,
     "Camera": Camera,
+    "Gyro": Gyro,
+    "Speaker": Speaker,
 }
 
 

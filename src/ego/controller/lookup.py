@@ -11,9 +11,11 @@ from ego.controller.devices import (
     Camera,
     Device,
     DistanceSensor,
+    Gyro,
     LightSensor,
     Motor,
     PositionSensor,
+    Speaker,
     view_class,
     webots_camera_size,
 )
@@ -149,12 +151,18 @@ class DeviceLookup:
         """The radio receiver (see ego.controller.radio), deprecated as in Webots."""
         return self._deprecated("getReceiver", name, Receiver)  # type: ignore[return-value]
 
+    def getGyro(self, name: str) -> Gyro | None:
+        return self._deprecated("getGyro", name, Gyro)  # type: ignore[return-value]
+
+    def getSpeaker(self, name: str) -> Speaker | None:
+        return self._deprecated("getSpeaker", name, Speaker)  # type: ignore[return-value]
+
     # Deprecated getters of devices the e-puck has not: the same notice, then None.
     def _absent_getter(self, name: str) -> None:
         return self.getDevice(name)  # type: ignore[return-value]
 
-    getGPS = getCompass = getGyro = getInertialUnit = getTouchSensor = _absent_getter
-    getSpeaker = getDisplay = getPen = getLidar = _absent_getter
+    getGPS = getCompass = getInertialUnit = getTouchSensor = _absent_getter
+    getDisplay = getPen = getLidar = _absent_getter
     getRangeFinder = getRadar = getConnector = getBrake = getAltimeter = _absent_getter
     getSkin = getVacuumGripper = _absent_getter
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import enum
 import struct
 import warnings
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Any
@@ -86,6 +86,9 @@ class Firmware(str, enum.Enum):
 
     GCTRONIC = "gctronic"
     WEBOTS = "webots"
+    #: GCtronic's e-puck2 main processor running asercom v2 (selector 8 over USB, 3 over
+    #: Bluetooth): ``V`` answers ``v,Version 2.0 ... GCtronic`` (docs/protocol.md, "e-puck2").
+    EPUCK2 = "epuck2"
 
     def __str__(self) -> str:
         return self.value
@@ -120,7 +123,7 @@ DEPRECATED_FIRMWARE_NAMES: Mapping[str, str] = MappingProxyType(
     {"thesis": "webots", "gctronic-overo": "gctronic"}
 )
 #: The firmware names a user may give, "auto" first (the deprecated ones are accepted too).
-FIRMWARE_CHOICES = ("auto", "gctronic", "webots")
+FIRMWARE_CHOICES = ("auto", "gctronic", "webots", "epuck2")
 
 
 _NONE = struct.Struct("")
@@ -173,6 +176,20 @@ class Profile:
     #: chip that serves each there (ego.i2c.chips.CHIPS): the families read them over
     #: i2c-dev where the line does not (docs/protocol.md, "The Overo's own I2C bus").
     i2c: Mapping[Command, str] = field(default_factory=dict, repr=False)
+    #: The fastest speed the firmware drives a wheel at, in steps/s: ego refuses more.
+    max_speed_steps: int = 1000
+    #: The maxVelocity of Webots' model of this robot's motors, rad/s, where it exceeds
+    #: what the firmware drives (the e-puck2's PROTO: 7.536); None: the firmware's limit.
+    model_max_velocity_rad_s: float | None = None
+    #: The LEDs that are RGB (set by ``RGB_LEDS`` as percentages, in this order); the
+    #: others are on/off through ``L``.
+    rgb_leds: tuple[int, ...] = field(default=(), repr=False)
+    #: The commands whose replies the "all sensors" packet (``ALL_SENSORS``) also holds,
+    #: each with the function taking its values out of the packet's: a batch may ask the
+    #: packet instead (ego.serial.protocol.encode_batch, by :attr:`cost_s`).
+    all_sensors: Mapping[Command, Callable[[Sequence[float]], tuple[float, ...]]] = field(
+        default_factory=dict, repr=False
+    )
 
     def supports(self, command: Command) -> bool:
         return command is Command.END or command in self.commands
@@ -191,6 +208,13 @@ class Profile:
         if command not in self.commands:
             return 0
         return len(self.commands[command].reply.unpack(bytes(self.commands[command].reply.size)))
+
+    def cost_s(self, command: Command) -> float:
+        """What ``command`` adds to a batch's round trip: its bytes both ways at the line
+        rate, and the firmware's work on it (:attr:`work_s`)."""
+        fmt = self.wire_format(command)
+        size = 1 + fmt.arguments.size + fmt.prefix.size + fmt.reply.size
+        return size * 10 / self.line_baud + self.work_s.get(command, 0.0)
 
     def without(self, *commands: Command, why: str) -> Profile:
         """The same profile with some commands removed (a hardware revision's quirk)."""

@@ -7,14 +7,21 @@ from typing import TYPE_CHECKING
 from ego.devices.accelerometer import Accelerometer
 from ego.devices.base import Device, Sensor
 from ego.devices.battery import Battery
+from ego.devices.button import Button
 from ego.devices.encoders import Encoders
 from ego.devices.families import make_families, pick
 from ego.devices.floor import FloorSensors
+from ego.devices.gyro import Gyro
 from ego.devices.leds import Leds
 from ego.devices.light import LightSensors
+from ego.devices.magnetometer import Magnetometer
 from ego.devices.microphones import Microphones
 from ego.devices.motors import Motors
 from ego.devices.proximity import ProximitySensors
+from ego.devices.selector import Selector
+from ego.devices.sound import Speaker
+from ego.devices.temperature import Temperature
+from ego.devices.tof import TofSensor
 from ego.errors import LinkLostError, UnknownDeviceError
 
 if TYPE_CHECKING:
@@ -41,6 +48,13 @@ class DeviceWiring:
     light: LightSensors
     microphones: Microphones
     battery: Battery
+    tof: TofSensor
+    gyro: Gyro
+    magnetometer: Magnetometer
+    temperature: Temperature
+    button: Button
+    selector: Selector
+    sound: Speaker
     families: tuple[Device, ...]
     _families: dict[str, Device]
     _step_parts: tuple[Device, ...]
@@ -58,7 +72,16 @@ class DeviceWiring:
         self.light = pick(made, "light", LightSensors)
         self.microphones = pick(made, "microphones", Microphones)
         self.battery = pick(made, "battery", Battery)
+        # The e-puck2's (empty of members on an e-puck1: enabling them is refused).
+        self.tof = pick(made, "tof", TofSensor)
+        self.gyro = pick(made, "gyro", Gyro)
+        self.magnetometer = pick(made, "magnetometer", Magnetometer)
+        self.temperature = pick(made, "temperature", Temperature)
+        self.button = pick(made, "button", Button)
+        self.selector = pick(made, "selector", Selector)
+        self.sound = pick(made, "sound", Speaker)
         self.proximity.bind_calibration(self.calibrate_proximity)
+        self.sound.bind_ascii(self.ascii_command)
         #: The device families, in the order Webots names their devices.
         self.families = tuple(made.values())
         #: What each step's transaction runs over (ego.core.transaction).

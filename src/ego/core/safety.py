@@ -54,11 +54,14 @@ log = logging.getLogger(__name__)
 STOP_ATTEMPTS = 3
 
 
-def stop_requests(leds: tuple[int, ...]) -> list[Request]:
-    """Wheels to 0, each of ``leds`` off, then ``E`` so that the dsPIC must answer."""
+def stop_requests(leds: tuple[int, ...], rgb_leds: tuple[int, ...] = ()) -> list[Request]:
+    """Wheels to 0, each of ``leds`` off (and the RGB ones, the e-puck2's, black), then
+    ``E`` so that the dsPIC must answer."""
+    black = [Request(Command.RGB_LEDS, (0,) * 3 * len(rgb_leds))] if rgb_leds else []
     return [
         Request(Command.SET_SPEED, (0, 0)),
         *(Request(Command.SET_LED, (i, 0)) for i in leds),
+        *black,
         Request(Command.GET_SPEED),
     ]
 
@@ -72,7 +75,8 @@ def send_stop(link: Channel) -> None:
     from ego.errors import ProtocolError, RobotResetError
 
     for _ in range(STOP_ATTEMPTS):
-        batch = encode_batch(stop_requests(link.profile.leds), link.profile)
+        profile = link.profile
+        batch = encode_batch(stop_requests(profile.leds, profile.rgb_leds), profile)
         try:
             held = batch.decode(link.exchange(batch))[-1]
         except RobotResetError:

@@ -186,6 +186,8 @@ def describe_firmware(
         "remote": remote,
         "proximity_count": proximity_count,
         "led_count": led_count,
+        # The LEDs whose value is a colour 0xRRGGBB (the e-puck2's led1, 3, 5, 7).
+        "rgb_leds": list(info.profile.rgb_leds),
         "families": families,
         "series": table.describe_series(),
     }

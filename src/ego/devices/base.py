@@ -119,6 +119,13 @@ class Device:
     #: Whether Webots knows its members as devices (``getDevice``); the battery is not
     #: one (Webots reads it through the robot: ``batterySensorGetValue``).
     webots_device: ClassVar[bool] = True
+    #: What Webots' model says of this family's devices where its kind's default (the
+    #: e-puck's) does not hold, for the Webots face to read: the PROTO's lookupTable
+    #: (input, value, noise per row, flattened), a distance sensor's aperture (rad) and
+    #: type ("generic", "infra-red"...); None: the kind's default.
+    webots_lookup: ClassVar[tuple[float, ...] | None] = None
+    webots_aperture_rad: ClassVar[float | None] = None
+    webots_sensor_type: ClassVar[str | None] = None
 
     def __init_subclass__(cls, table: DeviceTable = TABLE, **kwargs: object) -> None:
         """A family class takes its names from ``table`` (the device table; a test's copy
@@ -143,10 +150,21 @@ class Device:
         """The firmware changed (re-detected after a restart)."""
         self._profile = profile
 
+    def webots_value(self, reading: float) -> float:
+        """A member's reading as Webots' model reports it (through its lookup table
+        where the family's unit is not the model's); the reading itself by default."""
+        return reading
+
     @property
     def member_names(self) -> tuple[str, ...]:
         """The names that exist under the connected firmware."""
         return self.names
+
+    def served_names(self, table: DeviceTable = TABLE) -> tuple[str, ...]:
+        """The family's names whose table row the connected firmware serves (a family
+        the device table gives to some firmwares only: the e-puck2's ``tof``...)."""
+        firmware = self._profile.firmware
+        return tuple(n for n in self.names if table.spec(n).served_by(firmware))
 
     def check_name(self, name: str) -> str:
         if name not in self.member_names:

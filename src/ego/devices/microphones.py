@@ -44,6 +44,19 @@ class Microphones(ArraySensor):
         self._buffer_fetch_ms: int | None = None
         self._buffer: npt.NDArray[np.uint16] | None = None
 
+    @property
+    def member_names(self) -> tuple[str, ...]:
+        # The e-puck2 has four (right, left, back, front), read with -0x0C.
+        return self.names[: self.profile.reply_values(self.current_command()) or 3]
+
+    def current_command(self) -> Command:
+        """``u`` on an e-puck1; the e-puck2's -0x0C, which also has its fourth."""
+        four = Command.MICROPHONES_4
+        return four if self.profile.supports(four) else Command.MIC_AMPLITUDE
+
+    def command_for_enable(self) -> Command:
+        return self.current_command()
+
     def enable_buffer(self, period_ms: int) -> None:
         """Fetch the raw 3 x 100 samples every ``period_ms``."""
         self.require(Command.MIC_BUFFER)

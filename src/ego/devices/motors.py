@@ -143,11 +143,11 @@ class Motors(ActingFamily):
         super().__init__(profile, self.wheels, self.readback)
 
     def set_speed(self, left: float, right: float) -> None:
-        """Both wheel speeds in steps/s, each within +-1000."""
+        """Both wheel speeds in steps/s, each within +-1000 (+-1100 on an e-puck2, whose
+        firmware clamps there: MAIN:src/motors.h:7)."""
+        limit = self.profile.max_speed_steps  # 1000 on an e-puck1, 1100 on an e-puck2
         speeds = [
-            check_int(
-                f"{side} speed", v, -MAX_SPEED_STEPS, MAX_SPEED_STEPS, " steps/s", rounding=True
-            )
+            check_int(f"{side} speed", v, -limit, limit, " steps/s", rounding=True)
             for side, v in (("left", left), ("right", right))
         ]
         self.wheels.set(speeds[0], speeds[1])

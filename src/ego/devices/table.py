@@ -58,6 +58,9 @@ __all__ = [
 _BOTH = frozenset({Firmware.GCTRONIC.value, Firmware.WEBOTS.value})
 _GCTRONIC = frozenset({Firmware.GCTRONIC.value})
 _WEBOTS = frozenset({Firmware.WEBOTS.value})
+#: The e-puck2's asercom v2 (USB, Bluetooth) serves the e-puck1's sensors and its own.
+_EPUCK2 = frozenset({Firmware.EPUCK2.value})
+_ALL = _BOTH | _EPUCK2
 _RAW = "raw counts"
 
 #: The family of the camera, which is no dsPIC family (``robot.camera``).
@@ -99,24 +102,41 @@ _Row = tuple[str, str, int, str, str, frozenset[str]]
 _ROWS: tuple[_Row, ...] = (
     # ps8 and ps9 are the Overo board's long-range IR8 and IR9 (docs/protocol.md).
     *(
-        (f"ps{i}", "proximity", i, "DistanceSensor", _RAW, _BOTH if i < 8 else _GCTRONIC)
+        (f"ps{i}", "proximity", i, "DistanceSensor", _RAW, _ALL if i < 8 else _GCTRONIC)
         for i in range(10)
     ),
     # The ground module: Webots' firmware reads it with M; the stock firmware in Overo mode
     # answers M with nothing and leaves it to the Overo, which reads it over its own I2C
     # bus (/dev/i2c-3, ego.i2c; docs/protocol.md, "The Overo's own I2C bus").
-    *((f"gs{i}", "floor", i, "DistanceSensor", _RAW, _BOTH) for i in range(3)),
-    *((f"ls{i}", "light", i, "LightSensor", _RAW, _BOTH) for i in range(8)),
-    ("accelerometer", "accelerometer", 0, "Accelerometer", "m/s²", _BOTH),
-    ("left wheel motor", "motors", 0, "Motor", "rad/s", _BOTH),
-    ("right wheel motor", "motors", 1, "Motor", "rad/s", _BOTH),
-    ("left wheel sensor", "encoders", 0, "PositionSensor", "rad", _BOTH),
-    ("right wheel sensor", "encoders", 1, "PositionSensor", "rad", _BOTH),
-    # In Overo mode L 8 and L 9 (body, front) are ignored.
-    *((f"led{i}", "leds", i, "LED", "on/off", _BOTH if i < 8 else _WEBOTS) for i in range(10)),
-    *((f"mic{i}", "microphones", i, "Microphone", _RAW, _BOTH) for i in range(3)),
+    *((f"gs{i}", "floor", i, "DistanceSensor", _RAW, _ALL) for i in range(3)),
+    *((f"ls{i}", "light", i, "LightSensor", _RAW, _ALL) for i in range(8)),
+    ("accelerometer", "accelerometer", 0, "Accelerometer", "m/s²", _ALL),
+    ("left wheel motor", "motors", 0, "Motor", "rad/s", _ALL),
+    ("right wheel motor", "motors", 1, "Motor", "rad/s", _ALL),
+    ("left wheel sensor", "encoders", 0, "PositionSensor", "rad", _ALL),
+    ("right wheel sensor", "encoders", 1, "PositionSensor", "rad", _ALL),
+    # In Overo mode L 8 and L 9 (body, front) are ignored. On the e-puck2 led1, led3,
+    # led5, led7 are RGB (Webots' e-puck2: LED.set(0xRRGGBB); Profile.rgb_leds).
+    *((f"led{i}", "leds", i, "LED", "on/off", _ALL if i < 8 else _WEBOTS | _EPUCK2)
+      for i in range(10)),
+    *((f"mic{i}", "microphones", i, "Microphone", _RAW, _ALL) for i in range(3)),
     # The Overo's own camera (V4L2), whichever firmware the dsPIC runs.
     ("camera", CAMERA, 0, "Camera", "pixels", _BOTH),
+    # The e-puck2's (issue 25), appended so the e-puck1's tags stay.
+    # Webots' E-puck.proto (version "2"): a DistanceSensor "tof" whose lookup table maps
+    # 0..2 m to 19.8..2000 (ego.devices.tof), the "gyro" (raw counts, its LUT is 1:1).
+    ("tof", "tof", 0, "DistanceSensor", "mm", _EPUCK2),
+    ("gyro", "gyro", 0, "Gyro", _RAW, _EPUCK2),
+    # The fourth microphone (front; mic0..mic3 are right, left, back, front on it).
+    ("mic3", "microphones", 3, "Microphone", _RAW, _EPUCK2),
+    ("speaker", "sound", 0, "Speaker", "sound", _EPUCK2),
+)
+#: The devices Webots has no device for (no tag): read through their family only.
+_UNTAGGED: tuple[_Row, ...] = (
+    ("magnetometer", "magnetometer", 0, "Magnetometer", "µT", _EPUCK2),
+    ("temperature", "temperature", 0, "TemperatureSensor", "°C", _EPUCK2),
+    ("button", "button", 0, "Button", "pressed", _EPUCK2),
+    ("selector", "selector", 0, "Selector", "position", _EPUCK2),
 )
 
 
@@ -174,10 +194,24 @@ _FAMILY_ROWS: tuple[FamilySpec, ...] = (
     FamilySpec("encoders", "ego.devices.encoders:Encoders", 2, Command.GET_STEPS,
                Series("encoders", "steps", _SIDES, ("rad", _STEP_RAD))),
     FamilySpec("microphones", "ego.devices.microphones:Microphones", 7, Command.MIC_AMPLITUDE,
-               Series("microphones", "amplitude, ADC counts", ("mic0", "mic1", "mic2"))),
+               Series("microphones", "amplitude, ADC counts", ("mic0", "mic1", "mic2", "mic3"))),
     FamilySpec("motors", "ego.devices.motors:Motors", 0),
     FamilySpec("leds", "ego.devices.leds:Leds", 1),
     FamilySpec("battery", "ego.devices.battery:Battery", 8, Command.BATTERY),
+    # The e-puck2's (issue 25):
+    FamilySpec("tof", "ego.devices.tof:TofSensor", 9, Command.TOF,
+               Series("ToF distance", "mm", ("tof",))),
+    FamilySpec("gyro", "ego.devices.gyro:Gyro", 10, Command.GYRO_RAW,
+               Series("gyro", "deg/s", ("x", "y", "z"), (_RAW, 131.072))),
+    FamilySpec("magnetometer", "ego.devices.magnetometer:Magnetometer", 11, Command.ALL_SENSORS,
+               Series("magnetometer", "µT", ("x", "y", "z"))),
+    FamilySpec("temperature", "ego.devices.temperature:Temperature", 12, Command.ALL_SENSORS,
+               Series("temperature", "°C", ("temperature",))),
+    FamilySpec("button", "ego.devices.button:Button", 13, Command.BUTTON,
+               Series("button", "pressed", ("button",))),
+    FamilySpec("selector", "ego.devices.selector:Selector", 14, Command.ALL_SENSORS,
+               Series("selector", "position", ("selector",))),
+    FamilySpec("sound", "ego.devices.sound:Speaker", 15),
 )  # fmt: skip
 
 
@@ -185,7 +219,11 @@ class DeviceTable:
     """The devices and families of a robot: rows looked up by name, tag and family."""
 
     def __init__(
-        self, rows: Iterable[_Row], battery: DeviceSpec, families: Iterable[FamilySpec]
+        self,
+        rows: Iterable[_Row],
+        battery: DeviceSpec,
+        families: Iterable[FamilySpec],
+        untagged: Iterable[_Row] = (),
     ) -> None:
         #: Every device with a tag, in tag order (``devices[tag - 1].tag == tag``).
         self.devices: tuple[DeviceSpec, ...] = tuple(
@@ -196,14 +234,25 @@ class DeviceTable:
         self.battery = battery
         #: The families of ``ego.Robot``, in the order a sample lists them.
         self.families: tuple[FamilySpec, ...] = tuple(families)
-        self.by_name: dict[str, DeviceSpec] = {s.name: s for s in (*self.devices, battery)}
+        untagged = tuple(untagged)
+        #: The devices Webots has no device for (no tag), the battery aside.
+        self.untagged: tuple[DeviceSpec, ...] = tuple(
+            DeviceSpec(name, None, family, index, kind, units, firmwares)
+            for name, family, index, kind, units, firmwares in untagged
+        )
+        self.by_name: dict[str, DeviceSpec] = {
+            s.name: s for s in (*self.devices, battery, *self.untagged)
+        }
         self._rows = tuple(rows)
+        self._untagged = tuple(untagged)
 
     def extended(
         self, rows: Iterable[_Row] = (), families: Iterable[FamilySpec] = ()
     ) -> DeviceTable:
         """A copy of this table with ``rows`` appended (their tags follow) and ``families``."""
-        return DeviceTable((*self._rows, *rows), self.battery, (*self.families, *families))
+        return DeviceTable(
+            (*self._rows, *rows), self.battery, (*self.families, *families), self._untagged
+        )
 
     @property
     def family_names(self) -> tuple[str, ...]:
@@ -271,8 +320,9 @@ class DeviceTable:
 #: The e-puck's table.
 TABLE = DeviceTable(
     _ROWS,
-    DeviceSpec("battery", None, "battery", 0, "BatterySensor", _RAW, _GCTRONIC),
+    DeviceSpec("battery", None, "battery", 0, "BatterySensor", _RAW, _GCTRONIC | _EPUCK2),
     _FAMILY_ROWS,
+    _UNTAGGED,
 )
 #: Every device with a tag, in tag order (``DEVICES[tag - 1].tag == tag``).
 DEVICES: tuple[DeviceSpec, ...] = TABLE.devices

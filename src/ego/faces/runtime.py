@@ -31,6 +31,8 @@ class RunOptions:
     seed: int | None = None
     #: ``ego run --world``: the emulator's world (a built-in name or a TOML file; port sim).
     world: str | None = None
+    #: ``ego run --robot``: which robot the emulator models, "epuck" or "epuck2" (port sim).
+    robot: str | None = None
     #: ``ego run --strict``: where Webots would print a warning and carry on (an unknown
     #: device, a speed beyond the maximum), the Webots face raises ego's error instead.
     strict: bool = False
@@ -50,6 +52,7 @@ class RunOptions:
             "firmware": self.firmware,
             "seed": self.seed,
             "world": self.world,
+            "robot": self.robot,
             "virtual_time": True if self.fast else None,
             "secret": self.secret,
         }

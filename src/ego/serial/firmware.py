@@ -8,6 +8,11 @@ stock firmware ``C\\n`` answers ``c,N``, the selector position (10: Overo mode o
 UART2; any other: Bluetooth on UART1), and ``b\\n`` answers ``b,RAW (P%)`` on an e-puck
 revision 1.3 (which has a battery ADC) and ``b,FLAG`` on older ones: that is how the
 revision is told, since the firmware itself detects it over I2C.
+
+The e-puck2's main processor answers ``v,Version 2.0 January 2018 GCtronic`` and
+``HW version: FFF7`` (MAIN:src/epuck1x/Asercom2.c:1543-1559; GCtronic's own monitor
+tells the versions apart by the character after "Version ", MON:CommThread.cpp:111-129);
+its ``C`` answers 8 over USB and 3 over Bluetooth (MAIN:src/main.c:214, 541).
 """
 
 from __future__ import annotations
@@ -17,13 +22,16 @@ import re
 from ego.core.channel import FirmwareInfo
 from ego.core.profile import Command, Firmware, Profile
 from ego.errors import ProtocolError
-from ego.serial.protocol import GCTRONIC_BLUETOOTH, PROFILES
+from ego.serial.protocol import EPUCK2_BLUETOOTH, EPUCK2_USB, GCTRONIC_BLUETOOTH, PROFILES
 
 __all__ = [
+    "EPUCK2_BLUETOOTH_SELECTOR",
     "OVERO_SELECTOR",
     "FirmwareInfo",
+    "epuck2_profile",
     "gctronic_profile",
     "identify",
+    "is_epuck2",
     "is_gctronic",
     "is_rev13",
     "line_payload",
@@ -33,6 +41,8 @@ __all__ = [
 
 #: The selector position in which the stock firmware talks to the Overo at 230400 baud.
 OVERO_SELECTOR = 10
+#: The e-puck2's selector position for asercom v2 over Bluetooth (MAIN:src/main.c:214).
+EPUCK2_BLUETOOTH_SELECTOR = 3
 
 
 def line_payload(line: str, command: str) -> str:
@@ -46,6 +56,19 @@ def line_payload(line: str, command: str) -> str:
 
 def is_gctronic(version_line: str) -> bool:
     return "gctronic" in version_line.lower() and "webots" not in version_line.lower()
+
+
+def is_epuck2(version_line: str) -> bool:
+    """Whether a ``V`` payload is the e-puck2's asercom v2 ("Version 2.0 ... GCtronic")."""
+    version_2 = re.match(r"\s*version\s+2\.", version_line, re.IGNORECASE)
+    return is_gctronic(version_line) and version_2 is not None
+
+
+def epuck2_profile(selector: int | None) -> Profile:
+    """The e-puck2's profile for the link its selector says: 3 Bluetooth, else USB (8)."""
+    if selector == EPUCK2_BLUETOOTH_SELECTOR:
+        return EPUCK2_BLUETOOTH
+    return EPUCK2_USB
 
 
 def parse_selector(line: str) -> int:
@@ -117,5 +140,7 @@ def identify(
     hardware = parse_hardware_version(version_lines[1]) if len(version_lines) > 1 else None
     if not is_gctronic(version):
         return FirmwareInfo(PROFILES[Firmware.WEBOTS], version, hardware, selector)
+    if is_epuck2(version):
+        return FirmwareInfo(epuck2_profile(selector), version, hardware, selector)
     profile = gctronic_profile(selector, is_rev13(battery_line))
     return FirmwareInfo(profile, version, hardware, selector)

@@ -207,9 +207,11 @@ class Link(ChannelBase):
             replies = read_lines(self.transport, lines, self._line_timeout(line_timeout_s))
         # docs/protocol.md: the reply "starts with the command's lower-case letter" (S answers
         # a bare "s", so no comma is required here).
-        if replies and not replies[0].startswith(letter.lower()):
+        # A command with arguments ("T,1") is answered by its letter alone ("t").
+        first = letter[:1].lower()
+        if replies and not replies[0].startswith(first):
             raise ProtocolError(
-                f"reply {replies[0]!r} to {letter!r} does not start with {letter.lower()!r}"
+                f"reply {replies[0]!r} to {letter!r} does not start with {first!r}"
             )
         return replies
 

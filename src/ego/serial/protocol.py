@@ -17,7 +17,7 @@ Firmware differences live in the :data:`PROFILES` table, not in ``if`` chains.
 from __future__ import annotations
 
 import struct
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
 
@@ -38,6 +38,9 @@ __all__ = [
     "BITS_PER_BYTE",
     "DEFAULT_BAUD",
     "DEPRECATED_FIRMWARE_NAMES",
+    "EPUCK2_BLUETOOTH",
+    "EPUCK2_USB",
+    "EPUCK2_USB_BAUD",
     "FIRMWARE_CHOICES",
     "GCTRONIC_BLUETOOTH",
     "MAX_SPEED_STEPS",
@@ -127,6 +130,135 @@ _bluetooth = dict(_COMMON)
 # M answers the three ground sensors and then two cliff values (10 bytes).
 _bluetooth[Command.FLOOR] = _fmt(reply="5H")
 
+# -- the e-puck2 (asercom v2 over USB and Bluetooth) -------------------------------------
+# docs/protocol.md, "e-puck2"; the firmware is MAIN:src/epuck1x/Asercom2.c (see
+# ego.serial.asercom2 for the commit). The e-puck1 commands it keeps, with its formats:
+_epuck2 = dict(_COMMON)
+# Asercom2.c:964-975: -'U' is commented out, it answers nothing (a batch with it would
+# wait for 600 bytes that never come).
+del _epuck2[Command.MIC_BUFFER]
+# Asercom2.c:874-894 (CLIFF_SENSORS): -'M' answers the three ground sensors and one cliff.
+_epuck2[Command.FLOOR] = _fmt(reply="4H")
+# Asercom2.c:822-839: the gyro's three raw rates (131.072 counts per deg/s).
+_epuck2[Command.GYRO_RAW] = _fmt(reply="3h")
+# The new commands, their sizes as ego.serial.asercom2.COMMAND_SIZES gives them
+# (tests/unit/test_epuck2_profile.py checks the two agree).
+_epuck2.update({
+    Command.ALL_SENSORS: _fmt(reply="3h3f3h3fb8H8HH4H2hHB3BB3H3HB"),  # 103 bytes
+    Command.ALL_ACTUATORS: _fmt(arguments="Bhh13BB"),  # 19 bytes
+    Command.RGB_LEDS: _fmt(arguments="12B"),
+    Command.BUTTON: _fmt(reply="B"),
+    Command.MICROPHONES_4: _fmt(reply="4H"),
+    Command.TOF: _fmt(reply="H"),
+    Command.SD_STATE: _fmt(reply="B"),
+    Command.MAGNETOMETER_ENABLE: _fmt(arguments="B", reply="B"),
+    Command.PROXIMITY_MODE: _fmt(arguments="B", reply="B"),
+    Command.TOF_ENABLE: _fmt(arguments="B", reply="B"),
+})  # fmt: skip
+
+#: Where the values of the e-puck1 commands lie in the "all sensors" packet's 49 values
+#: (Asercom2.c:297-467; ego.serial.asercom2.SensorPacket names each field).
+_PACKET_SLICES: Mapping[Command, slice] = MappingProxyType({
+    Command.ACCELEROMETER_SPHERICAL: slice(3, 6),
+    Command.GYRO_RAW: slice(6, 9),
+    Command.PROXIMITY: slice(13, 21),
+    Command.LIGHT: slice(21, 29),
+    Command.TOF: slice(29, 30),
+    Command.MICROPHONES_4: slice(30, 34),
+    Command.MIC_AMPLITUDE: slice(30, 33),
+    Command.GET_STEPS: slice(34, 36),
+    Command.BATTERY: slice(36, 37),
+    Command.SD_STATE: slice(37, 38),
+})  # fmt: skip
+#: ``-'a'`` is centred on 2048, the packet's accelerometer on 0 (e_acc.c:17-50): the
+#: packet's value plus 2048 reads as ``a`` does, with the offsets the firmware took at
+#: power-on removed.
+EPUCK2_ACC_ZERO = 2048
+
+
+def _take(where: slice) -> Callable[[Sequence[float]], tuple[float, ...]]:
+    def take(values: Sequence[float]) -> tuple[float, ...]:
+        return tuple(values[where])
+
+    return take
+
+
+def _acc_raw(values: Sequence[float]) -> tuple[float, ...]:
+    return tuple(EPUCK2_ACC_ZERO + v for v in values[0:3])
+
+
+_EPUCK2_COVER: Mapping[Command, Callable[[Sequence[float]], tuple[float, ...]]] = (
+    MappingProxyType(
+        {Command.ACCELEROMETER_RAW: _acc_raw, **{c: _take(s) for c, s in _PACKET_SLICES.items()}}
+    )
+)
+#: Asercom2.c:727-746: -'a' filters over three 20 ms waits (imu.c:450-464).
+_A_FILTER_S = 0.060
+#: Asercom2.c:481 (and 650, 683, 712): over USB, -0x09, -0x0F, -0x10 and -0x11 each
+#: sleep 10 ms after reading their payload.
+_USB_SLEEP_S = 0.010
+#: USB full speed (12 Mbit/s) carries a CDC port's bulk data at about 1 MB/s, whatever
+#: rate the host opens it at: ego times replies as if 10 bits a byte ran at 10 Mbit/s
+#: [a model: a real port's round trip is dominated by the 1 ms USB frames, not bytes].
+EPUCK2_USB_BAUD = 10_000_000
+
+#: The e-puck2 over USB (selector 8).
+#:
+#: Batch strategy, measured on the emulator (``python -m benchmarks.epuck2_batch``,
+#: median round trips; the full table is in docs/protocol.md, "e-puck2"): a step's reads
+#: go as the e-puck1 commands (``N``, ``O``, ``Q``, ``g``, ``-0x0D``...) unless the "all
+#: sensors" packet ``-0x08`` costs less by :meth:`Profile.cost_s` (bytes at the line
+#: rate plus the firmware's work). Its 104 bytes lose to every set of short commands:
+#: over Bluetooth ps+enc is 23 B, 3.1 ms against 105 B, 10.1 ms, and even every sensor
+#: but the accelerometer (62 B) is 6.4 ms against 10.1; over USB, where bytes are nearly
+#: free, 0.8-1.1 ms against 1.1-1.6 ms. But ``-'a'`` filters for 60 ms, so the
+#: accelerometer (ps+enc+acc: 60.7 ms as commands, 1.1 ms as the packet over USB; 63.7
+#: against 10.1 over Bluetooth), and what only the packet holds (magnetometer,
+#: temperature, selector), bring the packet in, and every read it holds then rides in
+#: it. The "all actuators" ``-0x09`` is not used: over USB it sleeps 10 ms (Asercom2.c:
+#: 481; speeds 10.6 ms against D+E's 0.5 ms), and over Bluetooth it wins (3.2 against
+#: 4.6 ms) only when the speeds, six LEDs and the RGB LEDs all change in one step, while
+#: a usual step changes the speeds alone (D+E 1.9 ms against 3.2); it would also have to
+#: resend every actuator each time. The RGB LEDs go as ``-0x0A`` (13 bytes, no sleep),
+#: sound as ASCII ``T``.
+EPUCK2_USB = Profile(
+    Firmware.EPUCK2,
+    MappingProxyType(_epuck2),
+    # -'L' 0, 2, 4, 6 the red LEDs, 8 body, 9 front (Asercom2.c:852-873); 1, 3, 5, 7 are
+    # RGB: -'L' on them sets only the red channel at 10 % (e_led.c:24-74), so they go
+    # as -0x0A (rgb_leds).
+    (0, 2, 4, 6, 8, 9),
+    "GCtronic e-puck2 asercom v2 over USB, selector 8",
+    line_baud=EPUCK2_USB_BAUD,
+    work_s=MappingProxyType({
+        Command.ACCELEROMETER_RAW: _A_FILTER_S,
+        Command.ALL_ACTUATORS: _USB_SLEEP_S,
+        Command.MAGNETOMETER_ENABLE: _USB_SLEEP_S,
+        Command.PROXIMITY_MODE: _USB_SLEEP_S,
+        Command.TOF_ENABLE: _USB_SLEEP_S,
+    }),
+    # ASCII K: calibrate_ir averages for about a second (Asercom2.c:1354-1377).
+    calibration_s=1.5,
+    # Asercom2.c:1474-1485: S sets the speeds 0 and e_set_led(8, 0), which is all eight
+    # ring LEDs (the RGB ones too); body and front stay, and so do the speeds E echoes.
+    ascii_stop=AsciiStop(tuple(range(8)), clears_echo=False),
+    acc_zero_counts=EPUCK2_ACC_ZERO,
+    acc_counts_per_g=768,  # e_acc.c:17-32: (v>>4) - (v>>6) of 16384 a g
+    rev13=True,  # the battery answers an ADC count, as on an e-puck rev 1.3
+    max_speed_steps=1100,  # MAIN:src/motors.h:7 MOTOR_SPEED_LIMIT, motors.c:298-305
+    model_max_velocity_rad_s=7.536,  # Webots' E-puck.proto, version "2" (1200 steps/s)
+    rgb_leds=(1, 3, 5, 7),  # LED2, 4, 6, 8 of the firmware, in -0x0A's order
+    all_sensors=_EPUCK2_COVER,
+)
+#: The e-puck2 over Bluetooth (selector 3): the UART to the radio runs at 115200 baud
+#: (MAIN:src/serial_comm.c:44-45), and nothing sleeps (the sleeps are USB's).
+EPUCK2_BLUETOOTH = EPUCK2_USB.but(
+    description="GCtronic e-puck2 asercom v2 over Bluetooth, selector 3",
+    line_baud=115200,
+    work_s=MappingProxyType({Command.ACCELEROMETER_RAW: _A_FILTER_S}),
+)
+
+
 PROFILES: Mapping[Firmware, Profile] = MappingProxyType(
     {
         Firmware.GCTRONIC: Profile(
@@ -152,6 +284,7 @@ PROFILES: Mapping[Firmware, Profile] = MappingProxyType(
             calibration_s=1.5,
             ascii_stop=AsciiStop(tuple(range(10)), clears_echo=True),
         ),
+        Firmware.EPUCK2: EPUCK2_USB,
     }
 )
 
@@ -186,6 +319,9 @@ class Batch:
     tx: bytes
     reply_size: int
     _formats: tuple[WireFormat, ...]
+    #: For each request, the command on the wire whose reply holds its values and how
+    #: to take them out (None: as they are); empty when every request went as itself.
+    _routes: tuple[tuple[int, Callable[[Sequence[float]], tuple[float, ...]] | None], ...] = ()
 
     @property
     def expects_reply(self) -> bool:
@@ -216,7 +352,9 @@ class Batch:
         for fmt, prefix in zip(self._formats, prefixes, strict=True):
             values.append(prefix + fmt.reply.unpack_from(view, offset))
             offset += fmt.reply.size
-        return values
+        if not self._routes:
+            return values
+        return [values[i] if take is None else take(values[i]) for i, take in self._routes]
 
 
 def encode_batch(requests: Iterable[Request], profile: Profile) -> Batch:
@@ -228,9 +366,10 @@ def encode_batch(requests: Iterable[Request], profile: Profile) -> Batch:
     reqs = tuple(requests)
     if not reqs:
         return Batch((), b"", 0, ())
+    wire, routes = _through_packet(reqs, profile)
     tx = bytearray()
     formats: list[WireFormat] = []
-    for req in reqs:
+    for req in wire:
         fmt = profile.wire_format(req.command)
         tx.append(req.command.value)
         try:
@@ -243,7 +382,42 @@ def encode_batch(requests: Iterable[Request], profile: Profile) -> Batch:
         formats.append(fmt)
     tx.append(Command.END.value)
     reply = sum(f.prefix.size + f.reply.size for f in formats)
-    return Batch(reqs, bytes(tx), reply, tuple(formats))
+    return Batch(reqs, bytes(tx), reply, tuple(formats), routes)
+
+
+_Routes = tuple[tuple[int, Callable[[Sequence[float]], tuple[float, ...]] | None], ...]
+
+
+def _through_packet(reqs: tuple[Request, ...], profile: Profile) -> tuple[list[Request], _Routes]:
+    """The requests as they go on the wire: where the profile has an "all sensors"
+    packet (the e-puck2), the reads it holds ride in one ``ALL_SENSORS`` when that costs
+    less than asking them one by one (:meth:`Profile.cost_s`), or when the packet is
+    asked anyway (a family only it serves); every ``ALL_SENSORS`` is asked once.
+
+    The e-puck2 profile's docstring says why and what was measured.
+    """
+    cover = profile.all_sensors
+    covered = [r for r in reqs if r.command in cover and not r.arguments]
+    asked = any(r.command is Command.ALL_SENSORS for r in reqs)
+    if not asked and (
+        not covered
+        or sum(profile.cost_s(r.command) for r in covered) <= profile.cost_s(Command.ALL_SENSORS)
+    ):
+        return list(reqs), ()
+    wire: list[Request] = []
+    routes: list[tuple[int, Callable[[Sequence[float]], tuple[float, ...]] | None]] = []
+    packet: int | None = None
+    for req in reqs:
+        take = cover.get(req.command) if not req.arguments else None
+        if take is not None or req.command is Command.ALL_SENSORS:
+            if packet is None:
+                packet = len(wire)
+                wire.append(Request(Command.ALL_SENSORS))
+            routes.append((packet, take))
+        else:
+            routes.append((len(wire), None))
+            wire.append(req)
+    return wire, tuple(routes)
 
 
 def parse_batch(tx: bytes, profile: Profile) -> Batch:

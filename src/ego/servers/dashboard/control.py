@@ -193,7 +193,11 @@ class ControlDesk:
         index, on = message.get("index"), message.get("on")
         if not (isinstance(index, int) and not isinstance(index, bool) and isinstance(on, bool)):
             return _error("led needs an integer index and a boolean on")
-        self._pending.append(lambda robot: robot.leds.set(index, 1 if on else 0))
+        # An RGB LED (the e-puck2's) switched on from the page shows white.
+        def switch(robot: Robot) -> None:
+            robot.leds.set(index, (0xFFFFFF if index in robot.leds.rgb else 1) if on else 0)
+
+        self._pending.append(switch)
         return Reply()
 
     def _sensor(self, message: dict[str, Any]) -> Reply:

@@ -180,7 +180,8 @@ def _hello(mode: str, channel: WatchedChannel, name: str) -> dict[str, Any]:
     return {
         "mode": mode,
         "robot": describe_firmware(channel.info, name, remote=False, proximity_count=proximity,
-                                   led_count=len(profile.leds), families=families),
+                                   led_count=len(profile.leds) + len(profile.rgb_leds),
+                                   families=families),
         "world": describe_world(channel.world),
     }  # fmt: skip
 

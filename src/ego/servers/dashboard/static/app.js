@@ -23,6 +23,8 @@ const OWN_SERIES = {
   step: { title: "step time", unit: "ms", names: (i) => ["wall time", "asked"][i] },
 };
 let SERIES = { ...OWN_SERIES };
+// The LEDs whose value is a colour 0xRRGGBB (the firmware's RGB LEDs: the hello's rgb_leds).
+let RGB_LEDS = [];
 
 function tableSeries(described) {
   const found = {};
@@ -113,6 +115,7 @@ function onHello(message) {
     img.src = message.world.floor_png;
   }
   SERIES = { ...tableSeries(robot.series), ...OWN_SERIES };
+  RGB_LEDS = robot.rgb_leds || [];
   buildRobot(robot.proximity_count || 8, robot.led_count || 10);
   buildToggles(robot);
   buildSeries();
@@ -270,6 +273,10 @@ function buildRobot(proximityCount, ledCount) {
   el("line", { id: "accel-arrow", x1: 0, y1: 4, x2: 0, y2: 4, stroke: "#1f9d55", "stroke-width": 2.5 }, svg);
 }
 
+function ledColour(rgb) {
+  return "#" + (rgb & 0xffffff).toString(16).padStart(6, "0");
+}
+
 function rayLength(value) {
   const v = Math.max(0, Math.min(1, (value - 40) / 4000));
   return 4 + 60 * Math.sqrt(v);
@@ -304,6 +311,7 @@ function drawRobot(sample) {
     const led = $(`led-${i}`);
     if (!led) continue;
     if (i === 8) led.setAttribute("stroke", leds[i] ? "#2ecc71" : "#1d5e2f");
+    else if (RGB_LEDS.includes(i)) led.setAttribute("fill", leds[i] ? ledColour(leds[i]) : "#5a1b1b");
     else led.setAttribute("fill", leds[i] ? "#ff3b30" : "#5a1b1b");
   }
   const acc = sample.accelerometer;
