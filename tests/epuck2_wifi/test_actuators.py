@@ -28,7 +28,8 @@ def test_a_one_shot_sound_plays_once(wifi: Epuck2Emulator, url: str) -> None:
     payload[18] = Sound.MARIO
     opened = open_port(url)
     try:
-        opened.channel.exchange(batch(Request(Command.ALL_ACTUATORS, tuple(payload))))
+        arguments = WIFI_PROFILE.wire_format(Command.ALL_ACTUATORS).arguments.unpack(payload)
+        opened.channel.exchange(batch(Request(Command.ALL_ACTUATORS, arguments)))
         for _ in range(10):  # steps go on; the radio loops many times meanwhile
             opened.channel.exchange(batch(Request(Command.PROXIMITY)))
         time.sleep(0.1)

@@ -34,7 +34,6 @@ from typing import Final
 
 from ego.errors import OutOfRangeError, UnsupportedDeviceError
 from ego.serial.asercom2 import (
-    ACTUATORS_SIZE,
     ActuatorEncoder,
     Actuators,
     Rgb,
@@ -42,7 +41,7 @@ from ego.serial.asercom2 import (
     Settings,
     Sound,
 )
-from ego.serial.protocol import GCTRONIC_BLUETOOTH, Command, Profile, Request, WireFormat
+from ego.serial.protocol import EPUCK2_USB, Command, Profile, Request, WireFormat
 
 __all__ = [
     "ANSWERS",
@@ -58,48 +57,35 @@ def _fmt(arguments: str = "", reply: str = "") -> WireFormat:
     return WireFormat(struct.Struct("<" + arguments), struct.Struct("<" + reply))
 
 
-#: What each command the WiFi robot serves looks like on the wire (the USB layout of
-#: MAIN:src/epuck1x/Asercom2.c where the packet holds the same value).
+#: The commands the WiFi robot serves: the e-puck2's own wire formats
+#: (:data:`ego.serial.protocol.EPUCK2_USB`, the USB layout of MAIN:src/epuck1x/Asercom2.c),
+#: so that a Robot's families decode a WiFi reply exactly as a USB one; -'M' alone differs:
+#: the packet holds the three ground values, not the fourth (the cliff) USB adds.
+_SERVED: Final = (
+    Command.SET_SPEED, Command.GET_SPEED, Command.SET_LED, Command.SET_STEPS,
+    Command.RGB_LEDS, Command.ALL_ACTUATORS, Command.PROXIMITY, Command.LIGHT,
+    Command.GET_STEPS, Command.ACCELEROMETER_RAW, Command.ACCELEROMETER_SPHERICAL,
+    Command.GYRO_RAW, Command.MIC_AMPLITUDE, Command.MICROPHONES_4, Command.BATTERY,
+    Command.TOF, Command.BUTTON, Command.SD_STATE, Command.ALL_SENSORS,
+)  # fmt: skip
 WIFI_COMMANDS: Final[Mapping[Command, WireFormat]] = MappingProxyType(
     {
-        Command.SET_SPEED: _fmt(arguments="2h"),
-        Command.GET_SPEED: _fmt(reply="2h"),  # the speeds commanded (E: "commanded")
-        Command.SET_LED: _fmt(arguments="2B"),
-        Command.SET_STEPS: _fmt(arguments="2h"),
-        Command.RGB_LEDS: _fmt(arguments="12B"),
-        Command.ALL_ACTUATORS: _fmt(arguments=f"{ACTUATORS_SIZE}B"),
-        Command.PROXIMITY: _fmt(reply="8H"),  # 895-901
-        Command.LIGHT: _fmt(reply="8H"),  # 902-908
-        Command.GET_STEPS: _fmt(reply="2h"),  # 934-941
-        # -'a''s convention, 2048 for 0 g (e_acc.c:48), from the packet's value, which is
-        # centred on 0 (e_acc.c:17-32); both 768 counts a g, with the same axis signs.
-        Command.ACCELEROMETER_RAW: _fmt(reply="3H"),
-        Command.ACCELEROMETER_SPHERICAL: _fmt(reply="3f"),  # 748-782
-        Command.GYRO_RAW: _fmt(reply="3h"),  # 822-839
-        Command.MIC_AMPLITUDE: _fmt(reply="3H"),  # 951-963: mic0..mic2
-        Command.MICROPHONES_4: _fmt(reply="4H"),  # 594-610
-        Command.BATTERY: _fmt(reply="H"),  # 784-789
-        # The three ground values; -'M''s fourth (the cliff) is not in the packet.
-        Command.FLOOR: _fmt(reply="3H"),
-        Command.TOF: _fmt(reply="H"),  # 612-621
-        Command.BUTTON: _fmt(reply="B"),  # 590-592; over WiFi the radio's byte 102
-        Command.SD_STATE: _fmt(reply="B"),  # 623-631
-        Command.ALL_SENSORS: _fmt(reply="103B"),  # the USB layout: byte 102 reserved (0)
+        **{command: EPUCK2_USB.commands[command] for command in _SERVED},
+        Command.FLOOR: WireFormat(reply=struct.Struct("<3H")),
     }
 )
+
+_USB_SENSORS: Final = WIFI_COMMANDS[Command.ALL_SENSORS].reply
 
 #: -'a''s 0 g (MAIN:src/epuck1x/a_d/advance_ad_scan/e_acc.c:48 adds 2048).
 ACC_ZERO_COUNTS: Final = 2048
 
 #: The e-puck2 over WiFi: red LEDs 0, 2, 4, 6, RGB LEDs 1, 3, 5, 7, body 8, front 9.
-WIFI_PROFILE: Final[Profile] = GCTRONIC_BLUETOOTH.but(
+WIFI_PROFILE: Final[Profile] = EPUCK2_USB.but(
     commands=WIFI_COMMANDS,
-    leds=tuple(range(10)),
     description="e-puck2 over WiFi (radio firmware, selector 15)",
     work_s=MappingProxyType({}),
-    i2c=MappingProxyType({}),
     acc_zero_counts=ACC_ZERO_COUNTS,
-    acc_counts_per_g=768,
 )
 
 #: How each getter is answered from a sensor packet: the values, in the reply's order.
@@ -126,8 +112,9 @@ ANSWERS: Final[Mapping[Command, Callable[[SensorPacket, bytes], tuple[object, ..
             Command.TOF: lambda p, _: (p.tof_mm,),
             Command.BUTTON: lambda p, _: (1 if p.button else 0,),
             Command.SD_STATE: lambda p, _: (1 if p.sd_card_ok else 0,),
-            # ESP:uart_e-puck2.c:137-142 put the button in 102 and the reserved byte in 103.
-            Command.ALL_SENSORS: lambda _, raw: tuple(raw[:102] + raw[103:104]),
+            # ESP:uart_e-puck2.c:137-142 put the button in 102 and the reserved byte in 103:
+            # the USB layout's 103 bytes, read back as the profile's typed fields.
+            Command.ALL_SENSORS: lambda _, raw: _USB_SENSORS.unpack(raw[:102] + raw[103:104]),
         }
     )
 )
@@ -204,8 +191,8 @@ def fold(encoder: ActuatorEncoder, command: Command, arguments: tuple[int, ...])
         encoder.set_step_counters(arguments[0], arguments[1])
     elif command is Command.RGB_LEDS:
         encoder.state = replace(state, rgb_leds=_rgb(arguments))
-    else:
-        _payload(encoder, bytes(arguments))
+    else:  # the whole -0x09 payload, as the profile's format packs it
+        _payload(encoder, WIFI_COMMANDS[Command.ALL_ACTUATORS].arguments.pack(*arguments))
 
 
 def translate(
