@@ -42,8 +42,8 @@ from ego.errors import (
     UnsupportedDeviceError,
 )
 from ego.recording.reader import Recording
-from ego.serial.firmware import gctronic_profile
-from ego.serial.protocol import PROFILES, Batch, parse_batch
+from ego.serial.firmware import profile_for
+from ego.serial.protocol import Batch, parse_batch
 
 __all__ = ["SPEEDS", "ReplayBackend", "ReplayChannel", "ReplayDivergedError", "ReplayEndedError"]
 
@@ -77,11 +77,7 @@ def _firmware_info(metadata: dict[str, str]) -> FirmwareInfo:
     selector = int(metadata["selector"]) if metadata.get("selector") else None
     hardware = int(metadata["hardware_version"]) if metadata.get("hardware_version") else None
     rev13 = {"true": True, "false": False}.get(metadata.get("rev13", ""))
-    profile = (
-        gctronic_profile(selector, rev13)
-        if firmware is Firmware.GCTRONIC
-        else PROFILES[Firmware.WEBOTS]
-    )
+    profile = profile_for(firmware, selector, rev13)
     return FirmwareInfo(profile, metadata.get("version", ""), hardware, selector, detected=False)
 
 

@@ -22,10 +22,17 @@ import re
 from ego.core.channel import FirmwareInfo
 from ego.core.profile import Command, Firmware, Profile
 from ego.errors import ProtocolError
-from ego.serial.protocol import EPUCK2_BLUETOOTH, EPUCK2_USB, GCTRONIC_BLUETOOTH, PROFILES
+from ego.serial.protocol import (
+    EPUCK2_BLUETOOTH,
+    EPUCK2_USB,
+    EPUCK2_WIFI,
+    GCTRONIC_BLUETOOTH,
+    PROFILES,
+)
 
 __all__ = [
     "EPUCK2_BLUETOOTH_SELECTOR",
+    "EPUCK2_WIFI_SELECTOR",
     "OVERO_SELECTOR",
     "FirmwareInfo",
     "epuck2_profile",
@@ -37,12 +44,15 @@ __all__ = [
     "line_payload",
     "parse_hardware_version",
     "parse_selector",
+    "profile_for",
 ]
 
 #: The selector position in which the stock firmware talks to the Overo at 230400 baud.
 OVERO_SELECTOR = 10
 #: The e-puck2's selector position for asercom v2 over Bluetooth (MAIN:src/main.c:214).
 EPUCK2_BLUETOOTH_SELECTOR = 3
+#: The e-puck2's selector position for its radio's WiFi (MAIN:src/main.c:836-863).
+EPUCK2_WIFI_SELECTOR = 15
 
 
 def line_payload(line: str, command: str) -> str:
@@ -65,10 +75,23 @@ def is_epuck2(version_line: str) -> bool:
 
 
 def epuck2_profile(selector: int | None) -> Profile:
-    """The e-puck2's profile for the link its selector says: 3 Bluetooth, else USB (8)."""
+    """The e-puck2's profile for the link its selector says: 3 Bluetooth, 15 WiFi, else
+    USB (8)."""
     if selector == EPUCK2_BLUETOOTH_SELECTOR:
         return EPUCK2_BLUETOOTH
+    if selector == EPUCK2_WIFI_SELECTOR:
+        return EPUCK2_WIFI
     return EPUCK2_USB
+
+
+def profile_for(firmware: Firmware, selector: int | None, rev13: bool | None) -> Profile:
+    """The profile of a robot known by what it said of itself (a served robot's welcome,
+    a recording's metadata): its firmware, its selector position, its revision."""
+    if firmware is Firmware.GCTRONIC:
+        return gctronic_profile(selector, rev13)
+    if firmware is Firmware.EPUCK2:
+        return epuck2_profile(selector)
+    return PROFILES[firmware]
 
 
 def parse_selector(line: str) -> int:

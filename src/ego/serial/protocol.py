@@ -41,6 +41,7 @@ __all__ = [
     "EPUCK2_BLUETOOTH",
     "EPUCK2_USB",
     "EPUCK2_USB_BAUD",
+    "EPUCK2_WIFI",
     "FIRMWARE_CHOICES",
     "GCTRONIC_BLUETOOTH",
     "MAX_SPEED_STEPS",
@@ -256,6 +257,28 @@ EPUCK2_BLUETOOTH = EPUCK2_USB.but(
     description="GCtronic e-puck2 asercom v2 over Bluetooth, selector 3",
     line_baud=115200,
     work_s=MappingProxyType({Command.ACCELEROMETER_RAW: _A_FILTER_S}),
+)
+#: What the e-puck2's radio serves over WiFi (selector 15; ego.backends.epuck2 answers
+#: each command from the streamed sensor packet and folds setters into its command packet):
+#: USB's wire formats, so that a family decodes a WiFi reply as a USB one, but -'M' holds
+#: the three ground values only (the packet has no cliff value) and nothing else the
+#: packet lacks (ASCII, -'U', -'I', the enables -0x0F..-0x11).
+_WIFI_SERVED = (
+    Command.SET_SPEED, Command.GET_SPEED, Command.SET_LED, Command.SET_STEPS, Command.RGB_LEDS,
+    Command.ALL_ACTUATORS, Command.PROXIMITY, Command.LIGHT, Command.GET_STEPS,
+    Command.ACCELEROMETER_RAW, Command.ACCELEROMETER_SPHERICAL, Command.GYRO_RAW,
+    Command.MIC_AMPLITUDE, Command.MICROPHONES_4, Command.BATTERY, Command.TOF,
+    Command.BUTTON, Command.SD_STATE, Command.ALL_SENSORS,
+)  # fmt: skip
+EPUCK2_WIFI = EPUCK2_USB.but(
+    commands=MappingProxyType(
+        {
+            **{command: EPUCK2_USB.commands[command] for command in _WIFI_SERVED},
+            Command.FLOOR: _fmt(reply="3H"),
+        }
+    ),
+    description="GCtronic e-puck2 over WiFi (radio firmware, selector 15)",
+    work_s=MappingProxyType({}),
 )
 
 

@@ -41,7 +41,7 @@ from ego.serial.asercom2 import (
     Settings,
     Sound,
 )
-from ego.serial.protocol import EPUCK2_USB, Command, Profile, Request, WireFormat
+from ego.serial.protocol import EPUCK2_WIFI, Command, Profile, Request, WireFormat
 
 __all__ = [
     "ANSWERS",
@@ -57,23 +57,9 @@ def _fmt(arguments: str = "", reply: str = "") -> WireFormat:
     return WireFormat(struct.Struct("<" + arguments), struct.Struct("<" + reply))
 
 
-#: The commands the WiFi robot serves: the e-puck2's own wire formats
-#: (:data:`ego.serial.protocol.EPUCK2_USB`, the USB layout of MAIN:src/epuck1x/Asercom2.c),
-#: so that a Robot's families decode a WiFi reply exactly as a USB one; -'M' alone differs:
-#: the packet holds the three ground values, not the fourth (the cliff) USB adds.
-_SERVED: Final = (
-    Command.SET_SPEED, Command.GET_SPEED, Command.SET_LED, Command.SET_STEPS,
-    Command.RGB_LEDS, Command.ALL_ACTUATORS, Command.PROXIMITY, Command.LIGHT,
-    Command.GET_STEPS, Command.ACCELEROMETER_RAW, Command.ACCELEROMETER_SPHERICAL,
-    Command.GYRO_RAW, Command.MIC_AMPLITUDE, Command.MICROPHONES_4, Command.BATTERY,
-    Command.TOF, Command.BUTTON, Command.SD_STATE, Command.ALL_SENSORS,
-)  # fmt: skip
-WIFI_COMMANDS: Final[Mapping[Command, WireFormat]] = MappingProxyType(
-    {
-        **{command: EPUCK2_USB.commands[command] for command in _SERVED},
-        Command.FLOOR: WireFormat(reply=struct.Struct("<3H")),
-    }
-)
+#: The commands the WiFi robot serves, in the e-puck2 profile's wire formats
+#: (:data:`ego.serial.protocol.EPUCK2_WIFI`).
+WIFI_COMMANDS: Final[Mapping[Command, WireFormat]] = EPUCK2_WIFI.commands
 
 _USB_SENSORS: Final = WIFI_COMMANDS[Command.ALL_SENSORS].reply
 
@@ -81,12 +67,7 @@ _USB_SENSORS: Final = WIFI_COMMANDS[Command.ALL_SENSORS].reply
 ACC_ZERO_COUNTS: Final = 2048
 
 #: The e-puck2 over WiFi: red LEDs 0, 2, 4, 6, RGB LEDs 1, 3, 5, 7, body 8, front 9.
-WIFI_PROFILE: Final[Profile] = EPUCK2_USB.but(
-    commands=WIFI_COMMANDS,
-    description="e-puck2 over WiFi (radio firmware, selector 15)",
-    work_s=MappingProxyType({}),
-    acc_zero_counts=ACC_ZERO_COUNTS,
-)
+WIFI_PROFILE: Final[Profile] = EPUCK2_WIFI
 
 #: How each getter is answered from a sensor packet: the values, in the reply's order.
 ANSWERS: Final[Mapping[Command, Callable[[SensorPacket, bytes], tuple[object, ...]]]] = (

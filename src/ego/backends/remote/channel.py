@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any
 
 from ego.backends.remote.connection import Connection, RemoteStats, error_from_reply
 from ego.core.channel import ChannelBase, FirmwareInfo, reconnect_within
-from ego.core.profile import Firmware, Profile
+from ego.core.profile import Firmware
 from ego.errors import (
     CameraCaptureError,
     CameraError,
@@ -60,9 +60,9 @@ from ego.net.messages import (
     pack_request,
 )
 from ego.net.wire import ASCII_REPLY_LINES, MessageType, parse_url, unpack_json
-from ego.serial.firmware import gctronic_profile
+from ego.serial.firmware import profile_for
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import PROFILES, Batch
+from ego.serial.protocol import Batch
 
 if TYPE_CHECKING:
     from ego.camera.source import GrantedFormat, PixelFormat
@@ -75,12 +75,10 @@ log = logging.getLogger(__name__)
 def info_from(fields: dict[str, Any]) -> FirmwareInfo:
     """The server link's firmware, profile included, from what it said (service.firmware_fields)."""
     firmware = Firmware(str(fields.get("firmware", "webots")))
-    profile: Profile = PROFILES[firmware]
-    if firmware is Firmware.GCTRONIC:
-        selector = fields.get("selector")
-        profile = gctronic_profile(
-            selector if isinstance(selector, int) else None, fields.get("rev13") or None
-        )
+    selector = fields.get("selector")
+    profile = profile_for(
+        firmware, selector if isinstance(selector, int) else None, fields.get("rev13") or None
+    )
     hardware = fields.get("hardware_version")
     return FirmwareInfo(
         profile,
