@@ -97,7 +97,9 @@ def _expect_kind(dt: Tag, kind: str, what: str) -> str:
     name = name_of(dt)
     if spec(name).kind != kind:
         families = dict.fromkeys(s.family for s in DEVICES if s.kind == kind)
-        spans = ", ".join(f"{n[0]}..{n[-1]}" for n in map(names_of, families))
+        spans = ", ".join(
+            n[0] if len(n) == 1 else f"{n[0]}..{n[-1]}" for n in map(names_of, families)
+        )
         raise UnknownDeviceError(f"device {name!r} is not {what} ({spans})")
     return name
 
