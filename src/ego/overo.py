@@ -308,7 +308,7 @@ def overo_encoders_disable(dt: Tag) -> None:
 
 
 def overo_led_set(dt: Tag, value: int) -> None:
-    """0 off, 1 on, 2 toggle."""
+    """0 off, 1 on, 2 toggle; an RGB LED (an e-puck2's led1, 3, 5, 7): its colour 0xRRGGBB."""
     default_robot.get().leds.set(name_of(dt), value)
 
 
