@@ -97,7 +97,9 @@ def _expect_kind(dt: Tag, kind: str, what: str) -> str:
     name = name_of(dt)
     if spec(name).kind != kind:
         families = dict.fromkeys(s.family for s in DEVICES if s.kind == kind)
-        spans = ", ".join(f"{n[0]}..{n[-1]}" for n in map(names_of, families))
+        spans = ", ".join(
+            n[0] if len(n) == 1 else f"{n[0]}..{n[-1]}" for n in map(names_of, families)
+        )
         raise UnknownDeviceError(f"device {name!r} is not {what} ({spans})")
     return name
 
@@ -306,7 +308,7 @@ def overo_encoders_disable(dt: Tag) -> None:
 
 
 def overo_led_set(dt: Tag, value: int) -> None:
-    """0 off, 1 on, 2 toggle."""
+    """0 off, 1 on, 2 toggle; an RGB LED (an e-puck2's led1, 3, 5, 7): its colour 0xRRGGBB."""
     default_robot.get().leds.set(name_of(dt), value)
 
 

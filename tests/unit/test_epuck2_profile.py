@@ -196,3 +196,26 @@ def test_e_puck1_profiles_never_ask_the_packet() -> None:
     batch = encode_batch(requests, PROFILES[Firmware.WEBOTS])
     assert batch.tx == bytes([Command.ACCELEROMETER_RAW, Command.PROXIMITY, 0])
 
+
+
+def test_a_step_that_sets_every_actuator_sends_no_all_actuators() -> None:
+    # Over USB each -0x09 sleeps 10 ms: ego's families set speeds with D, LEDs with L and
+    # the RGB LEDs with -0x0A, whatever changed in the step.
+    from ego.devices.base import PHASE
+    from ego.devices.families import make_families, pick
+    from ego.devices.leds import Leds
+    from ego.devices.motors import Motors
+
+    families = make_families(EPUCK2_USB)
+    pick(families, "motors", Motors).set_speed(-1100, 1100)
+    leds = pick(families, "leds", Leds)
+    for index in range(10):
+        leds.set(index, 0x123456 if index in EPUCK2_USB.rgb_leds else 1)
+    plan = [r for family in families.values() for part in family.parts for r in part.plan(0)]
+    batch = encode_batch(sorted(plan, key=lambda r: PHASE[r.command]), EPUCK2_USB)
+    commands = [r.command for r in batch.requests]
+    assert Command.ALL_ACTUATORS not in commands and Command.RGB_LEDS in commands
+    assert [r.arguments[0] for r in batch.requests if r.command is Command.SET_LED] == [
+        0, 2, 4, 6, 8, 9
+    ]
+    assert Request(Command.RGB_LEDS, (7, 20, 34) * 4) in batch.requests
