@@ -105,7 +105,8 @@ def _cmd_swarm(args: argparse.Namespace) -> int:
     from ego.app.swarm import Swarm, robot_name
 
     _no_address_for_a_controller(args.controllers)
-    with Swarm(args.robots, args.world, args.firmware, args.seed, args.zenoh_endpoint) as swarm:
+    with Swarm(args.robots, args.world, args.firmware, args.seed, args.zenoh_endpoint,
+               robot=args.robot) as swarm:
         if args.dashboard:
             secret = _secret(args)
             url = swarm.serve_dashboard(args.dashboard, secret)
@@ -375,7 +376,8 @@ def _add_swarm(sub: Any) -> None:
         "over Zenoh",
         parents=[firmware_parent(emulated=True, default="webots"),
                  seed_parent(1, " (each robot's own, derived from it and the robot's index)"),
-                 world_parent("the shared world (a file may place robots: [[robots]])")],
+                 world_parent("the shared world (a file may place robots: [[robots]])"),
+                 robot_parent("the emulated robots")],
     )  # fmt: skip
     swarm.add_argument("--robots", type=int, default=4, help="how many (default 4)")
     swarm.add_argument("--duration", type=_positive, default=None,

@@ -69,6 +69,9 @@ class Swarm:
     nodes: list[Any] = field(default_factory=list)
     session: Any = None
     _closers: list[Any] = field(default_factory=list)
+    #: Which robot the emulator models: "epuck" (None) or "epuck2" (its own firmware,
+    #: whatever ``firmware`` says).
+    robot: str | None = None
 
     def __post_init__(self) -> None:
         if not 1 <= self.count <= MAX_ROBOTS:
@@ -88,7 +91,8 @@ class Swarm:
         self.session = open_session(settings)
         try:
             for index, world in enumerate(self.worlds):
-                opened = open_port("sim", firmware=Firmware(self.firmware), world=world)
+                firmware = None if self.robot == "epuck2" else Firmware(self.firmware)
+                opened = open_port("sim", firmware=firmware, world=world, robot=self.robot)
                 self.opened.append(opened)
                 node = RobotNode(opened.channel, self.session, robot_name(index),
                                  deadline_s=self.deadline_s,
