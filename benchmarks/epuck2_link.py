@@ -17,10 +17,11 @@ waits 10 ms between the states of its loop (socket_e-puck2.c:279), so a sensor p
 comes every two loops (about 20 ms) and, with the image, every three. The "modelled"
 column gives that floor; the rest of a round trip is the links' and the clients' own.
 
-Clients: ego's own channel where ego has one (the e-puck1's serial Link, the e-puck2's
-WiFi channel, :mod:`ego.backends.epuck2`); for the e-puck2's USB, whose profile is not
-ego's yet, the bare client of ``serial_link`` (os.write, os.read), once with the
-e-puck1's commands (``-D -N``) and once with asercom v2's blocks (``-0x09 -0x08``).
+Clients: ego's own channels (the e-puck1's serial Link; the e-puck2's Link on its USB
+profile, with the batch ego's profile chooses for this step, ``-D -N``; the e-puck2's WiFi
+channel, :mod:`ego.backends.epuck2`), and beside ego's USB Link the bare client of
+``serial_link`` (os.write, os.read) on the same pty, once with the same bytes and once
+with asercom v2's blocks (``-0x09 -0x08``), which ego's profile does not choose.
 """
 
 from __future__ import annotations
@@ -85,6 +86,14 @@ def _epuck1(steps: int) -> Measured:
 def _epuck2_usb(steps: int) -> list[Measured]:
     out = []
     with emulator_process("--robot", "epuck2") as path:
+        label = "e-puck2 USB, ego's choice -D -N"
+        link = Link(SerialTransport(path, 230400), Firmware.EPUCK2)  # USB CDC: no line rate
+        batch = encode_batch([_SPEEDS, _PROXIMITY], link.profile)
+        try:
+            times, cpu = _timed(steps, label, lambda: link.exchange(batch) and None)
+        finally:
+            link.close()
+        out.append(Measured(label, "ego Link", times, cpu, batch.reply_size, 0.0))
         for label, tx, reply, modelled in (
             ("e-puck2 USB, e-puck1 commands -D -N", _V1_BATCH, 16, 0.0),
             ("e-puck2 USB, asercom v2 -0x09 -0x08", _V2_BATCH, 103, 0.010),
