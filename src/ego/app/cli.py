@@ -400,6 +400,18 @@ def _add_servers(sub: Any) -> None:
     secret.set_defaults(func=_cmd_secret)
 
 
+def _add_ros2(sub: Any) -> None:
+    from ego.app.ros2 import add_arguments, run
+
+    ros2 = sub.add_parser(
+        "ros2", help="run a robot as a ROS 2 node over rmw_zenoh (docs/ros2.md)",
+        parents=[firmware_parent(emulated=False, default=None), seed_parent(1, " (port sim)"),
+                 world_parent("the emulator's world (port sim)")],
+    )  # fmt: skip
+    add_arguments(ros2)
+    ros2.set_defaults(func=run)
+
+
 def _add_tools(sub: Any) -> None:
     """plot, bench: the commands around the runs."""
     plot = sub.add_parser("plot", help="PNG plots of a recorded run (sensors, path, timing; "
@@ -426,7 +438,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"ego {__version__}")
     _add_verbosity(parser, default=0)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=CommandParser)
-    for add in (_add_demo, _add_run, _add_servers, _add_replay, _add_swarm, _add_tools):
+    for add in (_add_demo, _add_run, _add_servers, _add_replay, _add_swarm, _add_ros2,
+                _add_tools):  # fmt: skip
         add(sub)
     return parser
 
