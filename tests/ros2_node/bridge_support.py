@@ -61,6 +61,8 @@ class Bridged:
     distro: str
     truths: dict[int, Truth] = field(default_factory=dict)
     start: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    #: Where the ``ros`` session listens (the router's place).
+    endpoint: str = ""
     lock: threading.Lock = field(default_factory=threading.Lock)
 
     def record(self, robot: Robot) -> None:
@@ -110,7 +112,7 @@ def bridged(distro: str = "jazzy", namespace: str = "/", deadline_s: float = 0.5
         bridge = Ros2Bridge(robot, node, deadline_s=deadline_s).attach()
         stack.callback(bridge.detach)
         out = Bridged(robot, bridge, node, NodeRunner(robot, 64, "test"), ros, distro,
-                      start=(pose.x_m, pose.y_m, pose.theta_rad))  # fmt: skip
+                      start=(pose.x_m, pose.y_m, pose.theta_rad), endpoint=endpoint)  # fmt: skip
         robot.add_step_listener(out.record)
         out.runner.start()
         stack.callback(out.runner.close)

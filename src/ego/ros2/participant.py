@@ -173,6 +173,12 @@ class Participant:
         self._entities.append(made)
         return made
 
+    def withdraw(self, entity: Publisher | Subscription) -> None:
+        """Undeclare one publisher or subscription of this node (and its token)."""
+        if entity in self._entities:
+            self._entities.remove(entity)
+            entity.close()
+
     def _check_open(self) -> None:
         if self._closed:
             raise EgoError(f"ROS 2 node {self.info.name} is closed")
