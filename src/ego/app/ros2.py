@@ -18,7 +18,7 @@ from typing import Any
 
 from ego.core.safety import TERMINATING_SIGNALS
 
-__all__ = ["add_arguments", "run"]
+__all__ = ["add_arguments", "run", "wait_for_signal"]
 
 #: rmw_zenoh's default router (config/DEFAULT_RMW_ZENOH_SESSION_CONFIG.json5:43-46).
 DEFAULT_ROUTER = "tcp/127.0.0.1:7447"
@@ -78,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
               f"{len(bridged.bridge.published)} topics published, "
               f"{len(bridged.bridge.subscribed)} subscribed",
               file=sys.stderr, flush=True)  # fmt: skip
-        _wait(bridged.runner.ended, args.duration)
+        wait_for_signal(bridged.runner.ended, args.duration)
     return 0
 
 
@@ -119,7 +119,7 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     return Bridged(robot, node, bridge, runner)
 
 
-def _wait(ended: threading.Event, duration_s: float | None) -> None:
+def wait_for_signal(ended: threading.Event, duration_s: float | None) -> None:
     """Until a terminating signal, ``duration_s``, or the runner ending by itself."""
     previous = {}
     for sig in (signal.SIGINT, *TERMINATING_SIGNALS):
