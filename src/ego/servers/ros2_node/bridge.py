@@ -65,9 +65,14 @@ class Ros2Bridge:
         for sub in self.subscribed:
             self.node.subscription(sub.name, sub.type_name, sub.qos, self._handler(sub.name))
         self.sampler.enable()
-        self.robot.add_step_guard(self._guard)
-        self.robot.add_step_listener(self._publish)
-        self._attached = True
+        return self.hook()
+
+    def hook(self) -> Ros2Bridge:
+        """Ride the robot's steps (again, after :meth:`detach`); attached once first."""
+        if not self._attached:
+            self.robot.add_step_guard(self._guard)
+            self.robot.add_step_listener(self._publish)
+            self._attached = True
         return self
 
     def detach(self) -> None:

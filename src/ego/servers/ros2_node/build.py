@@ -32,9 +32,13 @@ class Messages:
 
     def __init__(self, distro: Distro | str) -> None:
         self.distro = Distro(distro)
+        self._classes: dict[str, Any] = {}
 
     def make(self, type_name: str, **fields: Any) -> Any:
-        return message_class(type_name, self.distro)(**fields)
+        cls = self._classes.get(type_name)
+        if cls is None:
+            cls = self._classes[type_name] = message_class(type_name, self.distro)
+        return cls(**fields)
 
     def header(self, stamp_ns: int, frame_id: str) -> Any:
         stamp = self.make("builtin_interfaces/msg/Time", sec=stamp_ns // 10**9,
