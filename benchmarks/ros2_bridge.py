@@ -154,8 +154,9 @@ def run(quick: bool = False) -> list[Table]:
         f"{OVERO_RAM_MB:.0f} MB, ratio {ratio(found['rss_after_kb'], found['rss_before_kb']):.2f})."
     )
     table.notes.append(
-        f"{found['topics']} topics a step ({found['delivered']} samples reached the "
-        f"subscriber). The Overo column assumes this Python runs {OVERO_SLOWDOWN} times "
+        f"{found['topics']} topics declared, the camera's sent only while subscribed "
+        f"({found['delivered']} samples reached the subscriber). The Overo column "
+        f"assumes this Python runs {OVERO_SLOWDOWN} times "
         f"slower on its 600 MHz Cortex-A8 than here: an estimate, not a measurement. The "
         f"bridge adds {added_us:.0f} us a step here."
     )
