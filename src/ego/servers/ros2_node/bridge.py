@@ -15,11 +15,12 @@ import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from ego.devices.table import TABLE, DeviceTable
 from ego.ros2.attachment import Attachment
 from ego.servers.ros2_node import convert
 from ego.servers.ros2_node.build import Messages
 from ego.servers.ros2_node.commands import Commands
-from ego.servers.ros2_node.sampling import Sampler
+from ego.servers.ros2_node.sampling import Sampler, served_devices
 from ego.servers.ros2_node.topics import PUBLISHED, SUBSCRIBED, TF_STATIC, served
 
 if TYPE_CHECKING:
@@ -35,23 +36,25 @@ STATIC_PERIOD_S = 1.0
 
 
 class Ros2Bridge:
-    """``robot`` as the ROS 2 node ``node`` (see the module's doc)."""
+    """``robot`` as the ROS 2 node ``node`` (see the module's doc); ``table`` is the device
+    table whose rows say what the robot serves (the e-puck's, or a copy with more rows)."""
 
     def __init__(
         self, robot: Robot, node: Participant, *, period_ms: int = 64,
         deadline_s: float = 0.5, camera_period_ms: int = 128,
         clock: Callable[[], float] = time.monotonic, wall_ns: Callable[[], int] = time.time_ns,
+        table: DeviceTable = TABLE,
     ) -> None:  # fmt: skip
         self.robot, self.node = robot, node
         self.period_s = period_ms / 1000
         self.commands = Commands(deadline_s)
         self.messages = Messages(node.distro)
         self._clock, self._wall_ns = clock, wall_ns
-        devices = set(robot.device_names)
+        devices = served_devices(robot, table)
         self.published = served(PUBLISHED, devices)
         self.subscribed = served(SUBSCRIBED, devices)
         self.sampler = Sampler(robot, {n for row in self.published for n in row.needs},
-                               period_ms, camera_period_ms)  # fmt: skip
+                               period_ms, camera_period_ms, table)  # fmt: skip
         self.publishers: dict[str, Publisher] = {}
         self._static_at = -STATIC_PERIOD_S
         #: The stamp of the last step published (ns since the epoch).

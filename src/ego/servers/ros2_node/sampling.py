@@ -17,14 +17,14 @@ from typing import TYPE_CHECKING
 
 from ego.core.odometry import Odometry
 from ego.devices.base import Sampled
-from ego.devices.table import CAMERA, find
-from ego.errors import CameraError
+from ego.devices.table import CAMERA, TABLE, DeviceTable
+from ego.errors import CameraError, UnknownDeviceError
 from ego.servers.ros2_node.reading import OdometryState, Reading
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot
 
-__all__ = ["Sampler"]
+__all__ = ["Sampler", "served_devices"]
 
 log = logging.getLogger(__name__)
 
@@ -33,19 +33,37 @@ CAMERA_SIZE = (160, 120)
 _ENCODERS = ("left wheel sensor", "right wheel sensor")
 
 
+def served_devices(robot: Robot, table: DeviceTable = TABLE) -> set[str]:
+    """The devices of ``table`` that ``robot`` serves: its family has the device among its
+    members (the firmware's profile says which); the camera always (opened at need)."""
+    found = set()
+    for spec in table.devices:
+        if spec.family == CAMERA:
+            found.add(spec.name)
+            continue
+        try:
+            family = robot.family(spec.family)
+        except UnknownDeviceError:
+            continue
+        if spec.name in family.member_names:
+            found.add(spec.name)
+    return found
+
+
 class Sampler:
-    """Enables the sensors ``needs`` names and reads them into a :class:`Reading`."""
+    """Enables the sensors ``needs`` names and reads them into a :class:`Reading`;
+    ``table`` says which family serves each (the e-puck's, or a copy with more rows)."""
 
     def __init__(self, robot: Robot, needs: Collection[str], period_ms: int,
-                 camera_period_ms: int) -> None:  # fmt: skip
+                 camera_period_ms: int, table: DeviceTable = TABLE) -> None:  # fmt: skip
         self.robot = robot
         self.period_ms = period_ms
-        specs = [spec for name in needs if (spec := find(name)) is not None]
+        specs = [spec for name in needs if (spec := table.find(name)) is not None]
         self.families = sorted({spec.family for spec in specs if spec.family != CAMERA})
         self.camera_every = max(1, round(camera_period_ms / period_ms))
         self.camera_ok = any(spec.family == CAMERA for spec in specs)
         #: The device table's ToF row, where the table has one and a topic needs it.
-        self.tof = find("tof") if "tof" in needs else None
+        self.tof = table.find("tof") if "tof" in needs else None
         self.odometry = Odometry()
         self._last_radians: tuple[float, float] | None = None
         self._steps = 0
