@@ -79,6 +79,8 @@ def run(args: argparse.Namespace) -> int:
               f"{len(bridged.bridge.subscribed)} subscribed",
               file=sys.stderr, flush=True)  # fmt: skip
         wait_for_signal(bridged.runner.ended, args.duration)
+        if bridged.runner.error is not None:
+            raise bridged.runner.error
     return 0
 
 

@@ -29,8 +29,10 @@ class NodeRunner:
         self.period_ms = period_ms
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name=f"ego-ros2 {name}", daemon=True)
-        #: Set when the thread ended (closed, or the robot's link lost).
+        #: Set when the thread ended (closed, the robot's link lost, or an error).
         self.ended = threading.Event()
+        #: What ended the thread, if an error did (the owner raises it on).
+        self.error: BaseException | None = None
 
     def start(self) -> NodeRunner:
         self._thread.start()
@@ -42,6 +44,9 @@ class NodeRunner:
                 if self.robot.step(self.period_ms) == -1:
                     log.error("%s: link lost, no longer bridged", self.robot.port)
                     return
+        except Exception as exc:  # kept for the owner, which raises it in its thread
+            log.error("%s: bridging stopped: %s", self.robot.port, exc)
+            self.error = exc
         finally:
             self.ended.set()
 
