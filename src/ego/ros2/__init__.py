@@ -14,7 +14,8 @@ Both optional packages come with ``pip install 'ego[ros2]'``; this package impor
 neither until they are used. The I/O side lives in two modules of its own, imported only
 when asked for: :mod:`ego.ros2.participant` (a node, its publishers and subscriptions
 and their tokens on a Zenoh session) and :mod:`ego.ros2.topic` (a topic read and written
-by a controller); ``ego ros2`` (:mod:`ego.servers.ros2_node`) bridges a whole robot. FORMATS.md, beside this file, lists every format detail
+by a controller); ``ego ros2`` (:mod:`ego.servers.ros2_node`) bridges a whole robot.
+FORMATS.md, beside this file, lists every format detail
 with the rmw_zenoh source line it follows.
 """
 
