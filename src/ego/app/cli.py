@@ -104,6 +104,11 @@ def _cmd_replay(args: argparse.Namespace) -> int:
 def _cmd_swarm(args: argparse.Namespace) -> int:
     from ego.app.swarm import Swarm, robot_name
 
+    if args.ros2:  # the robots in a ROS 2 graph: ROS drives them, no controller runs
+        return _swarm_ros2(args)
+    if not args.controllers:
+        raise EgoError("ego swarm needs a controller file for its robots (or --ros2)")
+
     _no_address_for_a_controller(args.controllers)
     with Swarm(args.robots, args.world, args.firmware, args.seed, args.zenoh_endpoint,
                robot=args.robot) as swarm:
@@ -120,6 +125,18 @@ def _cmd_swarm(args: argparse.Namespace) -> int:
         print(f"ego swarm: the controllers of {', '.join(failed)} failed", file=sys.stderr)
         return 1
     return 0
+
+
+def _swarm_ros2(args: argparse.Namespace) -> int:
+    from ego.app.swarm import run_ros2
+
+    if args.controllers:
+        raise EgoError(f"ego swarm --ros2: {args.controllers[0]!r}: ROS 2 drives the robots, "
+                       "no controller file runs (a controller may join through "
+                       "ego.ros2.topic)")  # fmt: skip
+    return run_ros2(args.robots, args.world, args.firmware, args.seed,
+                    args.router or ["tcp/127.0.0.1:7447"], args.distro, args.domain,
+                    args.duration)  # fmt: skip
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
@@ -385,8 +402,17 @@ def _add_swarm(sub: Any) -> None:
     swarm.add_argument("--zenoh-endpoint", default="tcp/127.0.0.1:7447", metavar="ENDPOINT",
                        help="where the robots' Zenoh node listens (default loopback)")  # fmt: skip
     add_dashboard_options(swarm, "a dashboard of the whole swarm")
-    swarm.add_argument("controllers", nargs="+", metavar="controller.py",
+    swarm.add_argument("controllers", nargs="*", metavar="controller.py",
                        help="one file for every robot, or one per robot in turn")  # fmt: skip
+    swarm.add_argument("--ros2", action="store_true", help="no controllers: the robots join "
+                       "a ROS 2 graph as /epuckK/epuck_driver, through --router "
+                       "(docs/ros2.md)")  # fmt: skip
+    swarm.add_argument("--router", action="append", metavar="ENDPOINT",
+                       help="with --ros2: the ROS machine's rmw_zenohd (default "
+                       "tcp/127.0.0.1:7447)")  # fmt: skip
+    swarm.add_argument("--distro", default="jazzy", choices=("jazzy", "humble", "kilted"),
+                       help="with --ros2: the ROS 2 distribution (default jazzy)")  # fmt: skip
+    swarm.add_argument("--domain", type=int, default=0, help="with --ros2: ROS_DOMAIN_ID")
     swarm.add_argument("--args", nargs="*", default=[], help="arguments for every controller")
     swarm.set_defaults(func=_cmd_swarm)
 
@@ -417,6 +443,18 @@ def _add_servers(sub: Any) -> None:
     secret.set_defaults(func=_cmd_secret)
 
 
+def _add_ros2(sub: Any) -> None:
+    from ego.app.ros2 import add_arguments, run
+
+    ros2 = sub.add_parser(
+        "ros2", help="run a robot as a ROS 2 node over rmw_zenoh (docs/ros2.md)",
+        parents=[firmware_parent(emulated=False, default=None), seed_parent(1, " (port sim)"),
+                 world_parent("the emulator's world (port sim)")],
+    )  # fmt: skip
+    add_arguments(ros2)
+    ros2.set_defaults(func=run)
+
+
 def _add_tools(sub: Any) -> None:
     """plot, bench: the commands around the runs."""
     plot = sub.add_parser("plot", help="PNG plots of a recorded run (sensors, path, timing; "
@@ -443,7 +481,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"ego {__version__}")
     _add_verbosity(parser, default=0)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=CommandParser)
-    for add in (_add_demo, _add_run, _add_servers, _add_replay, _add_swarm, _add_tools):
+    for add in (_add_demo, _add_run, _add_servers, _add_replay, _add_swarm, _add_ros2,
+                _add_tools):  # fmt: skip
         add(sub)
     return parser
 

@@ -210,4 +210,6 @@ def missing_extra(exc: ModuleNotFoundError, command: str) -> str | None:
     if module not in EXTRAS:
         return None
     package, extra = EXTRAS[module]
+    if command == "ros2":  # ego ros2 needs the whole ros2 extra (zenoh, rosbags, xxhash)
+        extra = "ros2"
     return f"ego {command} needs {package}: pip install 'ego[{extra}]'"

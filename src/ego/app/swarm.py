@@ -208,3 +208,32 @@ def _end_all(processes: Sequence[subprocess.Popen[bytes]]) -> None:
             log.warning("%s did not end within 5 s of SIGTERM: killed", process.args)
             process.kill()
             process.wait()
+
+
+def run_ros2(count: int, world: str | None, firmware: str, seed: int | None, router: list[str],
+             distro: str, domain: int, duration_s: float | None) -> int:  # fmt: skip
+    """``ego swarm --ros2``: the robots as ROS 2 nodes ``/epuckK/epuck_driver`` in one
+    graph (ego.servers.ros2_node.swarm) until a signal or ``duration_s``."""
+    import threading
+
+    from ego.app.ros2 import wait_for_signal
+    from ego.core.environment import read_environment
+    from ego.servers.ros2_node.swarm import RosSwarm
+    from ego.zenoh_net.sessions import ZenohSettings, open_session
+
+    if not 1 <= count <= MAX_ROBOTS:
+        raise ValueError(f"a swarm of {count} robots: 1..{MAX_ROBOTS} are served")
+    settings = ZenohSettings.from_environment(read_environment(), listen=None, connect=router)
+    session: Any = open_session(settings)
+    try:
+        seeds = [robot_seed(seed, index) for index in range(count)]
+        with RosSwarm(count, session, world=world, firmware=firmware, seeds=seeds,
+                      distro=distro, domain_id=domain, name=robot_name):  # fmt: skip
+            print(f"ego swarm: {count} emulated e-pucks as ROS 2 nodes "
+                  f"/{robot_name(0)}..{robot_name(count - 1)}/epuck_driver ({distro}, domain "
+                  f"{domain}) via {', '.join(settings.connect)}",
+                  file=sys.stderr, flush=True)  # fmt: skip
+            wait_for_signal(threading.Event(), duration_s)
+    finally:
+        session.close()
+    return 0

@@ -11,7 +11,11 @@ for each distribution in :mod:`ego.ros2.distros` (Humble, Jazzy, Kilted):
 - :mod:`ego.ros2.gid`: the GID rmw_zenoh derives from a token (needs ``xxhash``).
 
 Both optional packages come with ``pip install 'ego[ros2]'``; this package imports
-neither until they are used. FORMATS.md, beside this file, lists every format detail
+neither until they are used. The I/O side lives in two modules of its own, imported only
+when asked for: :mod:`ego.ros2.participant` (a node, its publishers and subscriptions
+and their tokens on a Zenoh session) and :mod:`ego.ros2.topic` (a topic read and written
+by a controller); ``ego ros2`` (:mod:`ego.servers.ros2_node`) bridges a whole robot.
+FORMATS.md, beside this file, lists every format detail
 with the rmw_zenoh source line it follows.
 """
 
