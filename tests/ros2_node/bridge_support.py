@@ -1,12 +1,13 @@
 """A robot on the emulator bridged to ROS 2 on loopback Zenoh, and what the tests read of
 it: every step's truth, recorded by a step listener of the test's own after the bridge's.
 
-The ``ros`` session stands where rmw_zenohd and the ROS 2 nodes are: the bridge's
-session connects to it as ``ego ros2 --router`` does.
+The ``ros`` session is a Zenoh router on loopback, where rmw_zenohd and the ROS 2 nodes
+are: the bridge's peer session connects to it as ``ego ros2 --router`` does.
 """
 
 from __future__ import annotations
 
+import json
 import math
 import threading
 from collections.abc import Iterator
@@ -91,13 +92,26 @@ class Bridged:
         return (c * dx - s * dy, s * dx + c * dy, math.remainder(t - t0, 2 * math.pi))
 
 
+def router_session(endpoint: str) -> Any:
+    """A Zenoh router on loopback, where rmw_zenohd stands in a ROS 2 system (mode
+    "router", listening on ``endpoint``, no multicast scouting): the ROS side's
+    subscribers and publishers are declared on it, and the bridge reaches them through it."""
+    import zenoh
+
+    config = zenoh.Config()
+    config.insert_json5("mode", json.dumps("router"))
+    config.insert_json5("listen/endpoints", json.dumps([endpoint]))
+    config.insert_json5("scouting/multicast/enabled", "false")
+    return zenoh.open(config)
+
+
 @contextmanager
 def bridged(distro: str = "jazzy", namespace: str = "/", deadline_s: float = 0.5,
             **sim: Any) -> Iterator[Bridged]:  # fmt: skip
     """The emulated robot as ROS 2 node ``epuck_driver``, stepped by its runner."""
     with ExitStack() as stack:
         endpoint = free_endpoint()
-        ros = open_session(ZenohSettings(listen=[endpoint], connect=[]))
+        ros = router_session(endpoint)
         stack.callback(ros.close)
         session = open_session(ZenohSettings(listen=[free_endpoint()], connect=[endpoint]))
         stack.callback(session.close)
