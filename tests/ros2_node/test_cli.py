@@ -40,3 +40,32 @@ def test_ego_ros2_serves_the_robot_until_its_duration() -> None:
     finally:
         sub.undeclare()
         ros.close()
+
+
+def test_ego_ros2_on_an_emulated_e_puck2_publishes_its_tof() -> None:
+    """The e-puck2's tof row (the device table) gives the bridge its ``tof`` Range topic."""
+    from rosbags.typesys import Stores, get_typestore
+
+    endpoint = free_endpoint()
+    ros = open_session(ZenohSettings(listen=[endpoint], connect=[]))
+    ranges: list[float] = []
+    store = get_typestore(Stores.ROS2_JAZZY)
+
+    def take(sample: object) -> None:
+        payload = bytes(sample.payload)  # type: ignore[attr-defined]
+        ranges.append(store.deserialize_cdr(payload, "sensor_msgs/msg/Range").range)
+
+    sub = ros.declare_subscriber(key_of("/tof", "sensor_msgs/msg/Range", "jazzy"), take)
+    try:
+        proc = subprocess.Popen([*ego_command(), "ros2", "--port", "sim", "--robot", "epuck2",
+                                 "--router", endpoint, "--duration", "4"],
+                                stderr=subprocess.PIPE, text=True)  # fmt: skip
+        try:
+            assert wait_until(lambda: len(ranges) >= 3, 20)
+        finally:
+            _, err = proc.communicate(timeout=30)
+        assert proc.returncode == 0, err
+        assert all(0.0 < r <= 2.0 for r in ranges), ranges  # metres, the sensor's 2 m reach
+    finally:
+        sub.undeclare()
+        ros.close()

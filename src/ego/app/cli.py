@@ -449,7 +449,8 @@ def _add_ros2(sub: Any) -> None:
     ros2 = sub.add_parser(
         "ros2", help="run a robot as a ROS 2 node over rmw_zenoh (docs/ros2.md)",
         parents=[firmware_parent(emulated=False, default=None), seed_parent(1, " (port sim)"),
-                 world_parent("the emulator's world (port sim)")],
+                 world_parent("the emulator's world (port sim)"),
+                 robot_parent("the emulated robot (port sim)")],
     )  # fmt: skip
     add_arguments(ros2)
     ros2.set_defaults(func=run)

@@ -107,7 +107,7 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     stack.callback(session.close)
     options: dict[str, Any] = {"firmware": Firmware.choose(args.firmware or "auto")}
     if (args.port or "") == "sim":
-        options.update(seed=args.seed, world=args.world)
+        options.update(seed=args.seed, world=args.world, robot=args.robot)
     robot = Robot(args.port, environment=environment, **options)
     stack.callback(robot.close)
     node = Participant(session, args.node_name, namespace=args.namespace,
