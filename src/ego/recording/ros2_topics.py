@@ -35,11 +35,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from itertools import pairwise
 from typing import Any
 
 from ego.core.odometry import AXLE_M, WHEEL_RADIUS_M
 from ego.devices.table import TABLE, DeviceSpec, DeviceTable
+from ego.ros2.epuck_driver import GROUND_TABLE, INFRARED_TABLE, interpolate_table
 from ego.serial.protocol import STEPS_PER_TURN
 
 __all__ = [
@@ -48,29 +48,15 @@ __all__ = [
     "RangeModel",
     "Ros2Topic",
     "StepData",
-    "interpolate",
+    "interpolate_table",
     "ros2_topics",
     "static_transforms",
 ]
 
-#: driver.cpp INFRARED_TABLE and GROUND_TABLE: (metres, raw count), counts descending.
-INFRARED_TABLE = ((0.0, 4095.0), (0.005, 2133.33), (0.01, 1465.73), (0.015, 601.46),
-                  (0.02, 383.84), (0.03, 234.93), (0.04, 158.03), (0.05, 120.0))  # fmt: skip
-GROUND_TABLE = ((0.0, 1000.0), (0.016, 300.0))
 _SENSOR_FROM_CENTER_M = 0.035  # driver.cpp SENSOR_DIST_FROM_CENTER
 _IR_CUT_M = 0.025  # driver.cpp INFRARED_MAX_RANGE: farther is OUT_OF_RANGE in the scan
 _M_PER_STEP = 2 * math.pi * WHEEL_RADIUS_M / STEPS_PER_TURN
 _RAD_PER_STEP = 2 * math.pi / STEPS_PER_TURN
-
-
-def interpolate(value: float, table: tuple[tuple[float, float], ...]) -> float:
-    """driver.cpp ``interpolateTable``: the distance of a raw count, linear between the
-    two rows around it, extrapolated from the first or last two rows outside."""
-    for (d0, c0), (d1, c1) in pairwise(table):
-        if c0 > value >= c1 or c0 < value <= c1:
-            return (d1 - d0) / (c1 - c0) * (value - c0) + d0
-    (d0, c0), (d1, c1) = table[:2] if value > table[0][1] else table[-2:]
-    return (d1 - d0) / (c1 - c0) * (value - c0) + d0
 
 
 @dataclass(frozen=True, slots=True)
@@ -85,8 +71,8 @@ class RangeModel:
 
 #: By family (raw counts need the family's table), then by the row's units.
 _RANGE_BY_FAMILY = {
-    "proximity": RangeModel(lambda v: interpolate(v, INFRARED_TABLE), 0.045, 0.025, 15),
-    "floor": RangeModel(lambda v: interpolate(v, GROUND_TABLE), 0.0, 0.016, 15),
+    "proximity": RangeModel(lambda v: interpolate_table(v, INFRARED_TABLE), 0.045, 0.025, 15),
+    "floor": RangeModel(lambda v: interpolate_table(v, GROUND_TABLE), 0.0, 0.016, 15),
 }
 _RANGE_BY_UNITS = {
     "mm": RangeModel(lambda v: v / 1000.0, 0.045, 1.0, 25),  # driver.cpp TOF_*, 25° fov

@@ -11,12 +11,12 @@ with each other and with the robot. Speeds go to the motors in steps/s with the 
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Sequence
 
 from ego.core.odometry import AXLE_M, WHEEL_RADIUS_M
 from ego.devices.motors import rad_s_to_steps
+from ego.ros2.epuck_driver import GROUND_TABLE, INFRARED_TABLE, interpolate_table
 from ego.serial.protocol import MAX_SPEED_STEPS
 
 __all__ = [
@@ -31,13 +31,6 @@ __all__ = [
     "yaw_quaternion",
 ]
 
-#: driver.cpp:87-88: (distance m, raw IR), raw falling as the distance grows.
-INFRARED_TABLE: tuple[tuple[float, float], ...] = (
-    (0.0, 4095.0), (0.005, 2133.33), (0.01, 1465.73), (0.015, 601.46),
-    (0.02, 383.84), (0.03, 234.93), (0.04, 158.03), (0.05, 120.0),
-)  # fmt: skip
-#: driver.cpp:89: the ground sensors' (distance m, raw).
-GROUND_TABLE: tuple[tuple[float, float], ...] = ((0.0, 1000.0), (0.016, 300.0))
 #: driver.cpp:90-100: ps0..ps7's bearing from the robot's x axis, then the ToF's.
 SENSOR_ANGLES_RAD: tuple[float, ...] = tuple(
     math.radians(a) for a in (-15, -45, -90, -150, 150, 90, 45, 15, 0)
@@ -51,23 +44,6 @@ SENSOR_DIST_FROM_CENTER = 0.035
 OUT_OF_RANGE = 0.0
 #: driver.cpp:364, :443: field of view of an IR sensor, of the ToF (VL53L0X).
 IR_FOV_RAD, TOF_FOV_RAD = math.radians(15), math.radians(25)
-
-
-def _line(value: float, x0: float, y0: float, x1: float, y1: float) -> float:
-    return (y1 - y0) / (x1 - x0) * (value - x0) + y0
-
-
-def interpolate_table(value: float, table: Sequence[tuple[float, float]]) -> float:
-    """``interpolateTable`` (driver.cpp:333-350): the distance for raw ``value``, linear
-    between the two rows around it, extrapolated from the end rows outside them."""
-    for (d0, r0), (d1, r1) in itertools.pairwise(table):
-        if r1 <= value < r0 or r0 < value <= r1:
-            return _line(value, r0, d0, r1, d1)
-    if value > table[0][1]:
-        (d0, r0), (d1, r1) = table[0], table[1]
-    else:
-        (d0, r0), (d1, r1) = table[-2], table[-1]
-    return _line(value, r0, d0, r1, d1)
 
 
 class ScanSpec:
