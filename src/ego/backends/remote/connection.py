@@ -119,12 +119,35 @@ class Connection:
         self._key: FrameKey | None = None
         self._seal: FrameKey | None = None
         self._reader = FrameReader()
-        self._sock = self._connect(host, port, connect_timeout_s)
-        try:
-            self.welcome = self._handshake(secret, connect_timeout_s)
-        except BaseException:
-            self.close()
-            raise
+        self.welcome = self._open(host, port, secret, connect_timeout_s)
+
+    def _open(
+        self, host: str, port: int, secret: bytes | None, timeout_s: float
+    ) -> dict[str, Any]:
+        """Connect and shake hands within ``timeout_s``. A server under a flood of
+        half-open connections hangs up the oldest one to make room (ego.servers.socket):
+        a stream cut before the handshake ends is connected again, a fresh one, until the
+        time is up; any other failure (no server, a wrong secret) is raised at once."""
+        until = time.monotonic() + timeout_s
+        while True:
+            self._sock = self._connect(host, port, max(until - time.monotonic(), 0.05))
+            try:
+                return self._handshake(secret, max(until - time.monotonic(), 0.05))
+            except (PortNotFoundError, LinkLostError) as exc:
+                self.close()
+                lost = exc if isinstance(exc, LinkLostError) else exc.__cause__
+                cut = self.stream and isinstance(lost, LinkLostError)
+                if not cut or time.monotonic() + 0.02 >= until:
+                    raise
+                log.info("%s: the connection was cut during the handshake (%s): again",
+                         self.name, lost)  # fmt: skip
+            except BaseException:
+                self.close()
+                raise
+            time.sleep(0.02)
+            self._reader = FrameReader()
+            self._key = self._seal = None
+            self.session = 0
 
     def _connect(self, host: str, port: int, timeout_s: float) -> socket.socket:
         kind = socket.SOCK_STREAM if self.stream else socket.SOCK_DGRAM
