@@ -26,6 +26,9 @@ class Relay:
         self.passing = True  # pass the robot's bytes on
         self.accepting = True
         self._pairs: dict[socket.socket, socket.socket] = {}
+        #: The relay's sockets to the robot (told apart without a syscall: cut() may close
+        #: one under the pump).
+        self._robot_side: set[socket.socket] = set()
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name="epuck2-test-relay")
@@ -72,6 +75,7 @@ class Relay:
         with self._lock:
             self._pairs[client] = robot
             self._pairs[robot] = client
+            self._robot_side.add(robot)
 
     def _pump(self, sock: socket.socket) -> None:
         with self._lock:
@@ -82,11 +86,12 @@ class Relay:
             data = sock.recv(65536)
         except OSError:
             data = b""
-        from_robot = sock.getpeername() == self.upstream if data else False
+        from_robot = sock in self._robot_side
         if not data:
             with self._lock:
                 self._pairs.pop(sock, None)
                 self._pairs.pop(peer, None)
+                self._robot_side.difference_update((sock, peer))
             for s in (sock, peer):
                 with contextlib.suppress(OSError):
                     s.shutdown(socket.SHUT_RDWR)

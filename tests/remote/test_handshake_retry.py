@@ -66,10 +66,15 @@ class CuttingRelay:
                 sock.shutdown(socket.SHUT_RDWR)
 
     def close(self) -> None:
+        """Wake the accepting thread (closing a listening socket alone does not, on
+        Linux), close every socket, and join every thread."""
+        with contextlib.suppress(OSError):
+            self.listener.shutdown(socket.SHUT_RDWR)
         for sock in self._socks:
             sock.close()
         for thread in self._threads:
             thread.join(5)
+            assert not thread.is_alive(), f"{thread.name} outlived the relay"
 
 
 def _relay(served_url: str, cuts: int) -> CuttingRelay:
