@@ -247,8 +247,8 @@ class SimBackend:
         emulator_options: dict[str, Any] = {
             key: value for key in _EMULATOR_OPTIONS if (value := getattr(given, key)) is not None
         }
-        spec = given.world  # a name or a file: ego's error (one line), before the emulator starts
-        emulator_options["world"] = load_world(spec, given.seed) if isinstance(spec, str) else spec
+        # A name or a file: ego's error (one line), before the emulator starts.
+        emulator_options["world"] = given_world(given)
         emulator = Emulator(name, baud=given.baudrate, seed=given.seed, **emulator_options).start()
         try:
             channel = open_link(
@@ -294,6 +294,13 @@ class SimBackend:
         return cli_main(argv, prog)
 
 
+def given_world(given: SimOptions) -> World | None:
+    """The world the options name: a built-in's name or a file loaded (with the seed),
+    a World as it is, None for the default arena."""
+    spec = given.world
+    return load_world(spec, given.seed) if isinstance(spec, str) else spec
+
+
 def open_epuck2_wifi(given: SimOptions) -> Opened:
     """``Robot("sim", robot="epuck2", wifi=True)``: an emulated e-puck2 in selector 15, its
     radio's WiFi server on a free loopback port, opened as ``epuck2://127.0.0.1:PORT``
@@ -307,8 +314,7 @@ def open_epuck2_wifi(given: SimOptions) -> Opened:
         raise BackendOptionError(
             f"sim option wifi=True is the e-puck2's radio (robot='epuck2'), not {given.robot!r}'s"
         )
-    spec = given.world
-    world = load_world(spec, given.seed) if isinstance(spec, str) else spec
+    world = given_world(given)
     emulator = Epuck2Emulator(world or World(seed=given.seed), seed=given.seed, wifi=True,
                               port=0, ground_module=bool(given.ground_module))  # fmt: skip
     assert emulator.wifi_address is not None
@@ -335,8 +341,7 @@ def open_epuck2_serial(given: SimOptions) -> Opened:
             f"the emulated e-puck2 runs its own firmware ({Firmware.EPUCK2}), not "
             f"{given.firmware}: leave firmware unset (auto) or give {Firmware.EPUCK2}"
         )
-    spec = given.world
-    world = load_world(spec, given.seed) if isinstance(spec, str) else spec
+    world = given_world(given)
     bluetooth = given.selector == BLUETOOTH_SELECTOR
     emulator = Epuck2Emulator(world, seed=given.seed, bluetooth=bluetooth,
                               latency_s=given.latency_s or 0.0,
