@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import math
 import signal
 import subprocess
 import sys
@@ -16,6 +17,7 @@ from firmware_sim import Emulator, World
 from firmware_sim.ego_backend import EmulatorTruth
 
 __all__ = [
+    "SUBNORMALS",
     "assert_stopped",
     "ego_command",
     "emulator_of",
@@ -24,6 +26,12 @@ __all__ = [
     "spawn",
     "wait_until",
 ]
+
+#: Whether this process can hold subnormal floats: False when something set the FPU's
+#: flush-to-zero mode for the whole process (the armv7 wheel of yarl, which aiohttp pulls
+#: in, does on import). Hypothesis refuses a float strategy that allows subnormals then,
+#: and advises allow_subnormal=False: float strategies pass allow_subnormal=SUBNORMALS.
+SUBNORMALS = math.ulp(0.0) != 0.0
 
 
 def emulator_of(robot: ego.Robot) -> Emulator:

@@ -27,8 +27,8 @@ CLI_PAGE = "guide/api/cli.md"
 INTRO = """# The `ego` command
 
 Generated from the command's own parser at build time: each section is what
-`ego COMMAND --help` prints. Installed with the package (`pip install ego`, or
-`pip install -e .` in a checkout); `python -m ego` is the same command.
+`ego COMMAND --help` prints. Installed with the package (`pip install 'ego[pc]'`, or
+`pip install -e '.[pc]'` in a checkout); `python -m ego` is the same command.
 """
 
 

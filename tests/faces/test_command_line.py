@@ -208,11 +208,49 @@ def test_ego_plot_without_matplotlib_names_the_extra(tmp_path: Path) -> None:
 
 def test_another_missing_module_is_a_bug_and_keeps_its_traceback(tmp_path: Path) -> None:
     done = subprocess.run(
-        [sys.executable, "-c", WITHOUT, "mcap.stream_reader", "plot", "run.mcap"],
+        [sys.executable, "-c", WITHOUT, "ego.recording.records", "plot", "run.mcap"],
         cwd=tmp_path, capture_output=True, text=True, timeout=60,
     )  # fmt: skip
     assert done.returncode == 1
-    assert "Traceback" in done.stderr and "mcap.stream_reader" in done.stderr
+    assert "Traceback" in done.stderr and "ego.recording.records" in done.stderr
+
+
+def _without(module: str, *words: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-c", WITHOUT, module, *words],
+                          cwd=cwd, capture_output=True, text=True, timeout=120)  # fmt: skip
+
+
+def test_ego_demo_without_aiohttp_runs_without_its_dashboard_and_says_so(tmp_path: Path) -> None:
+    """The dashboard is on by default: a board without the dashboard extra (issue 34)
+    runs the demo to its summary, with one line saying why there is no dashboard."""
+    done = _without("aiohttp", "demo", "--duration", "1", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    said = [line for line in done.stderr.splitlines() if "dashboard" in line]
+    assert said == ["ego demo: no dashboard (aiohttp is missing: pip install 'ego[dashboard]')"]
+    assert "Traceback" not in done.stderr
+    assert "summary:" in done.stdout and "dashboard" not in done.stdout
+
+
+@pytest.mark.parametrize(
+    ("module", "words", "line"),
+    [
+        ("aiohttp", ["demo", "--dashboard"],
+         "ego demo needs aiohttp: pip install 'ego[dashboard]'"),
+        ("aiohttp", ["run", "--port", "sim", "--dashboard"],
+         "ego run needs aiohttp: pip install 'ego[dashboard]'"),
+        ("mcap", ["run", "--port", "sim", "--record", "run.mcap"],
+         "ego run needs mcap: pip install 'ego[record]'"),
+    ],
+)  # fmt: skip
+def test_a_feature_asked_for_without_its_extra_is_one_line(
+    tmp_path: Path, module: str, words: list[str], line: str
+) -> None:
+    (tmp_path / "stepper.py").write_text(STEPPER)
+    extra = [] if words[0] == "demo" else ["stepper.py"]
+    done = _without(module, *words, "--duration", "1", *extra, cwd=tmp_path)
+    assert done.returncode == 1
+    assert done.stderr.splitlines()[-1] == f"ego: error: {line}"
+    assert "Traceback" not in done.stderr
 
 
 # -- ego replay --emulate ---------------------------------------------------------------------

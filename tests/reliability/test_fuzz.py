@@ -19,6 +19,7 @@ from datetime import timedelta
 
 import pytest
 from fakes import INSTANT_LINK, ScriptedTransport
+from helpers import SUBNORMALS
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -524,7 +525,8 @@ VALUES = {
     "height": st.integers(0, 700),
     "rotation": st.sampled_from([0, 45, 90, 180, 270, 360, -90]),
     "fov_rad": st.one_of(
-        st.floats(-0.5, 4.5), st.sampled_from([0.0, 1e-9, 3.1415, 3.1416, 3.5, 4.0])
+        st.floats(-0.5, 4.5, allow_subnormal=SUBNORMALS),
+        st.sampled_from([0.0, 1e-9, 3.1415, 3.1416, 3.5, 4.0]),
     ),
     "brightness": st.integers(-10, 300),
     "contrast": st.integers(-10, 300),

@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import Any
 
 import pytest
+from helpers import SUBNORMALS
 from hypothesis import given
 from hypothesis import strategies as st
 from ros2_support import CdrReader, CdrWriter, describe, field_entry, rihs01
@@ -147,7 +148,11 @@ def test_ego_reads_payloads_an_independent_writer_makes() -> None:
     assert led.data == 0xFF0000
 
 
-@given(values=st.lists(st.floats(allow_nan=False, width=64), min_size=6, max_size=6))
+@given(
+    values=st.lists(
+        st.floats(allow_nan=False, width=64, allow_subnormal=SUBNORMALS), min_size=6, max_size=6
+    )
+)
 def test_twists_round_trip_and_read_with_the_independent_reader(values: list[float]) -> None:
     vector = message_class("geometry_msgs/msg/Vector3", "jazzy")
     twist = message_class("geometry_msgs/msg/Twist", "jazzy")(

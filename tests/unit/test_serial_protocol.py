@@ -9,6 +9,7 @@ from __future__ import annotations
 import struct
 
 import pytest
+from helpers import SUBNORMALS
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -415,7 +416,7 @@ def value_for(fmt: str) -> st.SearchStrategy[tuple[float, ...]]:
         "h": i16,
         "H": st.integers(0, 65535),
         "B": u8,
-        "f": st.floats(width=32, allow_nan=False),
+        "f": st.floats(width=32, allow_nan=False, allow_subnormal=SUBNORMALS),
     }[code]
     return st.tuples(*[element] * count)
 

@@ -20,6 +20,7 @@ from ego.app.cli_options import (
     add_dashboard_options,
     error_line,
     firmware_parent,
+    has_module,
     missing_extra,
     robot_parent,
     seed_parent,
@@ -75,6 +76,12 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
     dashboard = None if args.no_dashboard else (args.dashboard or DEFAULT_DASHBOARD)
+    if args.dashboard is None and dashboard is not None and not has_module("aiohttp"):
+        # The dashboard is on by default, not asked for: a board without the dashboard
+        # extra runs the demo without it (asked for with --dashboard, it is an error).
+        print("ego demo: no dashboard (aiohttp is missing: pip install 'ego[dashboard]')",
+              file=sys.stderr)  # fmt: skip
+        dashboard = None
     run_demo(args.duration, args.firmware, args.seed, world=args.world, dashboard=dashboard,
              record=args.record, robot=args.robot)  # fmt: skip
     return 0

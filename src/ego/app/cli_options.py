@@ -189,7 +189,12 @@ def world_parent(what: str) -> argparse.ArgumentParser:
 # -- errors, in the command line's words --------------------------------------------------
 
 #: The optional packages a command may need: the module, its package, and ego's extra.
-EXTRAS = {"matplotlib": ("matplotlib", "plot"), "zenoh": ("eclipse-zenoh", "zenoh")}
+EXTRAS = {
+    "matplotlib": ("matplotlib", "plot"),
+    "zenoh": ("eclipse-zenoh", "zenoh"),
+    "aiohttp": ("aiohttp", "dashboard"),
+    "mcap": ("mcap", "record"),
+}
 #: What a secret file on the command line is called (Python says ``secret=...``).
 SECRET_REMEDY = "pass --secret-file FILE (ego secret makes one), or set EGO_SECRET_FILE"
 
@@ -213,3 +218,10 @@ def missing_extra(exc: ModuleNotFoundError, command: str) -> str | None:
     if command == "ros2":  # ego ros2 needs the whole ros2 extra (zenoh, rosbags, xxhash)
         extra = "ros2"
     return f"ego {command} needs {package}: pip install 'ego[{extra}]'"
+
+
+def has_module(name: str) -> bool:
+    """Whether ``name`` can be imported, without importing it."""
+    import importlib.util
+
+    return importlib.util.find_spec(name) is not None

@@ -96,7 +96,9 @@ _TABLE_V3: Final = np.ascontiguousarray(RGB565_TABLE).view("V3").reshape(65536)
 # cvtColor leaves R and B as 8*i and G as 4*i; this matrix turns them into the tables.
 _WIDENED_TO_TABLE: Final = np.diag([255.0 / 248.0, 255.0 / 252.0, 255.0 / 248.0])
 
-_ZERO: Final = np.zeros(1, dtype=np.int32)  # cv2.add's scalar 0 (typed for the stubs)
+# cv2.add's scalar 0. OpenCV takes an array as a scalar only if it is float64 of 1 or 4
+# elements: 4.6 (Debian bookworm's) asserts on any other type; later versions convert.
+_ZERO: Final = np.zeros(1, dtype=np.float64)
 
 _CV_ROTATE: Final[dict[int, int]] = (
     {}
@@ -304,7 +306,10 @@ class _Rgb565Plan:
         self.cv_rotation = _CV_ROTATE.get(rotation)
         self.numpy = chosen == "numpy"
         self.swap = byteorder == "big"
-        if not self.numpy:
+        if self.numpy:
+            # take() converts its indices to intp: into this buffer, not a new frame each call.
+            self.index = np.empty((oh, ow), np.intp)
+        else:
             self.widened = np.empty(self.out_shape, np.uint8)
             self.native = np.empty((oh, ow), "<u2")
             self.native_pairs = self.native.view(np.uint8).reshape(oh, ow, 2)
@@ -313,7 +318,8 @@ class _Rgb565Plan:
         if self.numpy:
             # One gather: the rotation is a view of the codes, the table holds whole pixels.
             view = dst.view("V3").reshape(dst.shape[:2])
-            np.take(_TABLE_V3, np.rot90(codes, self.k), out=view, mode="clip")
+            np.copyto(self.index, np.rot90(codes, self.k))
+            np.take(_TABLE_V3, self.index, out=view, mode="clip")
             return
         assert cv2 is not None
         if self.swap or not codes.flags.aligned:
