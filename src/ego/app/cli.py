@@ -1,4 +1,4 @@
-"""The ``ego`` command: demo, run, sim, serve, secret, replay, swarm, plot, bench."""
+"""The ``ego`` command: demo, run, sim, serve, secret, replay, swarm, plot, doctor, bench."""
 
 from __future__ import annotations
 
@@ -85,6 +85,14 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     run_demo(args.duration, args.firmware, args.seed, world=args.world, dashboard=dashboard,
              record=args.record, robot=args.robot)  # fmt: skip
     return 0
+
+
+def _cmd_doctor(args: argparse.Namespace) -> int:
+    from ego.app.doctor import run_doctor
+    from ego.core.environment import read_environment
+
+    port = args.port or read_environment().port or "/dev/ttyS0"
+    return run_doctor(port, probe=not args.no_probe)
 
 
 def _cmd_replay(args: argparse.Namespace) -> int:
@@ -470,6 +478,16 @@ def _add_tools(sub: Any) -> None:
     plot.add_argument("recording", help="the .mcap file ego run --record wrote")
     plot.add_argument("--out", default=".", metavar="DIR", help="where to write (default .)")
     plot.set_defaults(func=_cmd_plot)
+
+    doctor = sub.add_parser(
+        "doctor", help="on the robot: check Python, the packages, the port, I2C, the camera, "
+        "the firmware and memory; each line says ok or what to do",
+    )  # fmt: skip
+    doctor.add_argument("--port", default=None,
+                        help="the robot's port (default $EGO_PORT, else /dev/ttyS0)")  # fmt: skip
+    doctor.add_argument("--no-probe", action="store_true",
+                        help="do not open the port to ask which firmware answers")  # fmt: skip
+    doctor.set_defaults(func=_cmd_doctor)
 
     bench = sub.add_parser("bench", help="reproduce the thesis' tables (benchmarks/)")
     bench.add_argument(

@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# Run by tools/board_check.sh inside the emulated board, after the guide's install:
+# what a person does first with ego on the robot, each step failing the check if it fails.
+set -euo pipefail
+ego=~/ego/bin/ego
+py=~/ego/bin/python
+cd /root/src
+step() { echo "-- $*"; }
+
+step "ego --version"
+$ego --version
+
+step "ego doctor (no robot here: it says so, and the status says a controller cannot run)"
+if $ego doctor --port /dev/ttyS0; then echo "doctor should fail without a robot"; exit 1; fi
+
+step "ego demo (3 s)"
+$ego demo --duration 3 --no-dashboard | tail -n 1
+
+step "a controller on a pty emulator in another process"
+$ego sim >/tmp/sim.out 2>/tmp/sim.err &
+sim=$!
+for _ in $(seq 600); do [ -s /tmp/sim.out ] && break; sleep 0.1; done
+port=$(head -n 1 /tmp/sim.out)
+echo "emulator on $port"
+$ego doctor --port "$port"
+$ego run --port "$port" --duration 3 examples/obstacle_avoidance.py
+kill "$sim"; wait "$sim" || true
+
+step "the extras: a recording, replayed against the controller"
+if $py -c 'import mcap' 2>/dev/null; then
+    $ego run --port sim --duration 2 --record /tmp/run.mcap examples/obstacle_avoidance.py
+    $ego replay --emulate --speed 4 /tmp/run.mcap examples/obstacle_avoidance.py
+else
+    echo "mcap not installed by the guide: skipped"
+fi
+
+step "the extras: the dashboard serves its page"
+if $py -c 'import aiohttp' 2>/dev/null; then
+    $ego run --port sim --duration 20 --dashboard-address 127.0.0.1:8799 \
+        examples/obstacle_avoidance.py >/tmp/dash.out 2>&1 &
+    run=$!
+    $py - <<'EOF'
+import time, urllib.request
+deadline = time.monotonic() + 60
+while True:
+    try:
+        page = urllib.request.urlopen("http://127.0.0.1:8799/", timeout=5).read()
+        break
+    except OSError:
+        if time.monotonic() > deadline:
+            raise
+        time.sleep(0.5)
+assert b"<html" in page.lower(), page[:200]
+print("dashboard page:", len(page), "bytes")
+EOF
+    kill -INT "$run"; wait "$run" || true
+else
+    echo "aiohttp not installed by the guide: skipped"
+fi
+
+step "the extras: Zenoh, the robot served and driven as zenoh://board"
+if $py -c 'import zenoh' 2>/dev/null; then
+    $ego serve --zenoh --name board --port sim >/tmp/serve.out 2>&1 &
+    serve=$!
+    $ego run --port zenoh://board --duration 3 examples/obstacle_avoidance.py
+    kill -INT "$serve"; wait "$serve" || true
+else
+    echo "eclipse-zenoh not installed by the guide: skipped"
+fi
+
+step "the unit and camera tests"
+~/ego/bin/pip install --quiet pytest hypothesis
+$py -m pytest -q -p no:cacheprovider tests/unit tests/camera
