@@ -59,7 +59,8 @@ EOF
 chroot_run() {  # chroot_run ROOT COMMAND...: as root, in a login-like environment
     local root=$1; shift
     chroot "$root" /usr/bin/env -i HOME=/root PATH=/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin \
-        LANG=C.UTF-8 DEBIAN_FRONTEND=noninteractive TERM=dumb "$@"
+        LANG=C.UTF-8 DEBIAN_FRONTEND=noninteractive TERM=dumb \
+        ${PIP_CERT:+PIP_CERT=/etc/ssl/certs/ca-certificates.crt} "$@"
 }
 
 check_arch() {
@@ -78,8 +79,19 @@ check_arch() {
             >"$cache/debootstrap-$arch.log"
     fi
     umount_all "$root"
-    rm -rf "$root" && cp -a "$base" "$root"
+    if [ "${EGO_BOARD_REUSE:-0}" = 1 ] && [ -d "$root/root/ego" ]; then
+        echo "== $arch: EGO_BOARD_REUSE=1: the last run's board, its install blocks run again"
+    else
+        rm -rf "$root" && cp -a "$base" "$root"
+    fi
     cp /etc/resolv.conf "$root/etc/resolv.conf"
+    # A network whose TLS goes through a proxy with its own certificate authority (as
+    # here): the board trusts what this machine trusts, for apt and pip alike.
+    if [ -n "${PIP_CERT:-}" ] && [ -f "$PIP_CERT" ]; then
+        cp "$PIP_CERT" "$root/etc/ssl/certs/ca-certificates.crt"
+        mkdir -p "$root/usr/local/share/ca-certificates"
+        cp "$PIP_CERT" "$root/usr/local/share/ca-certificates/board-check-host.crt"
+    fi
     # apt-get as a person answers yes; the guide's `sudo` is root here.
     echo 'APT::Get::Assume-Yes "true";' >"$root/etc/apt/apt.conf.d/90board-check"
     mount -t proc proc "$root/proc"
@@ -92,6 +104,9 @@ check_arch() {
     cp -a tests pyproject.toml examples "$root/root/src/"
     chroot_run "$root" apt-get update -qq
 
+    if [ -d "$root/root/ego" ]; then  # a reused board: this tree's ego, by the guide's line
+        chroot_run "$root" /root/ego/bin/pip uninstall --quiet --yes ego
+    fi
     echo "== $arch: $guide's install blocks, as written"
     install_blocks "$guide" | sed 's/\bsudo //g' >"$root/root/install.sh"
     cat "$root/root/install.sh"

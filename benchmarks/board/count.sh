@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# ARM instructions per step of each way of running ego, counted by QEMU (issue 34):
+#
+#   benchmarks/board/count.sh ROOTFS [N]
+#
+# ROOTFS is an emulated board that tools/board_check.sh installed (the guide's ~/ego in it,
+# e.g. /var/cache/ego-board/work-armhf). Each mode runs twice under Debian's qemu-user
+# (qemu-arm, or qemu-aarch64 for an arm64 board) with insn_count.so, for N and 2N steps; the
+# difference over N is the cost of one step, without the interpreter's start and imports.
+# The emulator (ego sim) runs natively on the host, outside the count. Needs qemu-user and
+# a C compiler for the plugin. Prints one line a mode: MODE INSTRUCTIONS_PER_STEP.
+set -euo pipefail
+here=${EGO_COUNT_HERE:-$(cd "$(dirname "$0")" && pwd)}
+root=$(cd "$1" && pwd)
+n=${2:-50}
+host_ego=${EGO_HOST_EGO:-$here/../../.venv/bin/ego}
+case $(file -L "$root/usr/bin/python3") in
+    *ARM,*) qemu=qemu-arm ;;
+    *aarch64*) qemu=qemu-aarch64 ;;
+    *) echo "count.sh: $root/usr/bin/python3 is not an ARM program" >&2; exit 2 ;;
+esac
+work=$(mktemp -d)
+trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$work"' EXIT
+cc -shared -fPIC -O2 -o "$work/insn_count.so" "$here/insn_count.c"
+site=$(cd "$root" && ls -d root/ego/lib/python3*/site-packages)
+# Debian's alternatives (libblas.so.3 ...) are absolute symlinks, which -L does not follow
+# into the board: the guest's loader is told where the chosen libraries are.
+libs=$(find "$root/usr/lib" -maxdepth 2 -type d \( -name blas -o -name lapack \) | paste -sd:)
+cp "$here/avoid_steps.py" "$here/camera_frames.py" "$here/guest_memory.py" "$work/"
+
+# The guest's python is this wrapper (qemu-arm -0 makes it the guest's argv[0], so its
+# sys.executable): a child ego starts (the supervised controller) runs counted as well.
+# Each process writes its own total; a run's count is their sum.
+cat >"$work/python3" <<WRAP
+#!/bin/sh
+exec env PYTHONHOME="$root/usr" PYTHONPATH="$root/$site" $qemu -L "$root" -E "LD_LIBRARY_PATH=$libs" -0 "$work/python3" \
+    -plugin "$work/insn_count.so" -d plugin -D "$work/insns.\$\$" "$root/usr/bin/python3" "\$@"
+WRAP
+chmod +x "$work/python3"
+
+# guest PYTHON_ARGS...: the guest's python with the guide's venv, counted; prints the total.
+guest() {
+    rm -f "$work"/insns.*
+    "$work/python3" "$@" >"$work/out" 2>&1 || { cat "$work/out" >&2; return 1; }
+    cat "$work"/insns.* | sed -n 's/^insns: //p' | paste -sd+ | bc
+}
+
+# per_step MODE STEPS COMMAND...: run with STEPS and 2 STEPS; print the difference over
+# STEPS (instructions a step), and the guest's resident memory at the end of the longer run
+# (the supervisor's added when there is one).
+per_step() {
+    local mode=$1 k=$2 one two rss; shift 2
+    one=$(EGO_BENCH_STEPS=$k guest "$@")
+    two=$(EGO_BENCH_STEPS=$((2 * k)) EGO_BENCH_RSS=1 guest "$@")
+    rss=$(sed -n 's/^rss_kb \([0-9]*\) parent_kb \([0-9]*\)$/\1 \2/p' "$work/out")
+    printf '%s %d %s\n' "$mode" $(( (two - one) / k )) "${rss:-? ?}"
+}
+
+"$host_ego" sim --firmware gctronic >"$work/sim.out" 2>/dev/null &
+for _ in $(seq 300); do [ -s "$work/sim.out" ] && break; sleep 0.1; done
+port=$(head -n 1 "$work/sim.out")
+run=(-m ego.app.cli run --port "$port")
+has() { "$work/python3" -c "import $1" >/dev/null 2>&1; }
+
+echo "mode instructions_per_step rss_kb supervisor_rss_kb"
+per_step serial "$n" "${run[@]}" "$work/avoid_steps.py"
+EGO_BENCH_PARENT=1 per_step supervised "$n" "${run[@]}" --supervised "$work/avoid_steps.py"
+if has mcap; then
+    per_step recording "$n" "${run[@]}" --record "$work/run.mcap" "$work/avoid_steps.py"
+fi
+if has aiohttp; then
+    per_step dashboard "$n" "${run[@]}" --dashboard-address 127.0.0.1:8797 "$work/avoid_steps.py"
+fi
+backends=(numpy)
+if has cv2; then backends+=(opencv); fi
+for backend in "${backends[@]}"; do
+    for size in "160 120" "640 480"; do
+        for fmt in rgb565 yuyv; do
+            set -- $size
+            per_step "camera-$fmt-${1}x$2-jpeg-$backend" 4 "$work/camera_frames.py" \
+                "$fmt" "$1" "$2" "$backend"
+        done
+    done
+done
+# The ROS 2 bridge (ego ros2) steps the robot every --period-ms for --duration: its steps
+# are the duration over the period; memory is not printed by it (left as ?).
+if has zenoh && has rosbags && has xxhash; then
+    one=$(guest -m ego.app.cli ros2 --port "$port" --period-ms 64 --duration "$(echo "$n * 0.064" | bc)")
+    two=$(guest -m ego.app.cli ros2 --port "$port" --period-ms 64 --duration "$(echo "2 * $n * 0.064" | bc)")
+    echo "ros2-bridge $(( (two - one) / n )) ? ?"
+fi
