@@ -37,7 +37,8 @@ __all__ = ["DeviceLookup"]
 
 
 class DeviceLookup:
-    """The part of :class:`ego.controller.Robot` that finds its devices by name."""
+    """The part of :class:`ego.controller.Robot` that finds its devices by name: the base
+    class of that Robot, whose constructor sets the attributes below."""
 
     _core: CoreRobot
     _options: RunOptions
@@ -47,13 +48,18 @@ class DeviceLookup:
     _radio: RobotRadio
 
     def getName(self) -> str:
-        raise NotImplementedError
+        """Webots' robot name: ``e-puck``, or a swarm robot's own (its Zenoh node's name,
+        as each robot of a Webots swarm has its own name field)."""
+        return str(getattr(self._core.channel, "robot", None) or "e-puck")
 
     def getBasicTimeStep(self) -> float:
-        raise NotImplementedError
+        return float(self._options.basic_time_step_ms)
 
     def _ground_truth(self, name: str) -> bool:
-        raise NotImplementedError
+        """Whether the emulator's world declares ``name`` (gps, compass, touch sensor)."""
+        truth = self._core.ground_truth
+        world = truth.true_world if truth is not None else None
+        return world is not None and name in world.declared_devices()
 
     def getDevice(self, name: str) -> Device | None:
         """The device called ``name`` (``ps0``, ``left wheel motor``, ``camera``...).

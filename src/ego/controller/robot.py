@@ -99,23 +99,9 @@ class Robot(DeviceLookup):
             motor.step_update()
         return result
 
-    def _ground_truth(self, name: str) -> bool:
-        """Whether the emulator's world declares ``name`` (gps, compass, touch sensor)."""
-        truth = self._core.ground_truth
-        world = truth.true_world if truth is not None else None
-        return world is not None and name in world.declared_devices()
-
-    def getBasicTimeStep(self) -> float:
-        return float(self._options.basic_time_step_ms)
-
     def getTime(self) -> float:
         """Controller time in seconds."""
         return self._core.time_s
-
-    def getName(self) -> str:
-        """Webots' robot name: ``e-puck``, or a swarm robot's own (its Zenoh node's name,
-        as each robot of a Webots swarm has its own name field)."""
-        return str(getattr(self._core.channel, "robot", None) or "e-puck")
 
     def getModel(self) -> str:
         """The model field of Webots' E-puck PROTO, which controllers branch on."""
