@@ -17,6 +17,7 @@ from ego.devices.motors import rad_s_to_steps, steps_to_rad_s
 from ego.devices.position_control import position_speed
 from ego.devices.table import find, spec
 from ego.errors import EgoError, OutOfRangeError, UnknownDeviceError, UnsupportedDeviceError
+from ego.faces.webots_model import webots_model
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot as CoreRobot
@@ -266,7 +267,7 @@ class _ValueSensor(Sensor):
     def getLookupTable(self) -> list[float]:
         """Webots' table (distance m, value, noise per row), flattened: the family's own
         where Webots' model gives this device another (the e-puck2's ``tof``)."""
-        own = self._array_family().webots_lookup
+        own = webots_model(self._array_family()).lookup
         return list(self._table if own is None else own)
 
     value = property(lambda self: self.getValue())
@@ -294,11 +295,11 @@ class DistanceSensor(_ValueSensor):
         return max(self.getLookupTable()[1::3])
 
     def getAperture(self) -> float:
-        own = self._array_family().webots_aperture_rad
+        own = webots_model(self._array_family()).aperture_rad
         return PROXIMITY_APERTURE_RAD if own is None else own
 
     def getType(self) -> int:
-        own = self._array_family().webots_sensor_type
+        own = webots_model(self._array_family()).sensor_type
         return self.INFRA_RED if own is None else self._TYPES[own]
 
     min_value = property(lambda self: self.getMinValue())
@@ -740,7 +741,7 @@ class Gyro(Sensor):
         return [family.webots_value(v) for v in readings]
 
     def getLookupTable(self) -> list[float]:
-        return list(self._core.device(self._name).webots_lookup or ())
+        return list(webots_model(self._core.device(self._name)).lookup or ())
 
     value = property(lambda self: self.getValues())
     lookup_table = property(lambda self: self.getLookupTable())

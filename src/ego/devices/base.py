@@ -110,7 +110,8 @@ class Device:
     """
 
     #: The family the device table calls this one (its rows' ``family``, the Robot
-    #: attribute: "proximity"); its :attr:`names` are the table's, never written here.
+    #: attribute: "proximity"), set by its declaration (``@TABLE.declare``); its
+    #: :attr:`names` are the table's, never written here.
     table_family: ClassVar[str] = ""
     #: The Webots names of the devices in this family (``ps0``..``ps7``), from the table.
     names: ClassVar[tuple[str, ...]] = ()
@@ -119,21 +120,6 @@ class Device:
     #: Whether Webots knows its members as devices (``getDevice``); the battery is not
     #: one (Webots reads it through the robot: ``batterySensorGetValue``).
     webots_device: ClassVar[bool] = True
-    #: What Webots' model says of this family's devices where its kind's default (the
-    #: e-puck's) does not hold, for the Webots face to read: the PROTO's lookupTable
-    #: (input, value, noise per row, flattened), a distance sensor's aperture (rad) and
-    #: type ("generic", "infra-red"...); None: the kind's default.
-    webots_lookup: ClassVar[tuple[float, ...] | None] = None
-    webots_aperture_rad: ClassVar[float | None] = None
-    webots_sensor_type: ClassVar[str | None] = None
-
-    def __init_subclass__(cls, table: DeviceTable = TABLE, **kwargs: object) -> None:
-        """A family class takes its names from ``table`` (the device table; a test's copy
-        is given as ``class Tof(ArraySensor, table=copy)``)."""
-        super().__init_subclass__(**kwargs)
-        if cls.table_family:
-            cls.names = table.names_of(cls.table_family)
-
     def __init__(self, profile: Profile) -> None:
         self._profile = profile
 

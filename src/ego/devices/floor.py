@@ -5,11 +5,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ego.devices.base import FINE, ArraySensor, Verdict
+from ego.devices.table import RAW, TABLE, Series
 from ego.serial.protocol import Command, Request
 
 __all__ = ["FloorSensors"]
 
 
+@TABLE.declare("floor", webots_rank=5, series=Series("floor", RAW, ("gs0", "gs1", "gs2")))
 class FloorSensors(ArraySensor):
     """IR reflection of the floor, 0..4095: high on white, low on black.
 
@@ -27,7 +29,6 @@ class FloorSensors(ArraySensor):
     """
 
     family = "floor sensors"
-    table_family = "floor"
     command = Command.FLOOR
     #: What an unacknowledged I2C read gives.
     NO_MODULE = 0xFFFF

@@ -7,6 +7,7 @@ import enum
 
 from ego.devices.base import Actuator, check_int
 from ego.devices.rgb_leds import MAX_COLOUR, colour_request
+from ego.devices.table import TABLE
 from ego.errors import UnsupportedDeviceError
 from ego.serial.protocol import Command, Profile, Request
 
@@ -19,6 +20,7 @@ class LedValue(enum.IntEnum):
     TOGGLE = 2
 
 
+@TABLE.declare("leds", webots_rank=1)
 class Leds(Actuator):
     """Ten LEDs set to 0 (off), 1 (on) or 2 (toggle); a command goes out only on change.
 
@@ -35,7 +37,6 @@ class Leds(Actuator):
     """
 
     family = "LEDs"
-    table_family = "leds"
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)

@@ -6,6 +6,7 @@ import math
 from collections.abc import Sequence
 
 from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict, check_int
+from ego.devices.table import TABLE
 from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
 
 __all__ = ["MAX_SPEED_RAD_S", "Motors", "rad_s_to_steps", "real_speed_steps", "steps_to_rad_s"]
@@ -36,6 +37,7 @@ def real_speed_steps(speed_steps: int) -> float:
     return math.copysign(STEP_TIMER_HZ / (STEP_TIMER_HZ // abs(v)), v)
 
 
+@TABLE.part_of("motors")
 class WheelSpeeds(Device):
     """The actuator side of the motors: ``D`` when the speeds changed, confirmed by an ``E``.
 
@@ -46,7 +48,6 @@ class WheelSpeeds(Device):
     """
 
     family = "motors"
-    table_family = "motors"
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)
@@ -95,12 +96,12 @@ class WheelSpeeds(Device):
             self.pending = Request(Command.SET_SPEED, self.speed)
 
 
+@TABLE.part_of("motors")
 class SpeedReadback(Sensor):
     """The sensor side of the motors: the speeds the firmware holds (``E``: commanded, not
     measured), sampled at its period when enabled."""
 
     family = "motors"
-    table_family = "motors"
     command = Command.GET_SPEED
 
     def __init__(self, profile: Profile, wheels: WheelSpeeds) -> None:
@@ -116,6 +117,7 @@ class SpeedReadback(Sensor):
         self.held = (int(values[0]), int(values[1]))
 
 
+@TABLE.declare("motors", webots_rank=0)
 class Motors(ActingFamily):
     """Wheel speeds in steps/s within +-1000 (one turn a second); refused beyond, not clamped.
 
@@ -134,7 +136,6 @@ class Motors(ActingFamily):
     """
 
     family = "motors"
-    table_family = "motors"
 
     def __init__(self, profile: Profile) -> None:
         self.wheels = WheelSpeeds(profile)

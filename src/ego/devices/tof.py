@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 from ego.devices.base import ArraySensor
+from ego.devices.table import TABLE, Series
 from ego.serial.protocol import Command
 
 __all__ = ["TOF_APERTURE_RAD", "TOF_LOOKUP", "TofSensor", "webots_value"]
@@ -28,6 +29,7 @@ def webots_value(distance_mm: float) -> float:
     return v0 + (distance_m - d0) * (v1 - v0) / (d1 - d0)
 
 
+@TABLE.declare("tof", webots_rank=9, series=Series("ToF distance", "mm", ("tof",)))
 class TofSensor(ArraySensor):
     """The distance to what is in front, in mm (about 0..2000; 8190 when nothing is in range).
 
@@ -37,13 +39,9 @@ class TofSensor(ArraySensor):
     """
 
     family = "ToF distance sensor"
-    table_family = "tof"
     command = Command.TOF
     #: The VL53L0X answers 8190 (8191 at most) when nothing reflects (its no-target value).
     value_range: ClassVar[tuple[int, int]] = (0, 8191)
-    webots_lookup = (*TOF_LOOKUP[0], 0.0, *TOF_LOOKUP[1], 0.0)
-    webots_aperture_rad = TOF_APERTURE_RAD
-    webots_sensor_type = "generic"
 
     def webots_value(self, reading: float) -> float:
         """The millimetres as Webots' ``tof`` reports them (its lookup table)."""
