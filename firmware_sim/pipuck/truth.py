@@ -67,5 +67,5 @@ def truth_of(machine: PipuckMachine) -> PipuckTruth:
     return PipuckTruth(
         "epuck", world.speeds, (mcu.regs[4], mcu.regs[5]),
         tuple(bool(v) for v in lit[:8]), (), bool(lit[8]), bool(lit[9]), (),
-        len(mcu.writes), 0, None, stopped, mcu.ir_enabled, transactions,
+        mcu.write_count, 0, None, stopped, mcu.ir_enabled, transactions,
     )  # fmt: skip

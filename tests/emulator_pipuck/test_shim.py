@@ -97,3 +97,14 @@ def test_without_the_socket_variable_the_real_kernel_answers(epuck2) -> None:
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                          text=True, check=True, timeout=60)  # fmt: skip
     assert out.stdout.strip() == "2"  # ENOENT from this machine, which has no I2C
+
+
+def test_a_duplicate_descriptor_is_the_same_open_node(epuck2, client_of, tmp_path) -> None:
+    client = client_of(epuck2)
+    funcs = list((0x0EFF0009).to_bytes(8, "little"))
+    assert client("fcntl.ioctl(os.dup(bus(12).fd), 0x0705, bytes(8))") == funcs
+    # dup2 over an emulated descriptor makes it a plain file again.
+    path = tmp_path / "plain"
+    path.write_bytes(b"x")
+    plain = f"os.open({str(path)!r}, os.O_RDONLY)"
+    assert client(f"os.read(os.dup2({plain}, os.dup(bus(12).fd)), 1)") == [ord("x")]
