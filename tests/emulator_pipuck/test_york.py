@@ -82,3 +82,30 @@ def test_the_lsm330_is_powered_down_until_configured(epuck1, client_of):
     gyro = struct.unpack("<3h", bytes(client("raw_fd(12, 0x6A, [0x28 | 0x80], 6)")))
     dps = gyro[2] * 8.75 / 1000
     assert 100 < dps < 200, gyro  # (1000 steps/s * 0.128 mm) / 52 mm, in deg/s
+
+
+def crc8(data: bytes) -> int:
+    """SMBus PEC: CRC-8, x^8 + x^2 + x + 1."""
+    crc = 0
+    for byte in data:
+        crc ^= byte
+        for _ in range(8):
+            crc = (crc << 1 ^ 0x07) & 0xFF if crc & 0x80 else crc << 1 & 0xFF
+    return crc
+
+
+def test_pec_is_checked_on_reads_and_appended_to_writes(epuck1, client_of):
+    # i2c-core-smbus.c: with I2C_PEC a read_byte_data reads one more byte and checks it.
+    client = client_of(epuck1)
+    good = crc8(bytes([0x1F << 1, 40, 0x1F << 1 | 1, 0x12]))
+    client(f"bus(12).write_word_data(0x1F, 40, {good << 8 | 0x12})")
+    client(f"bus(12).write_word_data(0x1F, 41, {(good ^ 1) << 8 | 0x12})")
+    client("bus(12).enable_pec()")
+    assert client("bus(12).read_byte_data(0x1F, 40)") == 0x12
+    assert client("bus(12).read_byte_data(0x1F, 41)") == {"errno": "EBADMSG"}
+    # A byte write with PEC sends register, value, PEC: York's firmware stores the PEC
+    # as the high byte (i2c_slave.c:72-76).
+    client("bus(12).write_byte_data(0x1F, 42, 0x34)")
+    client("bus(12).enable_pec(False)")
+    pec = crc8(bytes([0x1F << 1, 42, 0x34]))
+    assert client("bus(12).read_word_data(0x1F, 42)") == pec << 8 | 0x34
