@@ -75,3 +75,17 @@ def test_the_battery_files_give_the_voltage_the_way_gctronic_reads_them(epuck2):
     assert round(raw * scale / 500, 2) == 3.9
     epuck2.set_battery(3.5)
     assert round(float((base / "in_voltage0_raw").read_text()) * scale / 500, 2) == 3.5
+
+
+def test_the_tof_in_back_to_back_mode_ranges_again_after_each_clear(epuck2, client_of):
+    epuck2.world.blocks.append(Block(0.2, 0.0, 0.02, (200, 60, 60)))
+    epuck2.world.place(Pose(0.0, 0.0, 0.0))
+    client = client_of(epuck2)
+    mm = "(lambda r: r[10] << 8 | r[11])(bus(12).read_i2c_block_data(0x29, 0x14, 12))"
+    client("bus(12).write_byte_data(0x29, 0x00, 0x03)")  # start, back-to-back
+    first = client(mm)
+    epuck2.world.place(Pose(0.05, 0.0, 0.0))  # 5 cm closer
+    assert client(mm) == first  # the sample stays until the interrupt is cleared
+    client("bus(12).write_byte_data(0x29, 0x0B, 0x01)")
+    assert client("bus(12).read_byte_data(0x29, 0x13)") & 0x07
+    assert abs(client(mm) - (first - 50)) <= 1
