@@ -11,7 +11,9 @@
  *
  * dup, dup2, dup3 and fcntl's F_DUPFD(_CLOEXEC) carry the mark to the new descriptor
  * (it shares the connection, as a duplicate shares i2c-dev's open file); fopen, whose
- * open is inside libc, is not covered.
+ * open is inside libc, is not covered. stat, lstat, fstat, fstatat (and their 64 forms,
+ * the symbols of glibc 2.33 and later), access and faccessat see a node the emulator has
+ * as a character device (major 89, mode 0660), and no node where it has none.
  *
  * Framing, both ways: a little-endian u32 length, then that many bytes. A request
  * starts with an op byte; a reply starts with an i32 result (>= 0, or -errno).
@@ -24,6 +26,7 @@
  *                                            -> i32, u8 n, n bytes (copied back)
  *   READ   'r' u32 count                     -> i32, that many bytes
  *   WRITE  'w' bytes                         -> i32
+ *   EXISTS 'E' u32 bus (no OPEN needed)      -> i32 (0, -EACCES: there but refused, -ENOENT)
  * A user pointer the caller got wrong crashes here where the kernel would say EFAULT.
  */
 #define _GNU_SOURCE
@@ -36,7 +39,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/types.h>
+#include <time.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -86,6 +92,7 @@ static ssize_t (*real_write)(int, const void *, size_t);
 
 /* Descriptors that are emulated nodes; each exchange holds the lock (one bus). */
 static unsigned char emulated[MAX_FDS];
+static uint32_t fd_bus[MAX_FDS]; /* the bus an emulated descriptor opened */
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
 
 static void resolve(void) {
@@ -215,6 +222,7 @@ static int emulated_open(long bus, int flags) {
         return -1;
     }
     emulated[fd] = 1;
+    fd_bus[fd] = (uint32_t)bus;
     return fd;
 }
 
@@ -290,7 +298,9 @@ int close(int fd) {
 static int mark_dup(int oldfd, int newfd) {
     if (newfd >= 0 && newfd < MAX_FDS) {
         pthread_mutex_lock(&lock);
-        emulated[newfd] = is_emulated(oldfd);
+        int ours_too = is_emulated(oldfd);
+        if (ours_too) fd_bus[newfd] = fd_bus[oldfd];
+        emulated[newfd] = ours_too;
         pthread_mutex_unlock(&lock);
     }
     return newfd;
@@ -502,4 +512,131 @@ ssize_t write(int fd, const void *buf, size_t count) {
     int32_t res = reply ? get_i32(reply) : -EIO;
     free(reply);
     return result(res);
+}
+
+/* ---- stat and access: the node exists as a character device (major 89, i2c-dev) ---- */
+
+static int (*real_stat)(const char *, struct stat *);
+static int (*real_stat64)(const char *, struct stat64 *);
+static int (*real_lstat)(const char *, struct stat *);
+static int (*real_lstat64)(const char *, struct stat64 *);
+static int (*real_fstat)(int, struct stat *);
+static int (*real_fstat64)(int, struct stat64 *);
+static int (*real_fstatat)(int, const char *, struct stat *, int);
+static int (*real_fstatat64)(int, const char *, struct stat64 *, int);
+static int (*real_access)(const char *, int);
+static int (*real_faccessat)(int, const char *, int, int);
+
+__attribute__((constructor)) static void resolve_stat(void) {
+    real_stat = dlsym(RTLD_NEXT, "stat");
+    real_stat64 = dlsym(RTLD_NEXT, "stat64");
+    real_lstat = dlsym(RTLD_NEXT, "lstat");
+    real_lstat64 = dlsym(RTLD_NEXT, "lstat64");
+    real_fstat = dlsym(RTLD_NEXT, "fstat");
+    real_fstat64 = dlsym(RTLD_NEXT, "fstat64");
+    real_fstatat = dlsym(RTLD_NEXT, "fstatat");
+    real_fstatat64 = dlsym(RTLD_NEXT, "fstatat64");
+    real_access = dlsym(RTLD_NEXT, "access");
+    real_faccessat = dlsym(RTLD_NEXT, "faccessat");
+}
+
+/* Ask the emulator about bus N: 0 (there), -EACCES (there, not ours to open), -ENOENT. */
+static int32_t node_state(long bus) {
+    const char *path = getenv(SOCKET_ENV);
+    struct sockaddr_un addr;
+    memset(&addr, 0, sizeof addr);
+    addr.sun_family = AF_UNIX;
+    if (strlen(path) >= sizeof addr.sun_path) return -ENOENT;
+    strcpy(addr.sun_path, path);
+    int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) return -ENOENT;
+    int32_t res = -ENOENT;
+    if (connect(fd, (struct sockaddr *)&addr, sizeof addr) == 0) {
+        uint8_t req[5] = {'E'};
+        put_u32(req + 1, (uint32_t)bus);
+        uint32_t n = 0;
+        uint8_t *reply = exchange(fd, req, sizeof req, &n);
+        if (reply) res = get_i32(reply);
+        free(reply);
+    }
+    real_close(fd);
+    return res;
+}
+
+#define FILL_NODE(st, bus)                               \
+    do {                                                 \
+        memset((st), 0, sizeof *(st));                   \
+        (st)->st_mode = S_IFCHR | 0660;                  \
+        (st)->st_rdev = makedev(89, (unsigned)(bus));    \
+        (st)->st_nlink = 1;                              \
+        (st)->st_blksize = 4096;                         \
+        (st)->st_atime = (st)->st_mtime = (st)->st_ctime = time(NULL); \
+    } while (0)
+
+/* A path stat: ours when the emulator is named and the path is a node. */
+#define STAT_PATH(st, path, real_call)                   \
+    do {                                                 \
+        resolve();                                       \
+        long bus = ours(path);                           \
+        if (bus < 0) return real_call;                   \
+        if (node_state(bus) == -ENOENT) {                \
+            errno = ENOENT;                              \
+            return -1;                                   \
+        }                                                \
+        FILL_NODE(st, bus);                              \
+        return 0;                                        \
+    } while (0)
+
+#define STAT_FD(st, fd, real_call)                       \
+    do {                                                 \
+        if (!is_emulated(fd)) return real_call;          \
+        FILL_NODE(st, fd_bus[fd]);                       \
+        return 0;                                        \
+    } while (0)
+
+int stat(const char *path, struct stat *st) { STAT_PATH(st, path, real_stat(path, st)); }
+int stat64(const char *path, struct stat64 *st) { STAT_PATH(st, path, real_stat64(path, st)); }
+int lstat(const char *path, struct stat *st) { STAT_PATH(st, path, real_lstat(path, st)); }
+int lstat64(const char *path, struct stat64 *st) {
+    STAT_PATH(st, path, real_lstat64(path, st));
+}
+int fstat(int fd, struct stat *st) { STAT_FD(st, fd, real_fstat(fd, st)); }
+int fstat64(int fd, struct stat64 *st) { STAT_FD(st, fd, real_fstat64(fd, st)); }
+
+int fstatat(int dirfd, const char *path, struct stat *st, int flags) {
+    if (!*path && (flags & AT_EMPTY_PATH))
+        STAT_FD(st, dirfd, real_fstatat(dirfd, path, st, flags));
+    STAT_PATH(st, path, real_fstatat(dirfd, path, st, flags));
+}
+
+int fstatat64(int dirfd, const char *path, struct stat64 *st, int flags) {
+    if (!*path && (flags & AT_EMPTY_PATH))
+        STAT_FD(st, dirfd, real_fstatat64(dirfd, path, st, flags));
+    STAT_PATH(st, path, real_fstatat64(dirfd, path, st, flags));
+}
+
+/* access: F_OK when the node is there; reading or writing also needs the permission. */
+static int node_access(long bus, int mode) {
+    int32_t state = node_state(bus);
+    if (state == -ENOENT || (state == -EACCES && (mode & (R_OK | W_OK | X_OK)))) {
+        errno = -state;
+        return -1;
+    }
+    if (mode & X_OK) {
+        errno = EACCES;
+        return -1;
+    }
+    return 0;
+}
+
+int access(const char *path, int mode) {
+    resolve();
+    long bus = ours(path);
+    return bus < 0 ? real_access(path, mode) : node_access(bus, mode);
+}
+
+int faccessat(int dirfd, const char *path, int mode, int flags) {
+    resolve();
+    long bus = ours(path);
+    return bus < 0 ? real_faccessat(dirfd, path, mode, flags) : node_access(bus, mode);
 }

@@ -142,3 +142,22 @@ def test_c_code_on_i2c_dev_runs_unmodified(epuck2, tmp_path) -> None:
     out = subprocess.run([str(binary), str(os.O_RDWR)], env=env, capture_output=True,
                          text=True, timeout=60)  # fmt: skip
     assert (out.returncode, out.stdout.strip()) == (0, "71"), out.stderr
+
+
+def test_stat_and_access_see_the_nodes_as_i2c_dev_character_devices(epuck2, client_of, tmp_path):
+    client = client_of(epuck2)
+    assert client("[os.path.exists(f'/dev/i2c-{n}') for n in (1, 11, 12, 4)]") == [
+        True, True, True, False,
+    ]  # fmt: skip
+    node = "os.stat('/dev/i2c-12')"
+    assert client(f"__import__('stat').S_ISCHR({node}.st_mode)") is True
+    assert client(f"[os.major({node}.st_rdev), os.minor({node}.st_rdev)]") == [89, 12]
+    assert client("__import__('stat').S_ISCHR(os.fstat(bus(12).fd).st_mode)") is True
+    assert client("os.access('/dev/i2c-12', os.R_OK | os.W_OK)") is True
+    epuck2.deny_access()  # outside the i2c group: there, but not readable
+    assert client("[os.access('/dev/i2c-12', m) for m in (os.F_OK, os.R_OK)]") == [True, False]
+    epuck2.set_bus_present(12, False)
+    assert client("os.stat('/dev/i2c-12')") == {"errno": "ENOENT"}
+    # Everything else is the real file system's.
+    assert client(f"os.path.exists({str(tmp_path)!r})") is True
+    assert client(f"os.path.exists({str(tmp_path / 'none')!r})") is False
