@@ -10,7 +10,7 @@ import sys
 from pipuck_harness import quiet_world
 
 from firmware_sim.pipuck import PipuckEmulator, build_shim
-from firmware_sim.pipuck.shim import SOURCE
+from firmware_sim.pipuck.shim import SOURCES
 
 
 def test_smbus2_sees_the_adapter_functionality_of_the_bcm2835(epuck2, client_of) -> None:
@@ -84,9 +84,12 @@ def test_the_shim_is_rebuilt_only_when_its_source_changes(tmp_path) -> None:
     first = build_shim(cache=cache)
     stamp = first.stat().st_mtime_ns
     assert build_shim(cache=cache) == first and first.stat().st_mtime_ns == stamp
-    edited = tmp_path / "i2c_shim.c"
-    edited.write_bytes(SOURCE.read_bytes() + b"/* edited */\n")
-    second = build_shim(source=edited, cache=cache)
+    copies = []
+    for source in SOURCES:
+        copies.append(tmp_path / source.name)
+        copies[-1].write_bytes(source.read_bytes())
+    copies[-1].write_bytes(copies[-1].read_bytes() + b"/* edited */\n")
+    second = build_shim(sources=tuple(copies), cache=cache)
     assert second != first and second.exists() and first.exists()
     assert sorted(p.name for p in first.parent.iterdir()) == sorted([first.name, second.name])
 
