@@ -4,6 +4,8 @@ on a Raspberry Pi does; smbus2 runs against them unmodified (firmware_sim/pipuck
 from __future__ import annotations
 
 import os
+import socket
+import struct
 import subprocess
 import sys
 
@@ -164,3 +166,18 @@ def test_stat_and_access_see_the_nodes_as_i2c_dev_character_devices(epuck2, clie
     # Everything else is the real file system's.
     assert client(f"os.path.exists({str(tmp_path)!r})") is True
     assert client(f"os.path.exists({str(tmp_path / 'none')!r})") is False
+
+
+def test_a_malformed_frame_drops_only_its_connection(epuck2, client_of) -> None:
+    frames = (struct.pack("<I", 0), struct.pack("<I", 2) + b"O\x01", struct.pack("<I", 1) + b"F")
+    for frame in frames:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as peer:
+            peer.settimeout(60)
+            peer.connect(epuck2.socket_path)
+            peer.sendall(frame)
+            answer = peer.recv(64)
+            if frame.endswith(b"F"):  # a request before OPEN: EBADF, and it stays open
+                assert answer == struct.pack("<Ii", 4, -9)
+            else:
+                assert answer == b""  # dropped
+    assert len(client_of(epuck2)("exchange(12, packet())")) == 47  # the server serves on
