@@ -82,6 +82,9 @@ class PipuckBackend:
     """``Robot("pipuck")``: see the module's doc for its options."""
 
     options: ClassVar[type[BackendOptions]] = PipuckOptions
+    #: ego runs on the robot's own computer: ``ego run`` supervises by default, as on
+    #: the Overo's UART (ego.servers.supervisor.wants_supervision).
+    on_robot: ClassVar[bool] = True
 
     def open(self, port: str, options: BackendOptions) -> Opened:
         given = PipuckOptions.narrow(options)
