@@ -234,4 +234,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None, prog: str = "python -m firmware_sim") -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["pipuck"]:  # the Pi-puck's I2C buses: firmware_sim.pipuck
+        from firmware_sim.pipuck.cli import main as pipuck_main
+
+        return pipuck_main(argv[1:], f"{prog} pipuck")
     return run(build_parser(prog).parse_args(argv))

@@ -1,0 +1,449 @@
+/*
+ * i2c_shim.c: /dev/i2c-N nodes for a process tree, answered by firmware_sim's Pi-puck
+ * emulator over a Unix socket. Loaded with LD_PRELOAD; written for this project.
+ *
+ * When FIRMWARE_SIM_I2C_SOCKET names a socket, opening "/dev/i2c-<N>" connects to it
+ * and asks the emulator for bus N; the connected socket *is* the file descriptor the
+ * caller gets, so select/poll/close see a real descriptor. ioctl, read and write on
+ * such a descriptor are sent to the emulator, which plays the kernel's i2c-dev and the
+ * bus (every check and error code is the emulator's, in Python). Everything else goes
+ * to libc untouched.
+ *
+ * Framing, both ways: a little-endian u32 length, then that many bytes. A request
+ * starts with an op byte; a reply starts with an i32 result (>= 0, or -errno).
+ *   OPEN   'O' u32 bus, i32 flags            -> i32
+ *   IOCTL  'I' u32 cmd, u64 arg              -> i32            (I2C_SLAVE, PEC, ...)
+ *   FUNCS  'F'                               -> i32, u64 funcs
+ *   RDWR   'R' u32 nmsgs, nmsgs x {u16 addr, u16 flags, u16 len, len bytes}
+ *                                            -> i32, then each read message's bytes
+ *   SMBUS  'S' u8 read_write, u8 command, u32 size, u8 has_data, u8 n, n bytes
+ *                                            -> i32, u8 n, n bytes (copied back)
+ *   READ   'r' u32 count                     -> i32, that many bytes
+ *   WRITE  'w' bytes                         -> i32
+ * A user pointer the caller got wrong crashes here where the kernel would say EFAULT.
+ */
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/types.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#define SOCKET_ENV "FIRMWARE_SIM_I2C_SOCKET"
+#define MAX_FDS 4096
+#define I2C_SLAVE 0x0703
+#define I2C_FUNCS 0x0705
+#define I2C_RDWR 0x0707
+#define I2C_SMBUS 0x0720
+#define I2C_M_RD 0x0001
+#define RDWR_MAX_MSGS 42 /* I2C_RDWR_IOCTL_MAX_MSGS */
+#define SMBUS_BLOCK 34   /* sizeof(union i2c_smbus_data) */
+#define MAX_FRAME (1u << 20)
+
+struct shim_i2c_msg {
+    uint16_t addr;
+    uint16_t flags;
+    uint16_t len;
+    uint8_t *buf;
+};
+
+struct shim_rdwr {
+    struct shim_i2c_msg *msgs;
+    uint32_t nmsgs;
+};
+
+struct shim_smbus {
+    uint8_t read_write;
+    uint8_t command;
+    uint32_t size;
+    uint8_t *data;
+};
+
+static int (*real_open)(const char *, int, ...);
+static int (*real_open64)(const char *, int, ...);
+static int (*real_openat)(int, const char *, int, ...);
+static int (*real_openat64)(int, const char *, int, ...);
+static int (*real_close)(int);
+static int (*real_ioctl)(int, unsigned long, ...);
+static ssize_t (*real_read)(int, void *, size_t);
+static ssize_t (*real_write)(int, const void *, size_t);
+
+/* Descriptors that are emulated nodes; each exchange holds the lock (one bus). */
+static unsigned char emulated[MAX_FDS];
+static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+
+static void resolve(void) {
+    if (real_close) return;
+    real_open = dlsym(RTLD_NEXT, "open");
+    real_open64 = dlsym(RTLD_NEXT, "open64");
+    real_openat = dlsym(RTLD_NEXT, "openat");
+    real_openat64 = dlsym(RTLD_NEXT, "openat64");
+    real_ioctl = dlsym(RTLD_NEXT, "ioctl");
+    real_read = dlsym(RTLD_NEXT, "read");
+    real_write = dlsym(RTLD_NEXT, "write");
+    real_close = dlsym(RTLD_NEXT, "close");
+}
+
+__attribute__((constructor)) static void shim_init(void) { resolve(); }
+
+static int is_emulated(int fd) { return fd >= 0 && fd < MAX_FDS && emulated[fd]; }
+
+/* "/dev/i2c-<digits>" -> the bus number, else -1. */
+static long bus_of(const char *path) {
+    static const char prefix[] = "/dev/i2c-";
+    if (!path || strncmp(path, prefix, sizeof prefix - 1) != 0) return -1;
+    const char *p = path + sizeof prefix - 1;
+    if (*p < '0' || *p > '9') return -1;
+    long bus = 0;
+    for (; *p; p++) {
+        if (*p < '0' || *p > '9' || bus > 1000000) return -1;
+        bus = bus * 10 + (*p - '0');
+    }
+    return bus;
+}
+
+static int send_all(int fd, const void *data, size_t len) {
+    const char *p = data;
+    while (len > 0) {
+        ssize_t n = send(fd, p, len, MSG_NOSIGNAL);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return -1;
+        p += n;
+        len -= (size_t)n;
+    }
+    return 0;
+}
+
+static int recv_all(int fd, void *data, size_t len) {
+    char *p = data;
+    while (len > 0) {
+        ssize_t n = recv(fd, p, len, 0);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return -1;
+        p += n;
+        len -= (size_t)n;
+    }
+    return 0;
+}
+
+/* Send one request frame and receive the reply frame into a malloc'd buffer. */
+static uint8_t *exchange(int fd, const uint8_t *req, uint32_t len, uint32_t *reply_len) {
+    uint8_t head[4] = {len & 0xff, (len >> 8) & 0xff, (len >> 16) & 0xff, len >> 24};
+    if (send_all(fd, head, 4) || send_all(fd, req, len)) return NULL;
+    if (recv_all(fd, head, 4)) return NULL;
+    uint32_t n = head[0] | head[1] << 8 | head[2] << 16 | (uint32_t)head[3] << 24;
+    if (n < 4 || n > MAX_FRAME) return NULL;
+    uint8_t *reply = malloc(n);
+    if (!reply) return NULL;
+    if (recv_all(fd, reply, n)) {
+        free(reply);
+        return NULL;
+    }
+    *reply_len = n;
+    return reply;
+}
+
+static int32_t get_i32(const uint8_t *p) {
+    return (int32_t)(p[0] | p[1] << 8 | p[2] << 16 | (uint32_t)p[3] << 24);
+}
+
+static void put_u16(uint8_t *p, uint16_t v) { p[0] = v & 0xff; p[1] = v >> 8; }
+
+static void put_u32(uint8_t *p, uint32_t v) {
+    for (int i = 0; i < 4; i++) p[i] = (v >> (8 * i)) & 0xff;
+}
+
+/* A result frame to a return value: >= 0 passes, -errno sets errno and gives -1. */
+static long result(int32_t res) {
+    if (res < 0) {
+        errno = -res;
+        return -1;
+    }
+    return res;
+}
+
+static int emulated_open(long bus, int flags) {
+    const char *path = getenv(SOCKET_ENV);
+    struct sockaddr_un addr;
+    memset(&addr, 0, sizeof addr);
+    addr.sun_family = AF_UNIX;
+    if (strlen(path) >= sizeof addr.sun_path) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    strcpy(addr.sun_path, path);
+    int type = SOCK_STREAM | ((flags & O_CLOEXEC) ? SOCK_CLOEXEC : 0);
+    int fd = socket(AF_UNIX, type, 0);
+    if (fd < 0) return -1;
+    if (fd >= MAX_FDS || connect(fd, (struct sockaddr *)&addr, sizeof addr) < 0) {
+        real_close(fd);
+        errno = ENOENT; /* no emulator: no node */
+        return -1;
+    }
+    uint8_t req[9] = {'O'};
+    put_u32(req + 1, (uint32_t)bus);
+    put_u32(req + 5, (uint32_t)flags);
+    uint32_t n = 0;
+    uint8_t *reply = exchange(fd, req, sizeof req, &n);
+    int32_t res = reply ? get_i32(reply) : -ENOENT;
+    free(reply);
+    if (res < 0) {
+        real_close(fd);
+        errno = -res;
+        return -1;
+    }
+    emulated[fd] = 1;
+    return fd;
+}
+
+/* Whether this open is ours: an emulator is named and the path is an i2c node. */
+static long ours(const char *path) {
+    resolve();
+    if (!getenv(SOCKET_ENV)) return -1;
+    return bus_of(path);
+}
+
+#define OPEN_MODE(flags, mode)                                   \
+    do {                                                         \
+        if ((flags) & (O_CREAT | __O_TMPFILE)) {                 \
+            va_list ap;                                          \
+            va_start(ap, flags);                                 \
+            mode = va_arg(ap, int);                              \
+            va_end(ap);                                          \
+        }                                                        \
+    } while (0)
+
+int open(const char *path, int flags, ...) {
+    int mode = 0;
+    OPEN_MODE(flags, mode);
+    long bus = ours(path);
+    if (bus >= 0) return emulated_open(bus, flags);
+    return real_open(path, flags, mode);
+}
+
+int open64(const char *path, int flags, ...) {
+    int mode = 0;
+    OPEN_MODE(flags, mode);
+    long bus = ours(path);
+    if (bus >= 0) return emulated_open(bus, flags);
+    return real_open64(path, flags, mode);
+}
+
+int openat(int dirfd, const char *path, int flags, ...) {
+    int mode = 0;
+    OPEN_MODE(flags, mode);
+    long bus = ours(path); /* an absolute path ignores dirfd */
+    if (bus >= 0) return emulated_open(bus, flags);
+    return real_openat(dirfd, path, flags, mode);
+}
+
+int openat64(int dirfd, const char *path, int flags, ...) {
+    int mode = 0;
+    OPEN_MODE(flags, mode);
+    long bus = ours(path);
+    if (bus >= 0) return emulated_open(bus, flags);
+    return real_openat64(dirfd, path, flags, mode);
+}
+
+/* _FORTIFY_SOURCE's checked entry points. */
+int __open_2(const char *path, int flags) { return open(path, flags); }
+int __open64_2(const char *path, int flags) { return open64(path, flags); }
+int __openat_2(int dirfd, const char *path, int flags) { return openat(dirfd, path, flags); }
+int __openat64_2(int dirfd, const char *path, int flags) {
+    return openat64(dirfd, path, flags);
+}
+
+int close(int fd) {
+    resolve();
+    if (is_emulated(fd)) {
+        pthread_mutex_lock(&lock);
+        emulated[fd] = 0;
+        pthread_mutex_unlock(&lock);
+    }
+    return real_close(fd);
+}
+
+static long do_funcs(int fd, unsigned long arg) {
+    uint8_t req[1] = {'F'};
+    uint32_t n = 0;
+    uint8_t *reply = exchange(fd, req, 1, &n);
+    if (!reply || n < 12) {
+        free(reply);
+        return result(-EIO);
+    }
+    int32_t res = get_i32(reply);
+    if (res >= 0) {
+        uint64_t funcs = 0;
+        for (int i = 0; i < 8; i++) funcs |= (uint64_t)reply[4 + i] << (8 * i);
+        *(unsigned long *)arg = (unsigned long)funcs;
+    }
+    free(reply);
+    return result(res);
+}
+
+static long do_rdwr(int fd, unsigned long arg) {
+    const struct shim_rdwr *rdwr = (const struct shim_rdwr *)arg;
+    uint32_t nmsgs = rdwr->nmsgs;
+    size_t len = 5;
+    if (nmsgs <= RDWR_MAX_MSGS)
+        for (uint32_t i = 0; i < nmsgs; i++) len += 6 + rdwr->msgs[i].len;
+    uint8_t *req = malloc(len);
+    if (!req) return result(-ENOMEM);
+    req[0] = 'R';
+    put_u32(req + 1, nmsgs);
+    size_t at = 5;
+    if (nmsgs <= RDWR_MAX_MSGS)
+        for (uint32_t i = 0; i < nmsgs; i++) {
+            const struct shim_i2c_msg *m = &rdwr->msgs[i];
+            put_u16(req + at, m->addr);
+            put_u16(req + at + 2, m->flags);
+            put_u16(req + at + 4, m->len);
+            memcpy(req + at + 6, m->buf, m->len); /* the kernel copies reads in too */
+            at += 6 + m->len;
+        }
+    uint32_t n = 0;
+    uint8_t *reply = exchange(fd, req, (uint32_t)len, &n);
+    free(req);
+    if (!reply) return result(-EIO);
+    int32_t res = get_i32(reply);
+    if (res >= 0) {
+        size_t from = 4;
+        for (uint32_t i = 0; i < nmsgs; i++) {
+            const struct shim_i2c_msg *m = &rdwr->msgs[i];
+            if (!(m->flags & I2C_M_RD)) continue;
+            if (from + m->len > n) {
+                res = -EIO;
+                break;
+            }
+            memcpy(m->buf, reply + from, m->len);
+            from += m->len;
+        }
+    }
+    free(reply);
+    return result(res);
+}
+
+/* How many bytes of the user's union i2c-dev copies for an SMBus size (i2c-dev.c). */
+static size_t smbus_datasize(uint32_t size) {
+    switch (size) {
+    case 1: /* BYTE */
+    case 2: /* BYTE_DATA */
+        return 1;
+    case 3: /* WORD_DATA */
+    case 4: /* PROC_CALL */
+        return 2;
+    case 5: /* BLOCK_DATA */
+    case 6: /* I2C_BLOCK_BROKEN */
+    case 7: /* BLOCK_PROC_CALL */
+    case 8: /* I2C_BLOCK_DATA */
+        return SMBUS_BLOCK;
+    default:
+        return 0;
+    }
+}
+
+static long do_smbus(int fd, unsigned long arg) {
+    const struct shim_smbus *s = (const struct shim_smbus *)arg;
+    size_t size = s->data ? smbus_datasize(s->size) : 0;
+    uint8_t req[8 + SMBUS_BLOCK] = {'S', s->read_write, s->command};
+    put_u32(req + 3, s->size);
+    req[7] = s->data != NULL;
+    req[8] = (uint8_t)size;
+    if (size) memcpy(req + 9, s->data, size);
+    uint32_t n = 0;
+    uint8_t *reply = exchange(fd, req, (uint32_t)(9 + size), &n);
+    if (!reply || n < 5) {
+        free(reply);
+        return result(-EIO);
+    }
+    int32_t res = get_i32(reply);
+    size_t back = reply[4];
+    if (res >= 0 && back && s->data && back <= size && 5 + back <= n)
+        memcpy(s->data, reply + 5, back);
+    free(reply);
+    return result(res);
+}
+
+static long do_plain(int fd, unsigned long cmd, unsigned long arg) {
+    uint8_t req[13] = {'I'};
+    put_u32(req + 1, (uint32_t)cmd);
+    for (int i = 0; i < 8; i++) req[5 + i] = ((uint64_t)arg >> (8 * i)) & 0xff;
+    uint32_t n = 0;
+    uint8_t *reply = exchange(fd, req, sizeof req, &n);
+    int32_t res = reply ? get_i32(reply) : -EIO;
+    free(reply);
+    return result(res);
+}
+
+int ioctl(int fd, unsigned long request, ...) {
+    va_list ap;
+    va_start(ap, request);
+    unsigned long arg = va_arg(ap, unsigned long);
+    va_end(ap);
+    resolve();
+    if (!is_emulated(fd)) return real_ioctl(fd, request, arg);
+    long res;
+    pthread_mutex_lock(&lock);
+    switch (request) {
+    case I2C_FUNCS:
+        res = do_funcs(fd, arg);
+        break;
+    case I2C_RDWR:
+        res = do_rdwr(fd, arg);
+        break;
+    case I2C_SMBUS:
+        res = do_smbus(fd, arg);
+        break;
+    default:
+        res = do_plain(fd, request, arg);
+        break;
+    }
+    int saved = errno;
+    pthread_mutex_unlock(&lock);
+    errno = saved;
+    return (int)res;
+}
+
+ssize_t read(int fd, void *buf, size_t count) {
+    resolve();
+    if (!is_emulated(fd)) return real_read(fd, buf, count);
+    if (count > 8192) count = 8192; /* i2cdev_read's cap */
+    uint8_t req[5] = {'r'};
+    put_u32(req + 1, (uint32_t)count);
+    pthread_mutex_lock(&lock);
+    uint32_t n = 0;
+    uint8_t *reply = exchange(fd, req, sizeof req, &n);
+    pthread_mutex_unlock(&lock);
+    int32_t res = reply ? get_i32(reply) : -EIO;
+    if (res > 0) {
+        if ((size_t)res > count || 4 + (size_t)res > n) res = -EIO;
+        else memcpy(buf, reply + 4, (size_t)res);
+    }
+    free(reply);
+    return result(res);
+}
+
+ssize_t write(int fd, const void *buf, size_t count) {
+    resolve();
+    if (!is_emulated(fd)) return real_write(fd, buf, count);
+    if (count > 8192) count = 8192; /* i2cdev_write's cap */
+    uint8_t *req = malloc(1 + count);
+    if (!req) return result(-ENOMEM);
+    req[0] = 'w';
+    memcpy(req + 1, buf, count);
+    pthread_mutex_lock(&lock);
+    uint32_t n = 0;
+    uint8_t *reply = exchange(fd, req, (uint32_t)(1 + count), &n);
+    pthread_mutex_unlock(&lock);
+    free(req);
+    int32_t res = reply ? get_i32(reply) : -EIO;
+    free(reply);
+    return result(res);
+}
