@@ -18,7 +18,8 @@ Options (:class:`PipuckOptions`): ``robot`` ("epuck2", "epuck"; None: detected f
 IMU that answers, the MPU-9250 on an e-puck2, the LSM330 on an e-puck1, and else from
 the e-puck2's checksummed reply), ``i2c_bus`` (the robot's bus number; None: 12 if it
 exists, else 4), ``camera_device`` (None: EGO_CAMERA, else ``/dev/video0``; "none": no
-camera), ``sysfs`` (where sysfs is mounted, for the battery; None: ``/sys``).
+camera), ``sysfs`` (where sysfs is mounted, for the battery; None: EGO_SYSFS, else
+``/sys``).
 
 >>> with ego.Robot("pipuck") as robot:  # doctest: +SKIP
 ...     robot.motors.set_speeds(200, 200)
@@ -32,7 +33,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar, Literal
 
 from ego.backends.base import BackendOptions, Opened, check
-from ego.backends.pipuck.bus import RobotBus, find_buses
+from ego.backends.pipuck.bus import open_buses
 from ego.backends.pipuck.detect import open_robot
 from ego.errors import BackendOptionError, PortNotFoundError
 
@@ -69,13 +70,15 @@ class PipuckOptions(BackendOptions):
     i2c_bus: int | None = field(default=None, metadata=check(_bus))
     #: The V4L2 camera device, or "none" (None: EGO_CAMERA, else /dev/video0).
     camera_device: str | None = None
-    #: Where sysfs is mounted (None: /sys).
+    #: Where sysfs is mounted (None: EGO_SYSFS, else /sys).
     sysfs: str | None = None
 
     def with_environment(self, environment: Environment) -> PipuckOptions:
-        if self.camera_device is not None or environment.camera is None:
-            return self
-        return dataclasses.replace(self, camera_device=environment.camera)
+        return dataclasses.replace(
+            self,
+            camera_device=self.camera_device or environment.camera,
+            sysfs=self.sysfs or environment.sysfs,
+        )
 
 
 class PipuckBackend:
@@ -95,8 +98,7 @@ class PipuckBackend:
                 f"{port}: a Pi-puck's firmware follows from its robot: leave firmware unset "
                 "and give robot='epuck2' or robot='epuck' if it must be said"
             )
-        robot_bus, board_bus = find_buses(given.i2c_bus)
-        bus = RobotBus(robot_bus)
+        bus, board_bus = open_buses(given.i2c_bus)
         try:
             channel = open_robot(bus, given.robot, board_bus, Path(given.sysfs or "/sys"))
         except BaseException:

@@ -71,9 +71,13 @@ TOF_ADDRESS: Final = 0x29
 _MODEL_ID: Final = (0xC0, 0xEE)
 _SYSRANGE_START: Final = 0x00
 _BACK_TO_BACK: Final = 0x02
+_INTERRUPT_CONFIG_GPIO: Final = 0x0A
+_NEW_SAMPLE_READY: Final = 0x04
+_GPIO_HV_MUX_ACTIVE_HIGH: Final = 0x84
 _INTERRUPT_CLEAR: Final = 0x0B
 _INTERRUPT_STATUS: Final = 0x13
 _RANGE_MM: Final = 0x14 + 10  # RESULT_RANGE_STATUS + 10: the range, big-endian
+_STOP_VARIABLE: Final = 0x91
 #: How long the first range may take (a ranging takes about 33 ms by default).
 FIRST_RANGE_S: Final = 0.2
 
@@ -81,9 +85,14 @@ FIRST_RANGE_S: Final = 0.2
 class Tof:
     """The VL53L0X at 0x29, ranging back to back; each read hands the newest range (mm).
 
-    ego starts continuous ranging and reads the result when the chip says one is ready,
-    as ST's API does in its continuous mode [the minimal sequence: ego does not load
-    ST's tuning settings, which the e-puck2 firmware does when it owns the chip].
+    The start is the part of ST's sequence (as Pololu's library, VL53L0X.cpp ``begin``,
+    ``startContinuous``, ``readRangeContinuousMillimeters``, follows it) that ranging
+    needs: I2C standard mode (0x88 = 0), the "stop variable" read from 0x91 and written
+    back before starting, the interrupt set to "new sample ready" (0x0A = 0x04, active
+    low), then back-to-back ranging (0x00 = 0x02). A range is read when the interrupt
+    status (0x13, bits 0-2) says one is ready, and the interrupt cleared (0x0B = 1)
+    [inferred: ego loads neither ST's tuning settings nor the SPAD map nor the reference
+    calibration, which the e-puck2 firmware does when it owns the chip].
     """
 
     def __init__(self, bus: RobotBus, clock: Callable[[], float] = time.monotonic) -> None:
@@ -92,12 +101,26 @@ class Tof:
         self._started = False
         self._last: int | None = None
 
+    def _paged(self, *writes: tuple[int, int]) -> None:
+        for register, value in writes:
+            self.bus.write_byte(TOF_ADDRESS, register, value)
+
     def _start(self) -> None:
         try:
             model = self.bus.read_byte(TOF_ADDRESS, _MODEL_ID[0])
             if model != _MODEL_ID[1]:
                 raise OSError(f"model id 0x{model:02X}, not 0x{_MODEL_ID[1]:02X}")
-            self.bus.write_byte(TOF_ADDRESS, _SYSRANGE_START, _BACK_TO_BACK)
+            self._paged((0x88, 0x00), (0x80, 0x01), (0xFF, 0x01), (0x00, 0x00))
+            stop = self.bus.read_byte(TOF_ADDRESS, _STOP_VARIABLE)
+            self._paged((0x00, 0x01), (0xFF, 0x00), (0x80, 0x00))
+            self._paged((_INTERRUPT_CONFIG_GPIO, _NEW_SAMPLE_READY))
+            mux = self.bus.read_byte(TOF_ADDRESS, _GPIO_HV_MUX_ACTIVE_HIGH)
+            self._paged((_GPIO_HV_MUX_ACTIVE_HIGH, mux & ~0x10), (_INTERRUPT_CLEAR, 0x01))
+            self._paged((0x80, 0x01), (0xFF, 0x01), (0x00, 0x00), (_STOP_VARIABLE, stop),
+                        (0x00, 0x01), (0xFF, 0x00), (0x80, 0x00))  # fmt: skip
+            # Started, the interrupt is cleared once more: harmless before the first range,
+            # and what a model that completes a range per clear needs [inferred].
+            self._paged((_SYSRANGE_START, _BACK_TO_BACK), (_INTERRUPT_CLEAR, 0x01))
         except OSError as exc:
             raise UnsupportedDeviceError(
                 f"no VL53L0X ToF answers at 0x{TOF_ADDRESS:02X} on {self.bus.path}: {exc}"
@@ -115,22 +138,21 @@ class Tof:
         if not self._started:
             self._start()
         deadline = self._clock() + FIRST_RANGE_S
-        try:
-            while True:
+        while True:
+            try:
                 found = self._ready()
-                if found is not None:
-                    self._last = found
-                if self._last is not None:
-                    return (self._last,)
-                if self._clock() > deadline:
-                    raise LinkTimeoutError(
-                        f"the VL53L0X on {self.bus.path} gave no range within {FIRST_RANGE_S} s"
-                    )
-                time.sleep(0.002)
-        except OSError as exc:
-            raise UnsupportedDeviceError(
-                i2c_failure(exc, f"the VL53L0X at 0x{TOF_ADDRESS:02X} on {self.bus.path}")
-            ) from None
+            except OSError as exc:
+                where = f"the VL53L0X at 0x{TOF_ADDRESS:02X} on {self.bus.path}"
+                raise UnsupportedDeviceError(i2c_failure(exc, where)) from None
+            if found is not None:
+                self._last = found
+            if self._last is not None:
+                return (self._last,)
+            if self._clock() > deadline:
+                raise LinkTimeoutError(
+                    f"the VL53L0X on {self.bus.path} gave no range within {FIRST_RANGE_S} s"
+                )
+            time.sleep(0.002)
 
 
 #: The e-puck's battery on the Pi-puck's ADS1015 (board bus, 0x48), channel 0: the iio

@@ -9,13 +9,12 @@ Bus numbers (docs/protocol.md, "The Pi-puck"): since the Raspberry Pi Zero 2's k
 the robot's bus is ``/dev/i2c-12`` and the Pi-puck board's own ``/dev/i2c-11``; older
 kernels (Debian Buster and before) named them 4 and 3 (York's
 ``python-library/pipuck/epuck.py:7-8``, GCtronic's demos, epuck_ros2 PR 31).
-:func:`find_buses` tries the current numbers, then the legacy ones.
+:func:`open_buses` tries the current numbers, then the legacy ones.
 """
 
 from __future__ import annotations
 
 import errno
-import os
 from typing import TYPE_CHECKING, Final
 
 from ego.errors import OutOfRangeError, PortNotFoundError
@@ -23,22 +22,25 @@ from ego.errors import OutOfRangeError, PortNotFoundError
 if TYPE_CHECKING:
     from smbus2 import SMBus
 
-__all__ = ["BUSES", "RobotBus", "find_buses", "i2c_failure"]
+__all__ = ["BUSES", "RobotBus", "i2c_failure", "open_buses"]
 
 #: (robot bus, board bus): current kernels first, then the legacy numbering.
 BUSES: Final = {"current": (12, 11), "legacy": (4, 3)}
 
 
-def find_buses(robot_bus: int | None, dev: str = "/dev") -> tuple[int, int]:
-    """The (robot, board) bus numbers: ``robot_bus`` if given (the board's is one less,
-    as on both numberings), else the first numbering whose robot bus exists under
-    ``dev``; PortNotFoundError naming both, and what enables I2C, when neither does."""
+def open_buses(robot_bus: int | None) -> tuple[RobotBus, int]:
+    """The robot's bus, opened, and the board's bus number: ``robot_bus`` if given (the
+    board's is one less, as on both numberings), else the first numbering whose robot bus
+    opens, as York's library tries them (an open, not a look at ``/dev``: what answers is
+    what counts); PortNotFoundError naming both, and what enables I2C, when neither does."""
     if robot_bus is not None:
-        return robot_bus, robot_bus - 1
+        return RobotBus(robot_bus), robot_bus - 1
     for robot, board in BUSES.values():
-        if os.path.exists(f"{dev}/i2c-{robot}"):
-            return robot, board
-    tried = " nor ".join(f"{dev}/i2c-{r}" for r, _ in BUSES.values())
+        try:
+            return RobotBus(robot), board
+        except FileNotFoundError:
+            continue
+    tried = " nor ".join(f"/dev/i2c-{r}" for r, _ in BUSES.values())
     raise PortNotFoundError(
         f"pipuck: neither {tried} exists: is this a Pi-puck with I2C enabled "
         "(raspi-config, Interface Options, I2C; the Pi-puck's device tree overlay in "
@@ -56,19 +58,23 @@ def i2c_failure(exc: OSError, where: str) -> str:
     return f"{where}: {exc.strerror or exc}"
 
 
+class _Missing(PortNotFoundError):
+    """A bus that does not exist (PortNotFoundError, a FileNotFoundError too)."""
+
+
 class RobotBus:
     """One ``/dev/i2c-N`` through smbus2, with the transfers the Pi-puck needs."""
 
-    def __init__(self, bus: int, dev: str = "/dev") -> None:
+    def __init__(self, bus: int) -> None:
         from smbus2 import SMBus  # only a Pi-puck pays for it
 
         if not 0 <= bus <= 255:
             raise OutOfRangeError(f"I2C bus {bus} is outside 0..255")
-        self.path = f"{dev}/i2c-{bus}"
+        self.path = f"/dev/i2c-{bus}"
         try:
             self._bus: SMBus | None = SMBus(self.path)
         except FileNotFoundError:
-            raise PortNotFoundError(f"pipuck: {self.path} does not exist") from None
+            raise _Missing(f"pipuck: {self.path} does not exist") from None
         except OSError as exc:
             raise PortNotFoundError(i2c_failure(exc, f"pipuck: {self.path}")) from None
         #: Bytes on the wire so far, addresses included (what the bus's time is made of).
