@@ -38,8 +38,8 @@ def open_buses(robot_bus: int | None) -> tuple[RobotBus, int]:
     for robot, board in BUSES.values():
         try:
             return RobotBus(robot), board
-        except FileNotFoundError:
-            continue
+        except _Missing:
+            continue  # the other numbering; a bus that exists but refuses us is said
     tried = " nor ".join(f"/dev/i2c-{r}" for r, _ in BUSES.values())
     raise PortNotFoundError(
         f"pipuck: neither {tried} exists: is this a Pi-puck with I2C enabled "

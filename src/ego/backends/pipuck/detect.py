@@ -21,7 +21,7 @@ from ego.backends.pipuck.epuck2 import Epuck2Side
 from ego.backends.pipuck.york import IR_CONTROL
 from ego.backends.pipuck.york_side import YorkSide
 from ego.core.channel import FirmwareInfo
-from ego.errors import EgoError, LinkTimeoutError
+from ego.errors import ChecksumError, EgoError, LinkTimeoutError
 
 __all__ = ["detect", "open_robot"]
 
@@ -34,6 +34,12 @@ EPUCK1_NEEDS = (
     "is it an e-puck1 running York's Pi-puck firmware (yorkrobotlab/pi-puck-e-puck1)? "
     "(an e-puck2 needs selector 10 and robot='epuck2')"
 )
+
+
+def _why(name: str, what: str, exc: BaseException, needs: str) -> str:
+    """One line: ``name``, what went wrong, the error's own words, what the robot needs."""
+    detail = str(exc).replace(f"{name}: ", "")
+    return f"{name}: {what} ({detail})" + (f"; {needs}" if needs else "")
 
 
 def _answers(bus: RobotBus, reader: Reader) -> bool:
@@ -67,13 +73,14 @@ def open_robot(bus: RobotBus, robot: str | None, board_bus: int, sysfs: Path) ->
         side = Epuck2Side(bus, name)
         try:
             side.stop_message()
+        except ChecksumError as exc:
+            if chosen is None:  # junk back: York's firmware would answer so [inferred]
+                raise LinkTimeoutError(_why(name, "no e-puck2 answers at 0x1F", exc,
+                                            EPUCK2_NEEDS)) from None  # fmt: skip
+            raise ChecksumError(_why(name, "the e-puck2's replies fail", exc, "")) from None
         except EgoError as exc:
-            if chosen is None:
-                raise LinkTimeoutError(
-                    f"{name}: no e-puck2 answers at 0x1F and no IMU tells the robot ({exc}); "
-                    f"{EPUCK2_NEEDS}"
-                ) from None
-            raise LinkTimeoutError(f"{name}: {exc}; {EPUCK2_NEEDS}") from None
+            raise LinkTimeoutError(_why(name, "no e-puck2 answers at 0x1F", exc,
+                                        EPUCK2_NEEDS)) from None  # fmt: skip
         reply = side.reply
         info = FirmwareInfo(side.profile, "e-puck2 I2C mode (gumstix)",
                             selector=None if reply is None else reply.selector)  # fmt: skip
@@ -83,9 +90,8 @@ def open_robot(bus: RobotBus, robot: str | None, board_bus: int, sysfs: Path) ->
     try:
         bus.read_word(0x1F, IR_CONTROL)
         york.stop_message()
-    except OSError as exc:
-        raise LinkTimeoutError(f"{name}: nothing answers at 0x1F ({exc}); {EPUCK1_NEEDS}") from None
-    except EgoError as exc:
-        raise LinkTimeoutError(f"{name}: {exc}; {EPUCK1_NEEDS}") from None
+    except (OSError, EgoError) as exc:
+        raise LinkTimeoutError(_why(name, "no e-puck1 answers at 0x1F", exc,
+                                    EPUCK1_NEEDS)) from None  # fmt: skip
     info = FirmwareInfo(york.profile, "York's Pi-puck e-puck1 firmware")
     return PipuckChannel(name, bus, york, (LSM330_ACC, LSM330_GYRO), battery, info)

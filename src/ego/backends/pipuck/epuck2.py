@@ -149,7 +149,7 @@ class Epuck2Side:
                 raw = self.bus.transaction(ADDRESS, message, SENSORS_SIZE)
                 self.reply = decode_sensors(raw)
             except ProtocolError as exc:
-                error = exc
+                error = exc if self.name in str(exc) else type(exc)(f"{self.name}: {exc}")
             except OSError as exc:
                 error = LinkTimeoutError(i2c_failure(exc, f"{self.name}: the e-puck2 at 0x1F"))
             else:
@@ -157,7 +157,7 @@ class Epuck2Side:
                     self._sent = replace(packet, sound=0, settings=0)
                 return
             self.retries += 1
-            log.warning("%s: %s (attempt %d of %d)", self.name, error, attempt + 1, ATTEMPTS)
+            log.warning("%s (attempt %d of %d)", error, attempt + 1, ATTEMPTS)
             message = encode_actuators(replace(packet, sound=0, settings=0)
                                        if not packet.settings & Settings.SET_STEP_COUNTERS
                                        else packet)  # fmt: skip
