@@ -8,11 +8,13 @@ Usage (the API is stable)::
     from firmware_sim.pipuck import PipuckEmulator
 
     with PipuckEmulator(robot="epuck2", buses="current", world=None,
-                        virtual_time=False, seed=None) as emu:
+                        virtual_time=False, seed=None,
+                        bus_hz=100_000, paced=False) as emu:
         env = {**os.environ, **emu.environ()}   # LD_PRELOAD, the socket, the sysfs root
         subprocess.run([sys.executable, "my_controller.py"], env=env)
         emu.truth            # PipuckTruth: speeds, steps, LEDs, sounds, packets,
-                             # checksum_errors, last_packet, last_was_stop, ...
+                             # checksum_errors, last_packet, last_was_stop,
+                             # transactions, wire_s (time on the wire at bus_hz), ...
         emu.robot_bus        # 12 (legacy: 4); emu.board_bus: 11 (legacy: 3)
         emu.sysfs_root       # a directory standing for "/": the battery ADC's files
         emu.world            # the firmware_sim World the robot moves in

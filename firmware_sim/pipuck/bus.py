@@ -9,11 +9,16 @@ have reached their targets. The Pi-puck's buses are channels of a PCA9548 mux on
 Pi's bus 1 (yorkrobotlab/pi-puck device-tree/pi-puck.dts:92-161); a mux channel passes
 its parent's functionality and errors through (i2c-mux.c), so every bus here answers as
 the bcm2835 does.
+
+The wire time of a transaction is counted in bit times at the bus's clock: per message
+a start (or repeated start), the address byte and its acknowledge, nine bits a data
+byte; one stop [inferred: no clock stretching or gaps between bytes].
 """
 
 from __future__ import annotations
 
 import errno
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -81,8 +86,13 @@ class Bus:
     bound: frozenset[int] = frozenset()
     #: Addresses that do not acknowledge even though a target is fitted (a fault).
     silent: set[int] = field(default_factory=set)
-    #: Transactions run, and messages that reached a target (ground truth).
+    #: Transactions run (ground truth).
     transactions: int = 0
+    #: The master's SCL rate, and the wire time all transactions took at it (s).
+    clock_hz: int = 100_000
+    wire_s: float = 0.0
+    #: Called with each transaction's wire time once it ends (pacing), or None.
+    on_wire: Callable[[float], None] | None = None
 
     def target(self, addr: int, flags: int) -> Target | None:
         if flags & I2C_M_TEN or addr in self.silent:
@@ -94,11 +104,14 @@ class Bus:
         self.transactions += 1
         touched: list[Target] = []
         replies: list[bytes] = []
+        bits = 1  # the stop
         try:
             for msg in messages:
+                bits += 10  # a (repeated) start, the address byte and its acknowledge
                 target = self.target(msg.addr, msg.flags)
                 if target is None:
                     raise I2cError(errno.EREMOTEIO)
+                bits += 9 * msg.length
                 if target not in touched:
                     touched.append(target)
                 if msg.is_read:
@@ -109,4 +122,10 @@ class Bus:
         finally:
             for target in touched:
                 target.stop()
+            self._wire(bits / self.clock_hz)
         return replies
+
+    def _wire(self, seconds: float) -> None:
+        self.wire_s += seconds
+        if self.on_wire is not None:
+            self.on_wire(seconds)

@@ -49,6 +49,10 @@ def build_parser(prog: str) -> argparse.ArgumentParser:
                         help="e-puck2: the MPU-9250's address (0x68 default, or 0x69)")  # fmt: skip
     parser.add_argument("--battery-v", type=float, default=3.9,
                         help="the e-puck's battery voltage (default 3.9)")  # fmt: skip
+    parser.add_argument("--bus-hz", type=int, default=100_000,
+                        help="the Pi's I2C clock (default 100000)")  # fmt: skip
+    parser.add_argument("--paced", action="store_true",
+                        help="spend each transaction's wire time at --bus-hz")  # fmt: skip
     return parser
 
 
@@ -58,7 +62,8 @@ def main(argv: list[str], prog: str = "python -m firmware_sim pipuck") -> int:
         emulator = PipuckEmulator(args.robot, args.buses, args.world, seed=args.seed,
                                   ground_module=args.ground_module, rev13=args.rev13,
                                   imu_address=args.imu_address,
-                                  battery_v=args.battery_v)  # fmt: skip
+                                  battery_v=args.battery_v, bus_hz=args.bus_hz,
+                                  paced=args.paced)  # fmt: skip
     except (ValueError, OSError, ShimBuildError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -40,7 +40,9 @@ class PipuckEmulator:
     "legacy": 4 and 3), in ``world`` (a World, a built-in world's name or a world file;
     default: a fresh arena). ``virtual_time``: the world's clock moves only by
     :meth:`advance`. ``ground_module``, ``rev13`` (an e-puck1's LSM330), ``imu_address``
-    (0x68 or 0x69), ``battery_v`` and ``aux_battery_v`` say what is fitted.
+    (0x68 or 0x69), ``battery_v`` and ``aux_battery_v`` say what is fitted. ``bus_hz``
+    is the Pi's I2C clock: each transaction's wire time at it is counted
+    (``truth.wire_s``) and, with ``paced``, spent in real time.
     The socket's thread is started here and stopped and joined by :meth:`close`.
     """
 
@@ -57,7 +59,11 @@ class PipuckEmulator:
         imu_address: int = 0x68,
         battery_v: float = 3.9,
         aux_battery_v: float = 0.0,
+        bus_hz: int = 100_000,
+        paced: bool = False,
     ) -> None:
+        if not 1_000 <= bus_hz <= 3_400_000:
+            raise ValueError(f"an I2C clock of {bus_hz} Hz is outside 1 kHz..3.4 MHz")
         if imu_address not in (0x68, 0x69):
             raise ValueError(f"the MPU-9250 answers at 0x68 or 0x69, not {imu_address:#x}")
         if isinstance(world, str):
@@ -69,7 +75,8 @@ class PipuckEmulator:
         if virtual_time:
             self.clock = VirtualClock()
             self.world.use_clock(self.clock)
-        options = Options(ground_module=ground_module, rev13=rev13, imu_address=imu_address)
+        options = Options(ground_module=ground_module, rev13=rev13, imu_address=imu_address,
+                          bus_hz=bus_hz, paced=paced)  # fmt: skip
         self.machine = PipuckMachine(robot, buses, self.world, seed, options)
         self.shim = build_shim()
         self._dir = Path(tempfile.mkdtemp(prefix="ego-pipuck-"))

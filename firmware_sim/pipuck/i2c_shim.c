@@ -9,6 +9,10 @@
  * bus (every check and error code is the emulator's, in Python). Everything else goes
  * to libc untouched.
  *
+ * dup, dup2, dup3 and fcntl's F_DUPFD(_CLOEXEC) carry the mark to the new descriptor
+ * (it shares the connection, as a duplicate shares i2c-dev's open file); fopen, whose
+ * open is inside libc, is not covered.
+ *
  * Framing, both ways: a little-endian u32 length, then that many bytes. A request
  * starts with an op byte; a reply starts with an i32 result (>= 0, or -errno).
  *   OPEN   'O' u32 bus, i32 flags            -> i32
@@ -71,6 +75,11 @@ static int (*real_open64)(const char *, int, ...);
 static int (*real_openat)(int, const char *, int, ...);
 static int (*real_openat64)(int, const char *, int, ...);
 static int (*real_close)(int);
+static int (*real_dup)(int);
+static int (*real_dup2)(int, int);
+static int (*real_dup3)(int, int, int);
+static int (*real_fcntl)(int, int, ...);
+static int (*real_fcntl64)(int, int, ...);
 static int (*real_ioctl)(int, unsigned long, ...);
 static ssize_t (*real_read)(int, void *, size_t);
 static ssize_t (*real_write)(int, const void *, size_t);
@@ -88,6 +97,12 @@ static void resolve(void) {
     real_ioctl = dlsym(RTLD_NEXT, "ioctl");
     real_read = dlsym(RTLD_NEXT, "read");
     real_write = dlsym(RTLD_NEXT, "write");
+    real_dup = dlsym(RTLD_NEXT, "dup");
+    real_dup2 = dlsym(RTLD_NEXT, "dup2");
+    real_dup3 = dlsym(RTLD_NEXT, "dup3");
+    real_fcntl = dlsym(RTLD_NEXT, "fcntl");
+    real_fcntl64 = dlsym(RTLD_NEXT, "fcntl64");
+    if (!real_fcntl64) real_fcntl64 = real_fcntl;
     real_close = dlsym(RTLD_NEXT, "close");
 }
 
@@ -269,6 +284,47 @@ int close(int fd) {
     }
     return real_close(fd);
 }
+
+/* A duplicate shares the open file (the connection), as it shares i2c-dev's client;
+ * a descriptor a dup2 replaces is no longer ours. */
+static int mark_dup(int oldfd, int newfd) {
+    if (newfd >= 0 && newfd < MAX_FDS) {
+        pthread_mutex_lock(&lock);
+        emulated[newfd] = is_emulated(oldfd);
+        pthread_mutex_unlock(&lock);
+    }
+    return newfd;
+}
+
+int dup(int oldfd) {
+    resolve();
+    return mark_dup(oldfd, real_dup(oldfd));
+}
+
+int dup2(int oldfd, int newfd) {
+    resolve();
+    int res = real_dup2(oldfd, newfd);
+    return res < 0 || oldfd == newfd ? res : mark_dup(oldfd, res);
+}
+
+int dup3(int oldfd, int newfd, int flags) {
+    resolve();
+    return mark_dup(oldfd, real_dup3(oldfd, newfd, flags));
+}
+
+/* fcntl's third argument is an int or a pointer: passed on as a pointer-sized word. */
+#define FCNTL_BODY(real)                                                   \
+    va_list ap;                                                            \
+    va_start(ap, cmd);                                                     \
+    void *arg = va_arg(ap, void *);                                        \
+    va_end(ap);                                                            \
+    resolve();                                                             \
+    int res = real(fd, cmd, arg);                                          \
+    if ((cmd == F_DUPFD || cmd == F_DUPFD_CLOEXEC) && res >= 0) mark_dup(fd, res); \
+    return res
+
+int fcntl(int fd, int cmd, ...) { FCNTL_BODY(real_fcntl); }
+int fcntl64(int fd, int cmd, ...) { FCNTL_BODY(real_fcntl64); }
 
 static long do_funcs(int fd, unsigned long arg) {
     uint8_t req[1] = {'F'};

@@ -9,6 +9,7 @@ under one lock, held for a whole transaction, as the physical bus is.
 from __future__ import annotations
 
 import threading
+import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -51,6 +52,10 @@ class Options:
     ground_module: bool = True
     rev13: bool = True
     imu_address: int = 0x68
+    #: The Pi's I2C clock (dtparam i2c_arm_baudrate; 100 kHz by default), and whether a
+    #: transaction takes its wire time in real time (the socket's thread sleeps).
+    bus_hz: int = 100_000
+    paced: bool = False
 
 
 class PipuckMachine:
@@ -111,6 +116,9 @@ class PipuckMachine:
         board.targets.update({FT903_ADDRESS: Ft903(), ADC_ADDRESS: RegisterTarget()})
         board.bound = frozenset({ADC_ADDRESS})
         buses[self.robot_bus].targets.update(self.devices)
+        for bus in buses.values():
+            bus.clock_hz = self.options.bus_hz
+            bus.on_wire = time.sleep if self.options.paced else None
         return buses
 
     def lookup(self, number: int) -> Bus | None:

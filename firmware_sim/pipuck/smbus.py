@@ -10,6 +10,7 @@ second, read message in the same transaction. Words go low byte first. PEC (when
 from __future__ import annotations
 
 import errno
+from dataclasses import dataclass
 
 from firmware_sim.pipuck.bus import I2C_M_RD, I2C_M_TEN, Bus, I2cError, Message
 
@@ -38,6 +39,58 @@ def _block(data: bytes) -> bytearray:
     return bytearray(data[:34].ljust(34, b"\0"))
 
 
+@dataclass(slots=True)
+class _Plan:
+    """What i2c_smbus_xfer_emulated sends: the write message's bytes, how many bytes the
+    read message asks, how many messages, the direction after PROC_CALL's turn."""
+
+    buf0: bytearray
+    read_len: int = 0
+    nmsgs: int = 1
+    read_write: int = WRITE
+    recv_len: bool = False
+
+
+def _plan(read_write: int, command: int, size: int, block: bytearray) -> _Plan:
+    plan = _Plan(bytearray([command]), nmsgs=2 if read_write == READ else 1,
+                 read_write=read_write)  # fmt: skip
+    reading = read_write == READ
+    if size == BYTE and reading:
+        plan.nmsgs, plan.buf0, plan.read_len = 1, bytearray(), 1
+    elif size == BYTE_DATA:
+        if reading:
+            plan.read_len = 1
+        else:
+            plan.buf0.append(block[0])
+    elif size == WORD_DATA:
+        if reading:
+            plan.read_len = 2
+        else:
+            plan.buf0 += block[0:2]
+    elif size == PROC_CALL:
+        plan.nmsgs, plan.read_write, plan.read_len = 2, READ, 2
+        plan.buf0 += block[0:2]
+    elif size in (BLOCK_DATA, BLOCK_PROC_CALL):
+        if size == BLOCK_PROC_CALL:
+            plan.nmsgs, plan.read_write = 2, READ
+        if plan.read_write == READ:
+            plan.read_len, plan.recv_len = 1, True
+        if size == BLOCK_PROC_CALL or not reading:
+            if block[0] > BLOCK_MAX:
+                raise I2cError(errno.EINVAL)
+            plan.buf0 += block[0 : block[0] + 1]
+    elif size == I2C_BLOCK_DATA:
+        if block[0] > BLOCK_MAX:
+            raise I2cError(errno.EINVAL)
+        if reading:
+            plan.read_len = block[0]
+        else:
+            plan.buf0 += block[1 : block[0] + 1]
+    elif size != BYTE:
+        raise I2cError(errno.EOPNOTSUPP)
+    return plan
+
+
 def smbus_xfer(
     bus: Bus, addr: int, flags: int, read_write: int, command: int, size: int, data: bytes
 ) -> bytes:
@@ -46,67 +99,30 @@ def smbus_xfer(
     flags &= I2C_M_TEN | CLIENT_PEC
     msg_flags = flags & I2C_M_TEN
     block = _block(data)
-    buf0 = bytearray([command])
-    read_len = 0
-    recv_len = False
-    nmsgs = 2 if read_write == READ else 1
     if size == QUICK:
         return _quick(bus, addr, msg_flags, read_write, block)
-    if size == BYTE:
-        if read_write == READ:
-            nmsgs, buf0, read_len = 1, bytearray(), 1
-    elif size == BYTE_DATA:
-        if read_write == READ:
-            read_len = 1
-        else:
-            buf0.append(block[0])
-    elif size == WORD_DATA:
-        if read_write == READ:
-            read_len = 2
-        else:
-            buf0 += block[0:2]
-    elif size == PROC_CALL:
-        nmsgs, read_write, read_len = 2, READ, 2
-        buf0 += block[0:2]
-    elif size in (BLOCK_DATA, BLOCK_PROC_CALL):
-        if size == BLOCK_PROC_CALL:
-            nmsgs, read_write = 2, READ
-        if read_write == READ:
-            read_len, recv_len = 1, True
-        if size == BLOCK_PROC_CALL or read_write == WRITE:
-            if block[0] > BLOCK_MAX:
-                raise I2cError(errno.EINVAL)
-            buf0 += block[0 : block[0] + 1]
-    elif size == I2C_BLOCK_DATA:
-        if block[0] > BLOCK_MAX:
-            raise I2cError(errno.EINVAL)
-        if read_write == READ:
-            read_len = block[0]
-        else:
-            buf0 += block[1 : block[0] + 1]
-    else:
-        raise I2cError(errno.EOPNOTSUPP)
+    plan = _plan(read_write, command, size, block)
     pec = bool(flags & CLIENT_PEC) and size != I2C_BLOCK_DATA
-    if pec and read_write == WRITE:
-        buf0.append(_crc8(bytes([addr << 1]) + bytes(buf0)))
+    if pec and plan.read_write == WRITE:
+        plan.buf0.append(_crc8(bytes([addr << 1]) + bytes(plan.buf0)))
     elif pec:
-        read_len += 1  # the target's PEC byte
+        plan.read_len += 1  # the target's PEC byte
     messages = []
-    if nmsgs == 2 or read_write == WRITE:
-        messages.append(Message(addr, msg_flags, len(buf0), bytes(buf0)))
-    if read_write == READ:
+    if plan.nmsgs == 2 or plan.read_write == WRITE:
+        messages.append(Message(addr, msg_flags, len(plan.buf0), bytes(plan.buf0)))
+    if plan.read_write == READ:
         # i2c-bcm2835 ignores I2C_M_RECV_LEN: a block read gets its count byte only.
-        messages.append(Message(addr, msg_flags | I2C_M_RD, read_len))
+        messages.append(Message(addr, msg_flags | I2C_M_RD, plan.read_len))
     replies = bus.transfer(messages)
-    if read_write == WRITE:
+    if plan.read_write == WRITE:
         return bytes(block)
     got = replies[-1]
     if pec:
-        head = bytes([addr << 1]) + bytes(buf0) if nmsgs == 2 else b""
+        head = bytes([addr << 1]) + bytes(plan.buf0) if plan.nmsgs == 2 else b""
         if _crc8(head + bytes([addr << 1 | 1]) + got[:-1]) != got[-1]:
             raise I2cError(errno.EBADMSG)
         got = got[:-1]
-    return _unpack(size, block, got, recv_len)
+    return _unpack(size, block, got, plan.recv_len)
 
 
 def _quick(bus: Bus, addr: int, msg_flags: int, read_write: int, block: bytearray) -> bytes:

@@ -25,7 +25,9 @@ class PipuckTruth:
     ``checksum_errors``: packets dropped for a wrong XOR. ``last_packet``: the last
     20-byte packet (e-puck2). ``last_was_stop``: the last packet was a valid stop (speeds
     0, every LED off, no sound), or on the e-puck1 the speed and LED registers are 0.
-    ``transactions``: I2C transactions on the robot's bus.
+    ``transactions``: I2C transactions on the robot's bus; ``wire_s``: the time they
+    took on the wire at the bus's clock (start, address and acknowledge, nine bits a
+    byte, stop).
     """
 
     robot: str
@@ -42,12 +44,14 @@ class PipuckTruth:
     last_was_stop: bool
     ir_enabled: bool
     transactions: int
+    wire_s: float
 
 
 def truth_of(machine: PipuckMachine) -> PipuckTruth:
     """The snapshot now (the caller holds the machine's lock)."""
     world = machine.world
-    transactions = machine.buses[machine.robot_bus].transactions
+    bus = machine.buses[machine.robot_bus]
+    transactions, wire_s = bus.transactions, bus.wire_s
     mcu = machine.mcu
     if isinstance(mcu, GumstixMcu):
         record, leds = mcu.record, mcu.robot.leds
@@ -58,7 +62,7 @@ def truth_of(machine: PipuckMachine) -> PipuckTruth:
             tuple(record.sounds), record.packets, record.checksum_errors,
             record.raw[-1] if record.raw else None,
             record.last is not None and record.last.is_stop,
-            True, transactions,
+            True, transactions, wire_s,
         )  # fmt: skip
     assert isinstance(mcu, YorkEpuck1)
     mcu.main_loop()
@@ -67,5 +71,5 @@ def truth_of(machine: PipuckMachine) -> PipuckTruth:
     return PipuckTruth(
         "epuck", world.speeds, (mcu.regs[4], mcu.regs[5]),
         tuple(bool(v) for v in lit[:8]), (), bool(lit[8]), bool(lit[9]), (),
-        len(mcu.writes), 0, None, stopped, mcu.ir_enabled, transactions,
+        mcu.write_count, 0, None, stopped, mcu.ir_enabled, transactions, wire_s,
     )  # fmt: skip

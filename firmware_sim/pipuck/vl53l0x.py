@@ -14,7 +14,8 @@ e-puck2 model's ray from the sensor to the first face (firmware_sim.epuck2.senso
 
 [inferred, the sources being ST's closed register map]: a measurement completes at
 once: after a start (single shot) or an interrupt clear (back-to-back) the status reads
-0x04 ("new sample ready") and SYSRANGE_START's bit 0 reads 0 again; the range status
+0x04 ("new sample ready") and SYSRANGE_START's bit 0 reads 0 again; the range is taken
+when the result is first read (the freshest a real 33 ms measurement could be); the range status
 byte reads 0x58 (device status 11, range valid) or 0x20 (status 4, no target) with a
 signal rate of 0x0280; 0x83 never reads 0 on any page (the NVM handshake a driver waits on), and
 every other register reads back what was written (the ST API's reference SPAD and NVM
@@ -48,6 +49,7 @@ class Vl53l0x(RegisterTarget):
         self.tof = tof
         self._pages: dict[int, bytearray] = {}
         self._ready = False
+        self._due = False  # a measurement started and not yet looked at
         self._result = bytes(12)
 
     def _page(self) -> bytearray:
@@ -55,10 +57,15 @@ class Vl53l0x(RegisterTarget):
         return self.regs if page == 0 else self._pages.setdefault(page, bytearray(256))
 
     def _measure(self) -> None:
-        mm = self.tof.measure_mm()
-        status = NO_TARGET if mm >= self.tof.OUT_OF_RANGE_MM else VALID
-        self._result = struct.pack(">B5xH2xH", status, SIGNAL_RATE, mm)
-        self._ready = True
+        """Start a measurement: it is ready at once and ranges when first read."""
+        self._ready = self._due = True
+
+    def snapshot(self) -> None:
+        if self._due:
+            self._due = False
+            mm = self.tof.measure_mm()
+            status = NO_TARGET if mm >= self.tof.OUT_OF_RANGE_MM else VALID
+            self._result = struct.pack(">B5xH2xH", status, SIGNAL_RATE, mm)
 
     def put(self, register: int, value: int) -> None:
         if register == PAGE:

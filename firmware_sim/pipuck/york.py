@@ -72,8 +72,10 @@ class YorkEpuck1:
         self._ir_control = 0
         self._reflected = [0] * 8
         self._ambient_adc = [0] * 8
-        #: Register writes received (ground truth): (register, low, high or None).
+        #: Register writes received (ground truth): (register, low, high or None), the
+        #: last 10,000, and how many in all.
         self.writes: deque[tuple[int, int, int | None]] = deque(maxlen=10_000)
+        self.write_count = 0
         self.main_loop()
 
     # -- i2c_slave.c ----------------------------------------------------------------
@@ -89,6 +91,7 @@ class YorkEpuck1:
             self.regs[self.pointer] = data[1] | data[2] << 8
         if len(data) >= 2:
             self.writes.append((self.pointer, data[1], data[2] if len(data) >= 3 else None))
+            self.write_count += 1
             self.main_loop()
 
     def read(self, count: int) -> bytes:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import select
 import subprocess
 import sys
 from pathlib import Path
@@ -15,6 +16,8 @@ from firmware_sim.world import World
 __all__ = ["Client", "quiet_world"]
 
 CLIENT = Path(__file__).with_name("pipuck_client.py")
+#: A guard against a hung child, not a timing assumption: an answer takes milliseconds.
+HANG_S = 120.0
 
 
 class Client:
@@ -27,21 +30,27 @@ class Client:
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
-            text=True,
+            bufsize=0,
         )
+        self._pending = b""
         assert self._answer() == "ready"
 
     def _answer(self) -> Any:
         assert self.proc.stdout is not None
-        line = self.proc.stdout.readline()
-        if not line:
-            raise AssertionError(f"the client died: {self.close()}")
+        fd = self.proc.stdout.fileno()
+        while b"\n" not in self._pending:
+            ready, _, _ = select.select([fd], [], [], HANG_S)
+            chunk = os.read(fd, 65536) if ready else b""
+            if not chunk:
+                self.proc.kill()
+                raise AssertionError(f"the client died or hung: {self.close()}")
+            self._pending += chunk
+        line, _, self._pending = self._pending.partition(b"\n")
         return json.loads(line)
 
     def __call__(self, expression: str) -> Any:
         assert self.proc.stdin is not None and "\n" not in expression
-        self.proc.stdin.write(expression + "\n")
-        self.proc.stdin.flush()
+        self.proc.stdin.write(expression.encode() + b"\n")
         return self._answer()
 
     def close(self) -> str:
@@ -49,11 +58,11 @@ class Client:
         if self.proc.returncode is not None:
             return ""
         try:
-            _, err = self.proc.communicate(timeout=30)
+            _, err = self.proc.communicate(timeout=HANG_S)
         except subprocess.TimeoutExpired:
             self.proc.kill()
             _, err = self.proc.communicate()
-        return err
+        return err.decode(errors="replace")
 
 
 def quiet_world() -> World:

@@ -5,7 +5,11 @@ gumstix, src/gumstix.c; firmware_sim/pipuck/PROTOCOL_NOTES.md)."""
 from __future__ import annotations
 
 import struct
+import time
 
+from pipuck_harness import quiet_world
+
+from firmware_sim.pipuck import PipuckEmulator
 from firmware_sim.world import Block, Pose
 
 
@@ -139,3 +143,20 @@ def test_proximity_and_the_world_agree(epuck2, client_of):
     # Settings bit 0 calibrates: what the sensors see now becomes their zero.
     client("exchange(12, packet(settings=1))")
     assert max(decode(client("exchange(12, packet())"))["prox"]) == 0
+
+
+def test_the_wire_time_of_a_step_at_100_and_400_khz(client_of):
+    # Per message a start, the address and its acknowledge (10 bits), 9 bits a byte;
+    # one stop: 10 + 180 + 10 + 423 + 1 = 624 bit times.
+    for hz, expected in ((100_000, 6.24e-3), (400_000, 1.56e-3)):
+        with PipuckEmulator("epuck2", world=quiet_world(), virtual_time=True, bus_hz=hz) as emu:
+            client_of(emu)("exchange(12, packet())")
+            assert abs(emu.truth.wire_s - expected) < 1e-9
+
+
+def test_a_paced_bus_spends_the_wire_time(client_of):
+    with PipuckEmulator("epuck2", world=quiet_world(), bus_hz=1_000, paced=True) as emu:
+        client = client_of(emu)
+        start = time.monotonic()
+        client("exchange(12, packet())")
+        assert time.monotonic() - start >= 0.624  # a lower bound: sleeps never end early

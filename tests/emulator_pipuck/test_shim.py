@@ -97,3 +97,48 @@ def test_without_the_socket_variable_the_real_kernel_answers(epuck2) -> None:
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                          text=True, check=True, timeout=60)  # fmt: skip
     assert out.stdout.strip() == "2"  # ENOENT from this machine, which has no I2C
+
+
+def test_a_duplicate_descriptor_is_the_same_open_node(epuck2, client_of, tmp_path) -> None:
+    client = client_of(epuck2)
+    funcs = list((0x0EFF0009).to_bytes(8, "little"))
+    assert client("fcntl.ioctl(os.dup(bus(12).fd), 0x0705, bytes(8))") == funcs
+    # dup2 over an emulated descriptor makes it a plain file again.
+    path = tmp_path / "plain"
+    path.write_bytes(b"x")
+    plain = f"os.open({str(path)!r}, os.O_RDONLY)"
+    assert client(f"os.read(os.dup2({plain}, os.dup(bus(12).fd)), 1)") == [ord("x")]
+
+
+C_CLIENT = r"""
+#include <fcntl.h>
+#include <linux/i2c-dev.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+int main(int argc, char **argv) {
+    int flags = atoi(argv[1]); /* not a constant: a fortified build calls __open_2 */
+    int fd = open("/dev/i2c-12", flags);
+    if (fd < 0) { perror("open"); return 1; }
+    if (ioctl(fd, I2C_SLAVE, 0x68) < 0) { perror("ioctl"); return 2; }
+    unsigned char reg = 0x75, id = 0;
+    if (write(fd, &reg, 1) != 1 || read(fd, &id, 1) != 1) { perror("rw"); return 3; }
+    printf("%02x\n", id);
+    return close(fd);
+}
+"""
+
+
+def test_c_code_on_i2c_dev_runs_unmodified(epuck2, tmp_path) -> None:
+    # GCtronic's C demos (e-puck1_imu.c) use open, ioctl(I2C_SLAVE), write and read.
+    source = tmp_path / "client.c"
+    source.write_text(C_CLIENT)
+    binary = tmp_path / "client"
+    subprocess.run(["gcc", "-O2", "-D_FORTIFY_SOURCE=2", "-o", str(binary), str(source)],
+                   check=True, timeout=120)  # fmt: skip
+    env = {**os.environ, **epuck2.environ()}
+    out = subprocess.run([str(binary), str(os.O_RDWR)], env=env, capture_output=True,
+                         text=True, timeout=60)  # fmt: skip
+    assert (out.returncode, out.stdout.strip()) == (0, "71"), out.stderr
