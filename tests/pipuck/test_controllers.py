@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import json
 import math
+import subprocess
 from collections.abc import Callable
 from pathlib import Path
 
-from helpers import wait_until
+import pytest
+from helpers import ego_command, wait_until
 from pipuck_support import CONTROLLERS, EXAMPLES, Runner
 
 from firmware_sim.pipuck import PipuckEmulator
@@ -96,3 +98,13 @@ def test_a_device_the_path_cannot_serve_is_refused_naming_the_one_that_can(
         "    robot.close()\n"
     )
     assert seen["error"] == "UnsupportedDeviceError" and "york" in seen["message"]
+
+
+@pytest.mark.parametrize("robot", ["epuck2", "epuck"])
+def test_ego_demo_runs_on_an_emulated_pipuck(robot: str) -> None:
+    done = subprocess.run([*ego_command(), "demo", "--pipuck", "--robot", robot,
+                           "--duration", "2", "--no-dashboard"],
+                          capture_output=True, text=True, timeout=120)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert f"emulated {robot} on a Pi-puck" in done.stdout
+    assert "motors stopped" in done.stdout

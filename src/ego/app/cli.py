@@ -75,6 +75,10 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
     dashboard = None if args.no_dashboard else (args.dashboard or DEFAULT_DASHBOARD)
+    if args.pipuck:
+        from ego.app.demo import run_pipuck_demo
+
+        return run_pipuck_demo(args.duration, args.robot, args.seed, args.world, dashboard)
     run_demo(args.duration, args.firmware, args.seed, world=args.world, dashboard=dashboard,
              record=args.record, robot=args.robot)  # fmt: skip
     return 0
@@ -310,6 +314,9 @@ def _add_demo(sub: Any) -> None:
     add_dashboard_options(demo, "the live dashboard, on unless --no-dashboard", secret=False,
                           off_loopback="loopback only: the demo takes no secret")  # fmt: skip
     demo.add_argument("--no-dashboard", action="store_true", help="no dashboard")
+    demo.add_argument("--pipuck", action="store_true",
+                      help="the robot on an emulated Pi-puck, driven over its I2C bus "
+                      "(ego run --port pipuck in a child process)")  # fmt: skip
     demo.add_argument("--record", default=None, metavar="FILE.mcap", help="record the run")
     demo.set_defaults(func=_cmd_demo)
 
