@@ -108,3 +108,24 @@ def test_ego_demo_runs_on_an_emulated_pipuck(robot: str) -> None:
     assert done.returncode == 0, done.stderr
     assert f"emulated {robot} on a Pi-puck" in done.stdout
     assert "motors stopped" in done.stdout
+
+
+def test_a_pipuck_run_is_recorded_and_replayed_like_any_other(
+    pipuck: Callable[..., PipuckEmulator], runner: Callable[[PipuckEmulator], Runner],
+    tmp_path: Path,
+) -> None:  # fmt: skip
+    emu = pipuck()
+    run = runner(emu)
+    first, second = tmp_path / "first.json", tmp_path / "second.json"
+    controller = str(CONTROLLERS / "epuck2_published.py")
+    done = run.ego("run", "--port", "pipuck", "--duration", "1", "--record", "run.mcap",
+                   controller, str(first))  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    replayed = subprocess.run(
+        [*ego_command(), "replay", "--emulate", "--speed", "4", str(tmp_path / "run.mcap"),
+         controller, str(second)],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )  # fmt: skip
+    assert replayed.returncode == 0, replayed.stderr
+    recorded, again = json.loads(first.read_text()), json.loads(second.read_text())
+    assert again["tof"] == recorded["tof"] and again["ground"] == recorded["ground"]
