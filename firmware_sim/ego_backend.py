@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import os
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -300,16 +301,16 @@ class SimBackend:
         robot: str | None, seed: int | None, world: str | None
     ) -> Iterator[dict[str, str]]:
         """An emulated Pi-puck carrying ``robot`` ("epuck2" by default, or "epuck") for as
-        long as the context lasts, and the variables a process needs to reach it as
-        ``ego run --port pipuck`` would a real one (the shim, its socket, ``EGO_SYSFS``):
-        ``ego demo --pipuck``. A Pi-puck's I2C is reached only through a process started
-        with them, never from this one."""
+        long as the context lasts, and the environment of a child process that reaches it
+        as ``ego run --port pipuck`` would a real one (this process's, with the shim, its
+        socket and ``EGO_SYSFS``): ``ego demo --pipuck``. A Pi-puck's I2C is reached only
+        through a process started with it, never from this one."""
         from firmware_sim.pipuck import PipuckEmulator
 
         spec = load_world(world, seed) if world else None
         with PipuckEmulator(robot or "epuck2", "current", spec, seed=seed) as emulator:
             sysfs = str(emulator.sysfs_root / "sys")
-            yield {**emulator.environ(), "EGO_SYSFS": sysfs}
+            yield {**os.environ, **emulator.environ(), "EGO_SYSFS": sysfs}
 
 
 def given_world(given: SimOptions) -> World | None:

@@ -154,7 +154,6 @@ def run_pipuck_demo(
     """The same controller on an emulated Pi-puck (``robot`` "epuck2" by default, or
     "epuck"): a child ``ego run --port pipuck`` whose environment reaches the emulator's
     I2C buses through its shim, as a real Pi's ``/dev/i2c-N``; its exit status."""
-    import os
     import subprocess
 
     from ego.backends import find_backend
@@ -172,7 +171,7 @@ def run_pipuck_demo(
     with resources.as_file(controller) as path, backend.pipuck_environment(
         robot, seed, world
     ) as environment:
-        status = subprocess.call([*command, str(path)], env={**os.environ, **environment})
+        status = subprocess.call([*command, str(path)], env=environment)
     if status == 0:
         out.write("summary: the controller ran its time on the Pi-puck; motors stopped, "
                   "LEDs off\n")  # fmt: skip
