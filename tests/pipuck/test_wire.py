@@ -236,3 +236,21 @@ def test_the_battery_is_read_from_the_boards_adc(
         "robot.close()\n"
     ))  # fmt: skip
     assert seen == {"battery": 1850}
+
+
+def test_yorks_step_counters_are_set_as_an_offset_over_its_read_only_registers(
+    pipuck: Callable[..., PipuckEmulator], runner: Callable[[PipuckEmulator], Runner]
+) -> None:
+    """Registers 4 and 5 are read-only (main.c:80-81); ego's encoders still set them back
+    after a garbled reading (``P``), so the York path keeps the offset itself."""
+    emu = pipuck("epuck")
+    seen = runner(emu).script(OPEN + (
+        "robot.encoders.enable(32)\n"
+        "robot.step(32)\n"
+        "robot.encoders.set(1000, -5)\n"
+        "robot.step(32)\n"
+        "print(json.dumps({'values': list(robot.encoders.values),\n"
+        "                  'firmware': str(robot.channel.info.firmware)}))\n"
+        "robot.close()\n"
+    ))  # fmt: skip
+    assert seen == {"values": [1000, -5], "firmware": "york"}

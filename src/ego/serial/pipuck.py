@@ -73,7 +73,8 @@ EPUCK2_I2C_PROFILE: Final[Profile] = EPUCK2_USB.but(
 #: An e-puck1 with York's firmware through a Pi-puck.
 YORK_PROFILE: Final[Profile] = Profile(
     Firmware.YORK,
-    MappingProxyType({**_MOTION, **_BESIDE}),
+    # SET_STEPS: registers 4 and 5 are read-only; ego keeps the offset (york_side.py).
+    MappingProxyType({**_MOTION, Command.SET_STEPS: _USB[Command.SET_STEPS], **_BESIDE}),
     tuple(range(10)),  # 0..7 the ring (register 0), 8 body, 9 front (register 1)
     "York's e-puck1 firmware through a Pi-puck, I2C registers",
     line_baud=100_000 * 10 // I2C_BITS_PER_BYTE,

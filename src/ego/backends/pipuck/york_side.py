@@ -4,7 +4,9 @@ and the registers a step's getters need read back, one SMBus word each.
 No checksum protects these transfers; a failed transfer is retried (:data:`ATTEMPTS` in
 all), then raised as a typed error; implausible values are the families' to refuse.
 The IR sensors measure only once register 6's bit 0 is set (``main.c:40, 83-94``): ego
-sets it when proximity or ambient light is first asked.
+sets it when proximity or ambient light is first asked. The step counters (registers 4
+and 5) are read-only, so setting them (``P``, which ego's encoders send to set counters
+back after a garbled reading) is an offset ego adds to what the firmware counts.
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ class YorkSide:
         self.state = york.YorkState()
         self._sent: york.YorkState | None = None
         self._values: dict[Command, tuple[int, ...]] = {}
+        self._offset = (0, 0)  # what SET_STEPS set, over the firmware's own counts
         self.retries = 0
 
     def fold(self, request: Request) -> None:
@@ -50,6 +53,12 @@ class YorkSide:
             self.state = self.state.with_speeds(args[0], args[1])
         elif command is Command.SET_LED:
             self.state = self.state.with_led(args[0], args[1])
+        elif command is Command.SET_STEPS:
+            # Registers 4 and 5 are read-only (main.c:80-81 rewrites them every loop): the
+            # counters are set here, as an offset to what the firmware counts [ego's way].
+            raw = self._words((york.STEPS_LEFT, york.STEPS_RIGHT))
+            self._offset = (york.signed((args[0] - raw[0]) & 0xFFFF),
+                            york.signed((args[1] - raw[1]) & 0xFFFF))  # fmt: skip
         else:
             raise UnsupportedDeviceError(
                 f"{self.name}: York's register map has no {command.name.lower()}"
@@ -91,7 +100,9 @@ class YorkSide:
                 values[command] = tuple(york.signed(w) for w in self._words(york.AMBIENT))
             elif command is Command.GET_STEPS:
                 words = self._words((york.STEPS_LEFT, york.STEPS_RIGHT))
-                values[command] = tuple(york.signed(w) for w in words)  # u16: as int16
+                values[command] = tuple(  # u16: as int16, as the serial Q answers
+                    york.signed((w + o) & 0xFFFF) for w, o in zip(words, self._offset, strict=True)
+                )
             elif command is Command.GET_SPEED:
                 words = self._words((york.SPEED_LEFT, york.SPEED_RIGHT))
                 values[command] = tuple(york.signed(w) for w in words)
