@@ -52,6 +52,11 @@ class Proximity:
     def calibrated(self) -> list[int]:
         return self._sample()[0]
 
+    def sample(self) -> tuple[list[int], list[int]]:
+        """Calibrated proximity and ambient light from one sampling of the world."""
+        calibrated, ambient = self._sample()
+        return list(calibrated), list(ambient)
+
     def ambient(self) -> list[int]:
         return self._sample()[1]
 

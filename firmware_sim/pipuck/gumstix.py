@@ -154,8 +154,8 @@ class GumstixMcu:
         self._work = bytes(self._rx)
         self._processed = True
         robot = self.robot
-        words = [*robot.proximity.calibrated(), *robot.proximity.ambient(),
-                 *robot.microphones.volumes()]  # fmt: skip
+        prox, ambient = robot.proximity.sample()
+        words = [*prox, *ambient, *robot.microphones.volumes()]
         tx = bytearray(struct.pack("<20H", *(w & 0xFFFF for w in words)))
         tx.append((robot.selector & 0x0F) | (0x10 if robot.button else 0))
         left, right = robot.steps()

@@ -1,6 +1,8 @@
 /*
  * i2c_shim.c: /dev/i2c-N nodes for a process tree, answered by firmware_sim's Pi-puck
- * emulator over a Unix socket. Loaded with LD_PRELOAD; written for this project.
+ * emulator over a Unix socket. Loaded with LD_PRELOAD; written for this project. This
+ * file: the descriptors, the framing, open/close/dup/fcntl, read and write (ioctl is in
+ * i2c_shim_ioctl.c, stat and access in i2c_shim_stat.c).
  *
  * When FIRMWARE_SIM_I2C_SOCKET names a socket, opening "/dev/i2c-<N>" connects to it
  * and asks the emulator for bus N; the connected socket *is* the file descriptor the
@@ -11,7 +13,9 @@
  *
  * dup, dup2, dup3 and fcntl's F_DUPFD(_CLOEXEC) carry the mark to the new descriptor
  * (it shares the connection, as a duplicate shares i2c-dev's open file); fopen, whose
- * open is inside libc, is not covered.
+ * open is inside libc, is not covered. stat, lstat, fstat, fstatat (and their 64 forms,
+ * the symbols of glibc 2.33 and later), access and faccessat see a node the emulator has
+ * as a character device (major 89, mode 0660), and no node where it has none.
  *
  * Framing, both ways: a little-endian u32 length, then that many bytes. A request
  * starts with an op byte; a reply starts with an i32 result (>= 0, or -errno).
@@ -24,77 +28,45 @@
  *                                            -> i32, u8 n, n bytes (copied back)
  *   READ   'r' u32 count                     -> i32, that many bytes
  *   WRITE  'w' bytes                         -> i32
+ *   EXISTS 'E' u32 bus (no OPEN needed)      -> i32 (0, -EACCES: there but refused, -ENOENT)
  * A user pointer the caller got wrong crashes here where the kernel would say EFAULT.
  */
-#define _GNU_SOURCE
+#include "i2c_shim.h"
+
 #include <dlfcn.h>
-#include <errno.h>
 #include <fcntl.h>
 #include <pthread.h>
 #include <stdarg.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
-#include <sys/types.h>
 #include <sys/un.h>
 #include <unistd.h>
 
-#define SOCKET_ENV "FIRMWARE_SIM_I2C_SOCKET"
-#define MAX_FDS 4096
-#define I2C_SLAVE 0x0703
-#define I2C_FUNCS 0x0705
-#define I2C_RDWR 0x0707
-#define I2C_SMBUS 0x0720
-#define I2C_M_RD 0x0001
-#define RDWR_MAX_MSGS 42 /* I2C_RDWR_IOCTL_MAX_MSGS */
-#define SMBUS_BLOCK 34   /* sizeof(union i2c_smbus_data) */
-#define MAX_FRAME (1u << 20)
-
-struct shim_i2c_msg {
-    uint16_t addr;
-    uint16_t flags;
-    uint16_t len;
-    uint8_t *buf;
-};
-
-struct shim_rdwr {
-    struct shim_i2c_msg *msgs;
-    uint32_t nmsgs;
-};
-
-struct shim_smbus {
-    uint8_t read_write;
-    uint8_t command;
-    uint32_t size;
-    uint8_t *data;
-};
-
+int (*real_close)(int);
 static int (*real_open)(const char *, int, ...);
 static int (*real_open64)(const char *, int, ...);
 static int (*real_openat)(int, const char *, int, ...);
 static int (*real_openat64)(int, const char *, int, ...);
-static int (*real_close)(int);
 static int (*real_dup)(int);
 static int (*real_dup2)(int, int);
 static int (*real_dup3)(int, int, int);
 static int (*real_fcntl)(int, int, ...);
 static int (*real_fcntl64)(int, int, ...);
-static int (*real_ioctl)(int, unsigned long, ...);
 static ssize_t (*real_read)(int, void *, size_t);
 static ssize_t (*real_write)(int, const void *, size_t);
 
 /* Descriptors that are emulated nodes; each exchange holds the lock (one bus). */
 static unsigned char emulated[MAX_FDS];
+static uint32_t fd_bus[MAX_FDS]; /* the bus an emulated descriptor opened */
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
 
-static void resolve(void) {
+void shim_resolve(void) {
     if (real_close) return;
     real_open = dlsym(RTLD_NEXT, "open");
     real_open64 = dlsym(RTLD_NEXT, "open64");
     real_openat = dlsym(RTLD_NEXT, "openat");
     real_openat64 = dlsym(RTLD_NEXT, "openat64");
-    real_ioctl = dlsym(RTLD_NEXT, "ioctl");
     real_read = dlsym(RTLD_NEXT, "read");
     real_write = dlsym(RTLD_NEXT, "write");
     real_dup = dlsym(RTLD_NEXT, "dup");
@@ -106,9 +78,15 @@ static void resolve(void) {
     real_close = dlsym(RTLD_NEXT, "close");
 }
 
-__attribute__((constructor)) static void shim_init(void) { resolve(); }
+__attribute__((constructor)) static void shim_init(void) { shim_resolve(); }
 
-static int is_emulated(int fd) { return fd >= 0 && fd < MAX_FDS && emulated[fd]; }
+int shim_is_emulated(int fd) { return fd >= 0 && fd < MAX_FDS && emulated[fd]; }
+
+uint32_t shim_fd_bus(int fd) { return shim_is_emulated(fd) ? fd_bus[fd] : 0; }
+
+void shim_lock(void) { pthread_mutex_lock(&lock); }
+
+void shim_unlock(void) { pthread_mutex_unlock(&lock); }
 
 /* "/dev/i2c-<digits>" -> the bus number, else -1. */
 static long bus_of(const char *path) {
@@ -149,7 +127,7 @@ static int recv_all(int fd, void *data, size_t len) {
 }
 
 /* Send one request frame and receive the reply frame into a malloc'd buffer. */
-static uint8_t *exchange(int fd, const uint8_t *req, uint32_t len, uint32_t *reply_len) {
+uint8_t *shim_exchange(int fd, const uint8_t *req, uint32_t len, uint32_t *reply_len) {
     uint8_t head[4] = {len & 0xff, (len >> 8) & 0xff, (len >> 16) & 0xff, len >> 24};
     if (send_all(fd, head, 4) || send_all(fd, req, len)) return NULL;
     if (recv_all(fd, head, 4)) return NULL;
@@ -165,18 +143,18 @@ static uint8_t *exchange(int fd, const uint8_t *req, uint32_t len, uint32_t *rep
     return reply;
 }
 
-static int32_t get_i32(const uint8_t *p) {
+int32_t get_i32(const uint8_t *p) {
     return (int32_t)(p[0] | p[1] << 8 | p[2] << 16 | (uint32_t)p[3] << 24);
 }
 
-static void put_u16(uint8_t *p, uint16_t v) { p[0] = v & 0xff; p[1] = v >> 8; }
+void put_u16(uint8_t *p, uint16_t v) { p[0] = v & 0xff; p[1] = v >> 8; }
 
-static void put_u32(uint8_t *p, uint32_t v) {
+void put_u32(uint8_t *p, uint32_t v) {
     for (int i = 0; i < 4; i++) p[i] = (v >> (8 * i)) & 0xff;
 }
 
 /* A result frame to a return value: >= 0 passes, -errno sets errno and gives -1. */
-static long result(int32_t res) {
+long shim_result(int32_t res) {
     if (res < 0) {
         errno = -res;
         return -1;
@@ -184,21 +162,25 @@ static long result(int32_t res) {
     return res;
 }
 
-static int emulated_open(long bus, int flags) {
+int shim_connect(int cloexec) {
     const char *path = getenv(SOCKET_ENV);
     struct sockaddr_un addr;
     memset(&addr, 0, sizeof addr);
     addr.sun_family = AF_UNIX;
-    if (strlen(path) >= sizeof addr.sun_path) {
-        errno = ENAMETOOLONG;
-        return -1;
-    }
+    if (!path || strlen(path) >= sizeof addr.sun_path) return -1;
     strcpy(addr.sun_path, path);
-    int type = SOCK_STREAM | ((flags & O_CLOEXEC) ? SOCK_CLOEXEC : 0);
-    int fd = socket(AF_UNIX, type, 0);
+    int fd = socket(AF_UNIX, SOCK_STREAM | (cloexec ? SOCK_CLOEXEC : 0), 0);
     if (fd < 0) return -1;
     if (fd >= MAX_FDS || connect(fd, (struct sockaddr *)&addr, sizeof addr) < 0) {
         real_close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+static int emulated_open(long bus, int flags) {
+    int fd = shim_connect(flags & O_CLOEXEC);
+    if (fd < 0) {
         errno = ENOENT; /* no emulator: no node */
         return -1;
     }
@@ -206,7 +188,7 @@ static int emulated_open(long bus, int flags) {
     put_u32(req + 1, (uint32_t)bus);
     put_u32(req + 5, (uint32_t)flags);
     uint32_t n = 0;
-    uint8_t *reply = exchange(fd, req, sizeof req, &n);
+    uint8_t *reply = shim_exchange(fd, req, sizeof req, &n);
     int32_t res = reply ? get_i32(reply) : -ENOENT;
     free(reply);
     if (res < 0) {
@@ -215,12 +197,13 @@ static int emulated_open(long bus, int flags) {
         return -1;
     }
     emulated[fd] = 1;
+    fd_bus[fd] = (uint32_t)bus;
     return fd;
 }
 
 /* Whether this open is ours: an emulator is named and the path is an i2c node. */
-static long ours(const char *path) {
-    resolve();
+long shim_ours(const char *path) {
+    shim_resolve();
     if (!getenv(SOCKET_ENV)) return -1;
     return bus_of(path);
 }
@@ -238,7 +221,7 @@ static long ours(const char *path) {
 int open(const char *path, int flags, ...) {
     int mode = 0;
     OPEN_MODE(flags, mode);
-    long bus = ours(path);
+    long bus = shim_ours(path);
     if (bus >= 0) return emulated_open(bus, flags);
     return real_open(path, flags, mode);
 }
@@ -246,7 +229,7 @@ int open(const char *path, int flags, ...) {
 int open64(const char *path, int flags, ...) {
     int mode = 0;
     OPEN_MODE(flags, mode);
-    long bus = ours(path);
+    long bus = shim_ours(path);
     if (bus >= 0) return emulated_open(bus, flags);
     return real_open64(path, flags, mode);
 }
@@ -254,7 +237,7 @@ int open64(const char *path, int flags, ...) {
 int openat(int dirfd, const char *path, int flags, ...) {
     int mode = 0;
     OPEN_MODE(flags, mode);
-    long bus = ours(path); /* an absolute path ignores dirfd */
+    long bus = shim_ours(path); /* an absolute path ignores dirfd */
     if (bus >= 0) return emulated_open(bus, flags);
     return real_openat(dirfd, path, flags, mode);
 }
@@ -262,7 +245,7 @@ int openat(int dirfd, const char *path, int flags, ...) {
 int openat64(int dirfd, const char *path, int flags, ...) {
     int mode = 0;
     OPEN_MODE(flags, mode);
-    long bus = ours(path);
+    long bus = shim_ours(path);
     if (bus >= 0) return emulated_open(bus, flags);
     return real_openat64(dirfd, path, flags, mode);
 }
@@ -276,8 +259,8 @@ int __openat64_2(int dirfd, const char *path, int flags) {
 }
 
 int close(int fd) {
-    resolve();
-    if (is_emulated(fd)) {
+    shim_resolve();
+    if (shim_is_emulated(fd)) {
         pthread_mutex_lock(&lock);
         emulated[fd] = 0;
         pthread_mutex_unlock(&lock);
@@ -290,25 +273,27 @@ int close(int fd) {
 static int mark_dup(int oldfd, int newfd) {
     if (newfd >= 0 && newfd < MAX_FDS) {
         pthread_mutex_lock(&lock);
-        emulated[newfd] = is_emulated(oldfd);
+        int ours_too = shim_is_emulated(oldfd);
+        if (ours_too) fd_bus[newfd] = fd_bus[oldfd];
+        emulated[newfd] = ours_too;
         pthread_mutex_unlock(&lock);
     }
     return newfd;
 }
 
 int dup(int oldfd) {
-    resolve();
+    shim_resolve();
     return mark_dup(oldfd, real_dup(oldfd));
 }
 
 int dup2(int oldfd, int newfd) {
-    resolve();
+    shim_resolve();
     int res = real_dup2(oldfd, newfd);
     return res < 0 || oldfd == newfd ? res : mark_dup(oldfd, res);
 }
 
 int dup3(int oldfd, int newfd, int flags) {
-    resolve();
+    shim_resolve();
     return mark_dup(oldfd, real_dup3(oldfd, newfd, flags));
 }
 
@@ -318,7 +303,7 @@ int dup3(int oldfd, int newfd, int flags) {
     va_start(ap, cmd);                                                     \
     void *arg = va_arg(ap, void *);                                        \
     va_end(ap);                                                            \
-    resolve();                                                             \
+    shim_resolve();                                                             \
     int res = real(fd, cmd, arg);                                          \
     if ((cmd == F_DUPFD || cmd == F_DUPFD_CLOEXEC) && res >= 0) mark_dup(fd, res); \
     return res
@@ -326,180 +311,39 @@ int dup3(int oldfd, int newfd, int flags) {
 int fcntl(int fd, int cmd, ...) { FCNTL_BODY(real_fcntl); }
 int fcntl64(int fd, int cmd, ...) { FCNTL_BODY(real_fcntl64); }
 
-static long do_funcs(int fd, unsigned long arg) {
-    uint8_t req[1] = {'F'};
-    uint32_t n = 0;
-    uint8_t *reply = exchange(fd, req, 1, &n);
-    if (!reply || n < 12) {
-        free(reply);
-        return result(-EIO);
-    }
-    int32_t res = get_i32(reply);
-    if (res >= 0) {
-        uint64_t funcs = 0;
-        for (int i = 0; i < 8; i++) funcs |= (uint64_t)reply[4 + i] << (8 * i);
-        *(unsigned long *)arg = (unsigned long)funcs;
-    }
-    free(reply);
-    return result(res);
-}
-
-static long do_rdwr(int fd, unsigned long arg) {
-    const struct shim_rdwr *rdwr = (const struct shim_rdwr *)arg;
-    uint32_t nmsgs = rdwr->nmsgs;
-    size_t len = 5;
-    if (nmsgs <= RDWR_MAX_MSGS)
-        for (uint32_t i = 0; i < nmsgs; i++) len += 6 + rdwr->msgs[i].len;
-    uint8_t *req = malloc(len);
-    if (!req) return result(-ENOMEM);
-    req[0] = 'R';
-    put_u32(req + 1, nmsgs);
-    size_t at = 5;
-    if (nmsgs <= RDWR_MAX_MSGS)
-        for (uint32_t i = 0; i < nmsgs; i++) {
-            const struct shim_i2c_msg *m = &rdwr->msgs[i];
-            put_u16(req + at, m->addr);
-            put_u16(req + at + 2, m->flags);
-            put_u16(req + at + 4, m->len);
-            memcpy(req + at + 6, m->buf, m->len); /* the kernel copies reads in too */
-            at += 6 + m->len;
-        }
-    uint32_t n = 0;
-    uint8_t *reply = exchange(fd, req, (uint32_t)len, &n);
-    free(req);
-    if (!reply) return result(-EIO);
-    int32_t res = get_i32(reply);
-    if (res >= 0) {
-        size_t from = 4;
-        for (uint32_t i = 0; i < nmsgs; i++) {
-            const struct shim_i2c_msg *m = &rdwr->msgs[i];
-            if (!(m->flags & I2C_M_RD)) continue;
-            if (from + m->len > n) {
-                res = -EIO;
-                break;
-            }
-            memcpy(m->buf, reply + from, m->len);
-            from += m->len;
-        }
-    }
-    free(reply);
-    return result(res);
-}
-
-/* How many bytes of the user's union i2c-dev copies for an SMBus size (i2c-dev.c). */
-static size_t smbus_datasize(uint32_t size) {
-    switch (size) {
-    case 1: /* BYTE */
-    case 2: /* BYTE_DATA */
-        return 1;
-    case 3: /* WORD_DATA */
-    case 4: /* PROC_CALL */
-        return 2;
-    case 5: /* BLOCK_DATA */
-    case 6: /* I2C_BLOCK_BROKEN */
-    case 7: /* BLOCK_PROC_CALL */
-    case 8: /* I2C_BLOCK_DATA */
-        return SMBUS_BLOCK;
-    default:
-        return 0;
-    }
-}
-
-static long do_smbus(int fd, unsigned long arg) {
-    const struct shim_smbus *s = (const struct shim_smbus *)arg;
-    size_t size = s->data ? smbus_datasize(s->size) : 0;
-    uint8_t req[8 + SMBUS_BLOCK] = {'S', s->read_write, s->command};
-    put_u32(req + 3, s->size);
-    req[7] = s->data != NULL;
-    req[8] = (uint8_t)size;
-    if (size) memcpy(req + 9, s->data, size);
-    uint32_t n = 0;
-    uint8_t *reply = exchange(fd, req, (uint32_t)(9 + size), &n);
-    if (!reply || n < 5) {
-        free(reply);
-        return result(-EIO);
-    }
-    int32_t res = get_i32(reply);
-    size_t back = reply[4];
-    if (res >= 0 && back && s->data && back <= size && 5 + back <= n)
-        memcpy(s->data, reply + 5, back);
-    free(reply);
-    return result(res);
-}
-
-static long do_plain(int fd, unsigned long cmd, unsigned long arg) {
-    uint8_t req[13] = {'I'};
-    put_u32(req + 1, (uint32_t)cmd);
-    for (int i = 0; i < 8; i++) req[5 + i] = ((uint64_t)arg >> (8 * i)) & 0xff;
-    uint32_t n = 0;
-    uint8_t *reply = exchange(fd, req, sizeof req, &n);
-    int32_t res = reply ? get_i32(reply) : -EIO;
-    free(reply);
-    return result(res);
-}
-
-int ioctl(int fd, unsigned long request, ...) {
-    va_list ap;
-    va_start(ap, request);
-    unsigned long arg = va_arg(ap, unsigned long);
-    va_end(ap);
-    resolve();
-    if (!is_emulated(fd)) return real_ioctl(fd, request, arg);
-    long res;
-    pthread_mutex_lock(&lock);
-    switch (request) {
-    case I2C_FUNCS:
-        res = do_funcs(fd, arg);
-        break;
-    case I2C_RDWR:
-        res = do_rdwr(fd, arg);
-        break;
-    case I2C_SMBUS:
-        res = do_smbus(fd, arg);
-        break;
-    default:
-        res = do_plain(fd, request, arg);
-        break;
-    }
-    int saved = errno;
-    pthread_mutex_unlock(&lock);
-    errno = saved;
-    return (int)res;
-}
-
 ssize_t read(int fd, void *buf, size_t count) {
-    resolve();
-    if (!is_emulated(fd)) return real_read(fd, buf, count);
+    shim_resolve();
+    if (!shim_is_emulated(fd)) return real_read(fd, buf, count);
     if (count > 8192) count = 8192; /* i2cdev_read's cap */
     uint8_t req[5] = {'r'};
     put_u32(req + 1, (uint32_t)count);
-    pthread_mutex_lock(&lock);
+    shim_lock();
     uint32_t n = 0;
-    uint8_t *reply = exchange(fd, req, sizeof req, &n);
-    pthread_mutex_unlock(&lock);
+    uint8_t *reply = shim_exchange(fd, req, sizeof req, &n);
+    shim_unlock();
     int32_t res = reply ? get_i32(reply) : -EIO;
     if (res > 0) {
         if ((size_t)res > count || 4 + (size_t)res > n) res = -EIO;
         else memcpy(buf, reply + 4, (size_t)res);
     }
     free(reply);
-    return result(res);
+    return shim_result(res);
 }
 
 ssize_t write(int fd, const void *buf, size_t count) {
-    resolve();
-    if (!is_emulated(fd)) return real_write(fd, buf, count);
+    shim_resolve();
+    if (!shim_is_emulated(fd)) return real_write(fd, buf, count);
     if (count > 8192) count = 8192; /* i2cdev_write's cap */
     uint8_t *req = malloc(1 + count);
-    if (!req) return result(-ENOMEM);
+    if (!req) return shim_result(-ENOMEM);
     req[0] = 'w';
     memcpy(req + 1, buf, count);
-    pthread_mutex_lock(&lock);
+    shim_lock();
     uint32_t n = 0;
-    uint8_t *reply = exchange(fd, req, (uint32_t)(1 + count), &n);
-    pthread_mutex_unlock(&lock);
+    uint8_t *reply = shim_exchange(fd, req, (uint32_t)(1 + count), &n);
+    shim_unlock();
     free(req);
     int32_t res = reply ? get_i32(reply) : -EIO;
     free(reply);
-    return result(res);
+    return shim_result(res);
 }

@@ -56,6 +56,13 @@ class I2cDev:
             return -errno.EACCES
         return OpenFile(bus, flags & os.O_ACCMODE)
 
+    def node_state(self, number: int) -> int:
+        """For stat and access: 0 (the node is there), -EACCES (there, but the caller
+        may not open it), -ENOENT (no node)."""
+        if self._lookup(number) is None:
+            return -errno.ENOENT
+        return -errno.EACCES if self._denied() else 0
+
     def ioctl(self, file: OpenFile, cmd: int, arg: int) -> int:
         """The ioctls that take a number: I2C_SLAVE(_FORCE), TENBIT, PEC, RETRIES,
         TIMEOUT; anything else is ENOTTY."""

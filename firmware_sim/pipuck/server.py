@@ -17,6 +17,7 @@ from firmware_sim.pipuck.wire import ProtocolError, Session
 __all__ = ["SocketServer"]
 
 THREAD_NAME = "ego-sim-pipuck"
+SEND_TIMEOUT_S = 10.0
 
 
 class SocketServer:
@@ -56,7 +57,9 @@ class SocketServer:
             conn, _ = self._listener.accept()
         except BlockingIOError:
             return
-        conn.setblocking(True)
+        # A reply the client does not take within SEND_TIMEOUT_S drops the connection
+        # (a stopped client must not keep the thread, and so close(), waiting).
+        conn.settimeout(SEND_TIMEOUT_S)
         self._selector.register(conn, selectors.EVENT_READ, self._session())
 
     def _serve(self, conn: socket.socket, session: Session) -> None:

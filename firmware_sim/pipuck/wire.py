@@ -58,6 +58,9 @@ class Session:
         try:
             if op == b"O":
                 return self._open(body)
+            if op == b"E":
+                (bus,) = struct.unpack("<I", body)
+                return _I32.pack(self._dev.node_state(bus))
             if self.file is None:
                 return _I32.pack(-errno.EBADF)
             return self._dispatch(op, body, self.file)

@@ -4,13 +4,15 @@ on a Raspberry Pi does; smbus2 runs against them unmodified (firmware_sim/pipuck
 from __future__ import annotations
 
 import os
+import socket
+import struct
 import subprocess
 import sys
 
 from pipuck_harness import quiet_world
 
 from firmware_sim.pipuck import PipuckEmulator, build_shim
-from firmware_sim.pipuck.shim import SOURCE
+from firmware_sim.pipuck.shim import SOURCES
 
 
 def test_smbus2_sees_the_adapter_functionality_of_the_bcm2835(epuck2, client_of) -> None:
@@ -84,9 +86,12 @@ def test_the_shim_is_rebuilt_only_when_its_source_changes(tmp_path) -> None:
     first = build_shim(cache=cache)
     stamp = first.stat().st_mtime_ns
     assert build_shim(cache=cache) == first and first.stat().st_mtime_ns == stamp
-    edited = tmp_path / "i2c_shim.c"
-    edited.write_bytes(SOURCE.read_bytes() + b"/* edited */\n")
-    second = build_shim(source=edited, cache=cache)
+    copies = []
+    for source in SOURCES:
+        copies.append(tmp_path / source.name)
+        copies[-1].write_bytes(source.read_bytes())
+    copies[-1].write_bytes(copies[-1].read_bytes() + b"/* edited */\n")
+    second = build_shim(sources=tuple(copies), cache=cache)
     assert second != first and second.exists() and first.exists()
     assert sorted(p.name for p in first.parent.iterdir()) == sorted([first.name, second.name])
 
@@ -142,3 +147,37 @@ def test_c_code_on_i2c_dev_runs_unmodified(epuck2, tmp_path) -> None:
     out = subprocess.run([str(binary), str(os.O_RDWR)], env=env, capture_output=True,
                          text=True, timeout=60)  # fmt: skip
     assert (out.returncode, out.stdout.strip()) == (0, "71"), out.stderr
+
+
+def test_stat_and_access_see_the_nodes_as_i2c_dev_character_devices(epuck2, client_of, tmp_path):
+    client = client_of(epuck2)
+    assert client("[os.path.exists(f'/dev/i2c-{n}') for n in (1, 11, 12, 4)]") == [
+        True, True, True, False,
+    ]  # fmt: skip
+    node = "os.stat('/dev/i2c-12')"
+    assert client(f"__import__('stat').S_ISCHR({node}.st_mode)") is True
+    assert client(f"[os.major({node}.st_rdev), os.minor({node}.st_rdev)]") == [89, 12]
+    assert client("__import__('stat').S_ISCHR(os.fstat(bus(12).fd).st_mode)") is True
+    assert client("os.access('/dev/i2c-12', os.R_OK | os.W_OK)") is True
+    epuck2.deny_access()  # outside the i2c group: there, but not readable
+    assert client("[os.access('/dev/i2c-12', m) for m in (os.F_OK, os.R_OK)]") == [True, False]
+    epuck2.set_bus_present(12, False)
+    assert client("os.stat('/dev/i2c-12')") == {"errno": "ENOENT"}
+    # Everything else is the real file system's.
+    assert client(f"os.path.exists({str(tmp_path)!r})") is True
+    assert client(f"os.path.exists({str(tmp_path / 'none')!r})") is False
+
+
+def test_a_malformed_frame_drops_only_its_connection(epuck2, client_of) -> None:
+    frames = (struct.pack("<I", 0), struct.pack("<I", 2) + b"O\x01", struct.pack("<I", 1) + b"F")
+    for frame in frames:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as peer:
+            peer.settimeout(60)
+            peer.connect(epuck2.socket_path)
+            peer.sendall(frame)
+            answer = peer.recv(64)
+            if frame.endswith(b"F"):  # a request before OPEN: EBADF, and it stays open
+                assert answer == struct.pack("<Ii", 4, -9)
+            else:
+                assert answer == b""  # dropped
+    assert len(client_of(epuck2)("exchange(12, packet())")) == 47  # the server serves on
