@@ -10,8 +10,10 @@ imports ``firmware_sim``.
 
 from __future__ import annotations
 
+import contextlib
 import errno
-from collections.abc import Sequence
+import os
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -292,6 +294,23 @@ class SimBackend:
     def main(argv: list[str], prog: str = "ego sim") -> int:
         """``ego sim ARGS``: the emulator's own command line."""
         return cli_main(argv, prog)
+
+    @staticmethod
+    @contextlib.contextmanager
+    def pipuck_environment(
+        robot: str | None, seed: int | None, world: str | None
+    ) -> Iterator[dict[str, str]]:
+        """An emulated Pi-puck carrying ``robot`` ("epuck2" by default, or "epuck") for as
+        long as the context lasts, and the environment of a child process that reaches it
+        as ``ego run --port pipuck`` would a real one (this process's, with the shim, its
+        socket and ``EGO_SYSFS``): ``ego demo --pipuck``. A Pi-puck's I2C is reached only
+        through a process started with it, never from this one."""
+        from firmware_sim.pipuck import PipuckEmulator
+
+        spec = load_world(world, seed) if world else None
+        with PipuckEmulator(robot or "epuck2", "current", spec, seed=seed) as emulator:
+            sysfs = str(emulator.sysfs_root / "sys")
+            yield {**os.environ, **emulator.environ(), "EGO_SYSFS": sysfs}
 
 
 def given_world(given: SimOptions) -> World | None:

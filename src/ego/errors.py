@@ -19,6 +19,7 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     │   ├── ShortReplyError                      fewer bytes than the batch asks for
     │   ├── ExtraBytesError                      bytes left over after the reply
     │   ├── RobotResetError                      the dsPIC restarted (its banner arrived)
+    │   ├── ChecksumError                        a reply whose checksum does not match
     │   └── FirmwareMismatchError                the firmware is not the one we were told
     ├── BackendOptionError (ValueError)          an option a port's backend does not take,
     │                                            or one of the wrong type or value
@@ -56,6 +57,7 @@ __all__ = [
     "CameraConfigError",
     "CameraError",
     "CameraTimeoutError",
+    "ChecksumError",
     "ConfigSyntaxError",
     "ControllerError",
     "DeprecatedNameWarning",
@@ -178,6 +180,10 @@ class ExtraBytesError(ProtocolError):
 
 class RobotResetError(ProtocolError):
     """The dsPIC printed its welcome banner mid-stream: it restarted."""
+
+
+class ChecksumError(ProtocolError):
+    """A reply whose checksum does not match its bytes (the Pi-puck's I2C packet)."""
 
 
 class FirmwareMismatchError(ProtocolError):

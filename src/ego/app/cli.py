@@ -75,6 +75,10 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
     dashboard = None if args.no_dashboard else (args.dashboard or DEFAULT_DASHBOARD)
+    if args.pipuck:
+        from ego.app.demo import run_pipuck_demo
+
+        return run_pipuck_demo(args.duration, args.robot, args.seed, args.world, dashboard)
     run_demo(args.duration, args.firmware, args.seed, world=args.world, dashboard=dashboard,
              record=args.record, robot=args.robot)  # fmt: skip
     return 0
@@ -227,7 +231,7 @@ def _run_supervised(args: argparse.Namespace, secret: bytes | None) -> int:
         return run_supervised(
             args.controller, passed, args.args, port=args.port,
             firmware=args.firmware or "auto", deadline_s=args.supervisor_deadline_ms / 1000,
-            secret=secret,
+            secret=secret, robot_kind=args.robot,
         )  # fmt: skip
     except KeyboardInterrupt:
         return 130  # the controller, which had the Ctrl-C too, said it stopped
@@ -310,6 +314,9 @@ def _add_demo(sub: Any) -> None:
     add_dashboard_options(demo, "the live dashboard, on unless --no-dashboard", secret=False,
                           off_loopback="loopback only: the demo takes no secret")  # fmt: skip
     demo.add_argument("--no-dashboard", action="store_true", help="no dashboard")
+    demo.add_argument("--pipuck", action="store_true",
+                      help="the robot on an emulated Pi-puck, driven over its I2C bus "
+                      "(ego run --port pipuck in a child process)")  # fmt: skip
     demo.add_argument("--record", default=None, metavar="FILE.mcap", help="record the run")
     demo.set_defaults(func=_cmd_demo)
 
@@ -319,11 +326,11 @@ def _add_run(sub: Any) -> None:
         "run", help="run a Webots controller file unchanged",
         parents=[firmware_parent(emulated=False, default=None),
                  seed_parent(None, " (port sim)"), world_parent("the emulator's world (port sim)"),
-                 robot_parent("the emulated robot (port sim)")],
+                 robot_parent("the robot (port sim or pipuck)")],
     )  # fmt: skip
     run.add_argument("--port", default=None, help="serial port, pyserial URL, 'sim', tcp://, "
-                     "udp://, unix://, zenoh://, epuck2://HOST (an e-puck2 over WiFi) "
-                     "(default: EGO_PORT or /dev/ttyS0)")  # fmt: skip
+                     "udp://, unix://, zenoh://, epuck2://HOST (an e-puck2 over WiFi), "
+                     "pipuck (on a Pi-puck's Pi) (default: EGO_PORT or /dev/ttyS0)")  # fmt: skip
     run.add_argument("--duration", type=_positive, default=None,
                      help="stop after this many seconds of controller time")  # fmt: skip
     run.add_argument("--time-step", type=_positive, default=32.0,
@@ -450,7 +457,7 @@ def _add_ros2(sub: Any) -> None:
         "ros2", help="run a robot as a ROS 2 node over rmw_zenoh (docs/ros2.md)",
         parents=[firmware_parent(emulated=False, default=None), seed_parent(1, " (port sim)"),
                  world_parent("the emulator's world (port sim)"),
-                 robot_parent("the emulated robot (port sim)")],
+                 robot_parent("the robot (port sim or pipuck)")],
     )  # fmt: skip
     add_arguments(ros2)
     ros2.set_defaults(func=run)

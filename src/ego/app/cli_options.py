@@ -154,11 +154,13 @@ def firmware_parent(*, emulated: bool, default: str | None) -> argparse.Argument
 
 
 def robot_parent(what: str) -> argparse.ArgumentParser:
-    """``--robot epuck|epuck2``: which robot the emulator models (port sim)."""
+    """``--robot epuck|epuck2``: which robot the emulator models (port sim), or which one
+    a Pi-puck carries (port pipuck)."""
     parent = argparse.ArgumentParser(add_help=False)
     parent.add_argument(
         "--robot", choices=("epuck", "epuck2"), default=None,
-        help=f"{what}: an e-puck (default) or a GCtronic e-puck2 on its USB link",
+        help=f"{what}: an e-puck or a GCtronic e-puck2 (default: an e-puck on the "
+        "emulator, detected on a Pi-puck)",
     )  # fmt: skip
     return parent
 

@@ -96,6 +96,7 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     """Open the session, the robot, the node and its bridge, and start stepping; each
     closed by ``stack`` in the reverse order (the runner joined first, the robot stopped
     before the tokens go)."""
+    from ego.backends import takes_option
     from ego.core.robot import Robot
     from ego.ros2.participant import Participant
     from ego.serial.protocol import Firmware
@@ -108,6 +109,8 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     options: dict[str, Any] = {"firmware": Firmware.choose(args.firmware or "auto")}
     if (args.port or "") == "sim":
         options.update(seed=args.seed, world=args.world, robot=args.robot)
+    elif args.robot is not None and takes_option(args.port or "", "robot"):
+        options.update(robot=args.robot)  # a Pi-puck's
     robot = Robot(args.port, environment=environment, **options)
     stack.callback(robot.close)
     node = Participant(session, args.node_name, namespace=args.namespace,

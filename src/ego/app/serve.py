@@ -62,8 +62,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--port",
         default=None,
-        help="serial port of the dsPIC, or 'sim' for the built-in emulator "
-        "(default: $EGO_PORT, else /dev/ttyS0)",
+        help="serial port of the dsPIC, 'sim' for the built-in emulator, or 'pipuck' on a "
+        "Pi-puck's Pi (default: $EGO_PORT, else /dev/ttyS0)",
+    )
+    parser.add_argument(
+        "--robot", choices=("epuck", "epuck2"), default=None,
+        help="which robot: the emulated one (port sim), or the one a Pi-puck carries "
+        "(port pipuck; default: detected)",
     )
     parser.add_argument(
         "--listen",
@@ -150,9 +155,11 @@ def open_robot(
     camera: str | None = None,
     secret: bytes | None = None,
     environment: Environment | None = None,
+    robot_kind: str | None = None,
 ) -> ServedRobot:
     """The robot on ``port`` (any backend's: "sim" starts an emulator) and its camera;
-    ``secret`` goes to a backend that takes one (a robot served elsewhere).
+    ``secret`` goes to a backend that takes one (a robot served elsewhere),
+    ``robot_kind`` ("epuck", "epuck2") to one that takes ``robot`` (the emulator's, a Pi-puck's).
     ``environment`` None: this process's (EGO_PORT, EGO_CAMERA...), read now."""
     from ego.core.ports import resolve_port
 
@@ -163,6 +170,8 @@ def open_robot(
     options: dict[str, Any] = {"camera_device": camera} if camera not in (None, "none") else {}
     if secret is not None and takes_option(resolved, "secret"):
         options["secret"] = secret
+    if robot_kind is not None and takes_option(resolved, "robot"):
+        options["robot"] = robot_kind
     opened = open_port(
         resolved, environment=environment, firmware=Firmware.choose(firmware), **options
     )
@@ -197,7 +206,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"ego serve: {exc}", file=sys.stderr)
         return 2
     try:
-        robot = open_robot(args.port, args.firmware, args.camera, secret, environment)
+        robot = open_robot(args.port, args.firmware, args.camera, secret, environment,
+                           args.robot)
     except EgoError as exc:
         print(f"ego serve: {error_line(exc)}", file=sys.stderr)
         return 1

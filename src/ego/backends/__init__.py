@@ -18,6 +18,8 @@ scheme        backend
               a controller as the robot did: :mod:`ego.backends.replay`
 ``epuck2``    a GCtronic e-puck2 over WiFi (``epuck2://HOST[:PORT]``, selector 15):
               :mod:`ego.backends.epuck2`
+``pipuck``    a robot carrying a Pi-puck, driven over I2C by ego on the Pi (``pipuck``),
+              found through the ``ego.backends`` entry point: :mod:`ego.backends.pipuck`
 ============  ==========================================================================
 
 Each backend opens a :class:`~ego.core.channel.Channel` (the seam under ``Robot``) and takes
@@ -96,6 +98,8 @@ def register(scheme: str, factory: Callable[[], Backend]) -> None:
 def scheme_of(port: str) -> str:
     """The backend scheme of a port: ``sim``, ``tcp``, ``udp``... or ``serial``."""
     if port in _REGISTRY or port in BUILT_IN or port == "sim":  # a bare name: "sim"
+        return port
+    if port.isidentifier() and _declared(port) is not None:  # "pipuck", declared
         return port
     scheme, sep, _ = port.partition("://")
     if sep and (scheme in _REGISTRY or scheme in BUILT_IN or _declared(scheme) is not None):

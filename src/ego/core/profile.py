@@ -89,6 +89,13 @@ class Firmware(str, enum.Enum):
     #: GCtronic's e-puck2 main processor running asercom v2 (selector 8 over USB, 3 over
     #: Bluetooth): ``V`` answers ``v,Version 2.0 ... GCtronic`` (docs/protocol.md, "e-puck2").
     EPUCK2 = "epuck2"
+    #: The e-puck2's main processor in its I2C mode for a Pi-puck (selector 10, GCtronic's
+    #: ``gumstix`` branch): one 20-byte write and one 47-byte read a step, each with an XOR
+    #: checksum (docs/protocol.md, "The Pi-puck"; ego.backends.pipuck).
+    EPUCK2_I2C = "epuck2-i2c"
+    #: York's e-puck1 firmware for the Pi-puck: SMBus byte and word registers at 0x1F
+    #: (docs/protocol.md, "The Pi-puck"; ego.backends.pipuck).
+    YORK = "york"
 
     def __str__(self) -> str:
         return self.value

@@ -70,6 +70,11 @@ _WEBOTS = frozenset({Firmware.WEBOTS.value})
 #: The e-puck2's asercom v2 (USB, Bluetooth) serves the e-puck1's sensors and its own.
 _EPUCK2 = frozenset({Firmware.EPUCK2.value})
 _ALL = _BOTH | _EPUCK2
+#: Through a Pi-puck (ego.backends.pipuck): the e-puck2's I2C packet, York's e-puck1 map;
+#: what both serve beside the microcontroller (IMU, ToF, ground module, camera, battery).
+_I2C2 = frozenset({Firmware.EPUCK2_I2C.value})
+_YORK = frozenset({Firmware.YORK.value})
+_PIPUCK = _I2C2 | _YORK
 #: The unit of a raw ADC or sensor count.
 RAW = "raw counts"
 _RAW = RAW
@@ -113,41 +118,43 @@ _Row = tuple[str, str, int, str, str, frozenset[str]]
 _ROWS: tuple[_Row, ...] = (
     # ps8 and ps9 are the Overo board's long-range IR8 and IR9 (docs/protocol.md).
     *(
-        (f"ps{i}", "proximity", i, "DistanceSensor", _RAW, _ALL if i < 8 else _GCTRONIC)
+        (f"ps{i}", "proximity", i, "DistanceSensor", _RAW, _ALL | _PIPUCK if i < 8 else _GCTRONIC)
         for i in range(10)
     ),
     # The ground module: Webots' firmware reads it with M; the stock firmware in Overo mode
     # answers M with nothing and leaves it to the Overo, which reads it over its own I2C
     # bus (/dev/i2c-3, ego.i2c; docs/protocol.md, "The Overo's own I2C bus").
-    *((f"gs{i}", "floor", i, "DistanceSensor", _RAW, _ALL) for i in range(3)),
-    *((f"ls{i}", "light", i, "LightSensor", _RAW, _ALL) for i in range(8)),
-    ("accelerometer", "accelerometer", 0, "Accelerometer", "m/s²", _ALL),
-    ("left wheel motor", "motors", 0, "Motor", "rad/s", _ALL),
-    ("right wheel motor", "motors", 1, "Motor", "rad/s", _ALL),
-    ("left wheel sensor", "encoders", 0, "PositionSensor", "rad", _ALL),
-    ("right wheel sensor", "encoders", 1, "PositionSensor", "rad", _ALL),
+    *((f"gs{i}", "floor", i, "DistanceSensor", _RAW, _ALL | _PIPUCK) for i in range(3)),
+    *((f"ls{i}", "light", i, "LightSensor", _RAW, _ALL | _PIPUCK) for i in range(8)),
+    ("accelerometer", "accelerometer", 0, "Accelerometer", "m/s²", _ALL | _PIPUCK),
+    ("left wheel motor", "motors", 0, "Motor", "rad/s", _ALL | _PIPUCK),
+    ("right wheel motor", "motors", 1, "Motor", "rad/s", _ALL | _PIPUCK),
+    ("left wheel sensor", "encoders", 0, "PositionSensor", "rad", _ALL | _PIPUCK),
+    ("right wheel sensor", "encoders", 1, "PositionSensor", "rad", _ALL | _PIPUCK),
     # In Overo mode L 8 and L 9 (body, front) are ignored. On the e-puck2 led1, led3,
     # led5, led7 are RGB (Webots' e-puck2: LED.set(0xRRGGBB); Profile.rgb_leds).
-    *((f"led{i}", "leds", i, "LED", "on/off", _ALL if i < 8 else _WEBOTS | _EPUCK2)
-      for i in range(10)),
-    *((f"mic{i}", "microphones", i, "Microphone", _RAW, _ALL) for i in range(3)),
+    # The e-puck2's I2C packet has no body or front LED; York's map has both.
+    *((f"led{i}", "leds", i, "LED", "on/off",
+       _ALL | _PIPUCK if i < 8 else _WEBOTS | _EPUCK2 | _YORK) for i in range(10)),
+    *((f"mic{i}", "microphones", i, "Microphone", _RAW, _ALL | _I2C2) for i in range(3)),
     # The Overo's own camera (V4L2), whichever firmware the dsPIC runs.
-    ("camera", CAMERA, 0, "Camera", "pixels", _BOTH),
+    # The Pi-puck's: a USB video device behind its FT903.
+    ("camera", CAMERA, 0, "Camera", "pixels", _BOTH | _PIPUCK),
     # The e-puck2's (issue 25), appended so the e-puck1's tags stay.
     # Webots' E-puck.proto (version "2"): a DistanceSensor "tof" whose lookup table maps
     # 0..2 m to 19.8..2000 (ego.devices.tof), the "gyro" (raw counts, its LUT is 1:1).
-    ("tof", "tof", 0, "DistanceSensor", "mm", _EPUCK2),
-    ("gyro", "gyro", 0, "Gyro", _RAW, _EPUCK2),
+    ("tof", "tof", 0, "DistanceSensor", "mm", _EPUCK2 | _PIPUCK),
+    ("gyro", "gyro", 0, "Gyro", _RAW, _EPUCK2 | _PIPUCK),
     # The fourth microphone (front; mic0..mic3 are right, left, back, front on it).
-    ("mic3", "microphones", 3, "Microphone", _RAW, _EPUCK2),
-    ("speaker", "sound", 0, "Speaker", "sound", _EPUCK2),
+    ("mic3", "microphones", 3, "Microphone", _RAW, _EPUCK2 | _I2C2),
+    ("speaker", "sound", 0, "Speaker", "sound", _EPUCK2 | _I2C2),
 )
 #: The devices Webots has no device for (no tag): read through their family only.
 _UNTAGGED: tuple[_Row, ...] = (
     ("magnetometer", "magnetometer", 0, "Magnetometer", "µT", _EPUCK2),
     ("temperature", "temperature", 0, "TemperatureSensor", "°C", _EPUCK2),
-    ("button", "button", 0, "Button", "pressed", _EPUCK2),
-    ("selector", "selector", 0, "Selector", "position", _EPUCK2),
+    ("button", "button", 0, "Button", "pressed", _EPUCK2 | _I2C2),
+    ("selector", "selector", 0, "Selector", "position", _EPUCK2 | _I2C2),
 )
 
 
@@ -328,7 +335,8 @@ class DeviceTable:
 #: The e-puck's table (its families are declared by their classes: ego.devices).
 TABLE = DeviceTable(
     _ROWS,
-    DeviceSpec("battery", None, "battery", 0, "BatterySensor", _RAW, _GCTRONIC | _EPUCK2),
+    DeviceSpec("battery", None, "battery", 0, "BatterySensor", _RAW,
+               _GCTRONIC | _EPUCK2 | _PIPUCK),  # fmt: skip
     untagged=_UNTAGGED,
 )
 #: Every device with a tag, in tag order (``DEVICES[tag - 1].tag == tag``).

@@ -20,7 +20,7 @@ from ego.ros2.attachment import Attachment
 from ego.servers.ros2_node import convert
 from ego.servers.ros2_node.build import Messages
 from ego.servers.ros2_node.commands import Commands
-from ego.servers.ros2_node.sampling import Sampler, served_devices
+from ego.servers.ros2_node.sampling import Sampler, sampled, served_devices
 from ego.servers.ros2_node.topics import PUBLISHED, SUBSCRIBED, TF_STATIC, served
 
 if TYPE_CHECKING:
@@ -53,8 +53,8 @@ class Ros2Bridge:
         devices = served_devices(robot, table)
         self.published = served(PUBLISHED, devices)
         self.subscribed = served(SUBSCRIBED, devices)
-        self.sampler = Sampler(robot, {n for row in self.published for n in row.needs},
-                               period_ms, camera_period_ms, table)  # fmt: skip
+        self.sampler = Sampler(robot, sampled(self.published, devices), period_ms,
+                               camera_period_ms, table)  # fmt: skip
         self.publishers: dict[str, Publisher] = {}
         self._static_at = -STATIC_PERIOD_S
         #: The stamp of the last step published (ns since the epoch).
