@@ -336,7 +336,7 @@ class DeviceTable:
 TABLE = DeviceTable(
     _ROWS,
     DeviceSpec("battery", None, "battery", 0, "BatterySensor", _RAW,
-               _GCTRONIC | _EPUCK2 | _PIPUCK),  # fmt: skip
+               _GCTRONIC | _EPUCK2 | _PIPUCK),
     untagged=_UNTAGGED,
 )
 #: Every device with a tag, in tag order (``DEVICES[tag - 1].tag == tag``).
