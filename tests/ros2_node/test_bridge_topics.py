@@ -107,7 +107,7 @@ def _check_sensors(b: Bridged, last: dict[str, tuple[int, int, bytes, bytes]]) -
     for i in range(8):
         msg = decode.range_(last[f"ps{i}"][3], b.distro)
         truth = b.truths[msg["stamp"]]
-        _check_range(msg, f"ps{i}", truth.proximity[i], IR, (0.045, 0.025), b.distro)
+        _check_range(msg, f"ps{i}", truth.proximity[i], IR, (0.009, 0.025), b.distro)
         msg = decode.illuminance(last[f"ls{i}"][3], b.distro)
         assert (msg["frame_id"], msg["illuminance"]) == (f"ls{i}", b.truths[msg["stamp"]].light[i])
     for i in range(3):

@@ -42,7 +42,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "authentication is required")  # fmt: skip
     parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration")
     parser.add_argument("--domain", type=int, default=0, help="ROS_DOMAIN_ID (default 0)")
-    parser.add_argument("--namespace", default="/", help="the node's namespace (default /)")
+    parser.add_argument("--namespace", default="/", help="the node's namespace (default /; "
+                        "a relative one goes under /, as in ROS)")  # fmt: skip
     parser.add_argument("--node-name", default="epuck_driver",
                         help="the node's name (default epuck_driver, epuck_ros2's)")  # fmt: skip
     parser.add_argument("--distro", default="jazzy", choices=("jazzy", "humble", "kilted"),
@@ -60,11 +61,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Bridge the robot until a signal (or ``--duration``) ends it."""
     from ego.core.environment import read_environment
-    from ego.ros2.names import check_namespace, check_node_name
+    from ego.ros2.names import check_node_name, node_namespace
     from ego.zenoh_net.sessions import ZenohSettings
 
     environment = read_environment()  # once, at the edge
-    check_namespace(args.namespace)
+    args.namespace = node_namespace(args.namespace)  # "epuck" is "/epuck", as in rcl
     check_node_name(args.node_name)
     settings = ZenohSettings.from_environment(
         environment, listen=None, connect=args.router or [DEFAULT_ROUTER],

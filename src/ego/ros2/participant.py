@@ -36,7 +36,7 @@ from ego.ros2.gid import entity_gid
 from ego.ros2.keys import topic_key
 from ego.ros2.liveliness import NodeInfo, TopicInfo, node_token, publisher_token, subscription_token
 from ego.ros2.messages import decode_message, encode_message, message_class, type_hash
-from ego.ros2.names import resolve_topic
+from ego.ros2.names import node_namespace, resolve_topic
 from ego.ros2.qos import QoS
 
 __all__ = ["Participant", "Publisher", "Subscription"]
@@ -147,7 +147,7 @@ class Participant:
         distro_format(distro)  # an unknown name says so, listing the known ones
         self.distro = Distro(distro)
         zid = str(session.info.zid())
-        self.info = NodeInfo(domain_id, zid, _next_id(), name, namespace)
+        self.info = NodeInfo(domain_id, zid, _next_id(), name, node_namespace(namespace))
         node_key = node_token(self.info, self.distro)  # checks every field first
         self._entities: list[Publisher | Subscription] = []
         self._token = session.liveliness().declare_token(node_key)
