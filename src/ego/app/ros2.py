@@ -116,7 +116,7 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     stack.callback(node.close)
     bridge = Ros2Bridge(robot, node, period_ms=args.period_ms,
                         deadline_s=args.deadline_ms / 1000).attach()  # fmt: skip
-    stack.callback(bridge.detach)
+    stack.callback(bridge.close)
     runner = NodeRunner(robot, args.period_ms, args.node_name).start()
     stack.callback(runner.close)
     return Bridged(robot, node, bridge, runner)

@@ -120,7 +120,8 @@ class Topic:
             return self._latest
 
     def on_message(self, callback: Callable[[Any], None]) -> None:
-        """Call ``callback(message)`` for every message that comes (on Zenoh's thread)."""
+        """Call ``callback(message)`` for every message that comes (on the subscription's
+        own thread, never Zenoh's: a slow callback delays only this topic)."""
         with self._lock:
             self._callbacks.append(callback)
 
