@@ -22,14 +22,14 @@ import subprocess
 import sys
 from typing import IO, cast
 
-__all__ = ["flood_result", "start_flood", "twist_payload"]
+__all__ = ["flood_result", "start_floods", "twist_payload"]
 
 _FLOOD = r"""
 import json, struct, sys, time
 import zenoh
 from zenoh.ext import Int64, z_serialize
-endpoint, key, kind, rate, seconds = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4]), float(sys.argv[5])
-speed = float(sys.argv[6])
+endpoint, key, kind = sys.argv[1], sys.argv[2], sys.argv[3]
+rate, seconds, speed = int(sys.argv[4]), float(sys.argv[5]), float(sys.argv[6])
 config = zenoh.Config()
 config.insert_json5("mode", '"peer"')
 config.insert_json5("scouting/multicast/enabled", "false")
@@ -46,6 +46,7 @@ else:  # the CDR header, then 3 bytes where a Twist has 48
     payload = b"\x00\x01\x00\x00\xff\xff\xff"
 gid = bytes(range(16))
 print("ready", flush=True)
+sys.stdin.readline()  # "go": every flooder starts at once
 start = time.monotonic()
 end = start + seconds
 sent, seq, last = 0, 0, start
@@ -71,20 +72,26 @@ def twist_payload(linear_x: float, angular_z: float = 0.0) -> bytes:
     return b"\x00\x01\x00\x00" + struct.pack("<6d", linear_x, 0, 0, 0, 0, angular_z)
 
 
-def start_flood(endpoint: str, key: str, *, kind: str = "malformed", rate: int = 2000,
-                seconds: float = 5.0, speed: float = 0.0) -> subprocess.Popen[str]:  # fmt: skip
-    """A peer that, once a subscriber on ``key`` matches, puts ``kind`` samples
-    (``malformed`` or ``twist`` at ``speed`` m/s) at ``rate`` a second for ``seconds``."""
-    process = subprocess.Popen(
-        [sys.executable, "-c", _FLOOD, endpoint, key, kind, str(rate), str(seconds), str(speed)],
-        stdout=subprocess.PIPE, text=True,
-    )  # fmt: skip
-    line = cast(IO[str], process.stdout).readline().strip()
-    if line != "ready":
-        process.kill()
-        process.wait()
-        raise RuntimeError(f"the flooder did not start (it said {line!r})")
-    return process
+def start_floods(count: int, endpoint: str, key: str, *, kind: str = "malformed",
+                 rate: int = 2000, seconds: float = 5.0,
+                 speed: float = 0.0) -> list[subprocess.Popen[str]]:  # fmt: skip
+    """``count`` peers, started together, that once a subscriber on ``key`` matches put
+    ``kind`` samples (``malformed``, or ``twist`` at ``speed`` m/s) at ``rate`` a second
+    each for ``seconds``; returned when every one is ready."""
+    args = [endpoint, key, kind, str(rate), str(seconds), str(speed)]
+    processes = [subprocess.Popen([sys.executable, "-c", _FLOOD, *args], stdin=subprocess.PIPE,
+                                  stdout=subprocess.PIPE, text=True)
+                 for _ in range(count)]  # fmt: skip
+    said = [cast(IO[str], p.stdout).readline().strip() for p in processes]
+    if any(line != "ready" for line in said):
+        for process in processes:
+            process.kill()
+            process.wait()
+        raise RuntimeError(f"the flooders did not start (they said {said!r})")
+    for process in processes:
+        cast(IO[str], process.stdin).write("go\n")
+        cast(IO[str], process.stdin).flush()
+    return processes
 
 
 def flood_result(process: subprocess.Popen[str], timeout_s: float = 60.0) -> dict[str, float]:

@@ -162,6 +162,9 @@ class Subscription:
                 log.debug("%s: no more samples (%s)", self.topic, exc)
                 return
             self._take(sample)
+            # Offer the GIL between two samples: under a flood this thread always has
+            # work, and the steps and the deadman must not wait a switch interval for it.
+            time.sleep(0)
 
     def _take(self, sample: Any) -> None:
         if sample.attachment is None:  # rmw_subscription_data.cpp:221-228

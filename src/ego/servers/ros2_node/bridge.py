@@ -29,7 +29,7 @@ from ego.servers.ros2_node.topics import PUBLISHED, SUBSCRIBED, TF_STATIC, serve
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot
-    from ego.ros2.participant import Participant, Publisher
+    from ego.ros2.participant import Participant, Publisher, Subscription
 
 __all__ = ["Ros2Bridge"]
 
@@ -61,6 +61,7 @@ class Ros2Bridge:
         self.sampler = Sampler(robot, {n for row in self.published for n in row.needs},
                                period_ms, camera_period_ms, table)  # fmt: skip
         self.publishers: dict[str, Publisher] = {}
+        self.subscriptions: dict[str, Subscription] = {}
         self._static_at = -STATIC_PERIOD_S
         #: The stamp of the last step published (ns since the epoch).
         self.last_stamp_ns: int | None = None
@@ -71,7 +72,9 @@ class Ros2Bridge:
         for row in (*self.published, TF_STATIC):
             self.publishers[row.name] = self.node.publisher(row.name, row.type_name, row.qos)
         for sub in self.subscribed:
-            self.node.subscription(sub.name, sub.type_name, sub.qos, self._handler(sub.name))
+            self.subscriptions[sub.name] = self.node.subscription(
+                sub.name, sub.type_name, sub.qos, self._handler(sub.name)
+            )
         self.sampler.enable()
         self.deadman.start()
         return self.hook()

@@ -57,10 +57,12 @@ class Commands:
         """A Twist came: these speeds, and the deadman waits anew."""
         with self._wake:
             now = self._clock()
+            idle = self.control.holder is None
             self.control.take(CMD_VEL, now)
             self._pending.speeds = speeds
             self.heard_at = now
-            self._wake.notify_all()
+            if idle:  # the deadman waits without a deadline: it has one now. Otherwise it
+                self._wake.notify_all()  # wakes at the old one and waits on (no wake a Twist)
 
     def led(self, index: int, on: bool) -> None:
         with self._wake:
