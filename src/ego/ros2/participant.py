@@ -65,6 +65,8 @@ def _next_id() -> int:
 #: The fewest samples a subscription's ring keeps (a depth-1 topic too: one slow decode
 #: must not lose the Twist behind a burst of malformed ones), and the most.
 MIN_RING, MAX_RING = 64, 1024
+#: A subscription's thread offers the GIL after this many samples in a row.
+YIELD_EVERY = 16
 
 
 def ring_capacity(qos: QoS) -> int:
@@ -155,16 +157,17 @@ class Subscription:
         return self.refused.total
 
     def _run(self) -> None:
-        while True:
+        for taken in itertools.count(1):
             try:
                 sample = self._samples.recv()
             except Exception as exc:  # zenoh.ZError: the subscriber is undeclared
                 log.debug("%s: no more samples (%s)", self.topic, exc)
                 return
             self._take(sample)
-            # Offer the GIL between two samples: under a flood this thread always has
-            # work, and the steps and the deadman must not wait a switch interval for it.
-            time.sleep(0)
+            if taken % YIELD_EVERY == 0:
+                # Under a flood this thread always has work: offer the GIL now and then,
+                # so that the steps and the deadman never wait a switch interval for it.
+                time.sleep(0)
 
     def _take(self, sample: Any) -> None:
         if sample.attachment is None:  # rmw_subscription_data.cpp:221-228

@@ -114,6 +114,12 @@ class Topic:
         for callback in callbacks:
             callback(message)
 
+    @property
+    def dropped(self) -> int:
+        """Samples this topic dropped (no attachment, not decodable, a callback raised);
+        each reason is logged once, then summarised every 10 s."""
+        return self._subscription.dropped
+
     def latest(self) -> Any:
         """The last message that came (a rosbags dataclass), or None."""
         with self._lock:
