@@ -38,9 +38,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "else /dev/ttyS0)")  # fmt: skip
     parser.add_argument("--router", action="append", metavar="ENDPOINT",
                         help=f"the ROS machine's rmw_zenohd, repeatable (default "
-                        f"{DEFAULT_ROUTER}); off loopback a --zenoh-config with Zenoh's "
-                        "authentication is required")  # fmt: skip
-    parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration")
+                        f"{DEFAULT_ROUTER}); ego is a Zenoh client of it. Off loopback "
+                        "a --zenoh-config giving ego Zenoh credentials is required")  # fmt: skip
+    parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration "
+                        "(its transport.auth.usrpwd user and password: docs/ros2.md)")  # fmt: skip
+    parser.add_argument("--allow-unauthenticated-router", action="store_true",
+                        help="connect to a router off loopback without credentials: anyone "
+                        "who reaches that router can then drive the robot")  # fmt: skip
     parser.add_argument("--domain", type=int, default=0, help="ROS_DOMAIN_ID (default 0)")
     parser.add_argument("--namespace", default="/", help="the node's namespace (default /; "
                         "a relative one goes under /, as in ROS)")  # fmt: skip
@@ -101,10 +105,12 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     from ego.ros2.participant import Participant
     from ego.serial.protocol import Firmware
     from ego.servers.ros2_node.bridge import Ros2Bridge
+    from ego.servers.ros2_node.router import open_router_session
     from ego.servers.ros2_node.runner import NodeRunner
-    from ego.zenoh_net.sessions import open_session
 
-    session = open_session(settings)
+    allow = bool(getattr(args, "allow_unauthenticated_router", False))
+    session = open_router_session(settings.connect, settings.config_file,
+                                  allow_unauthenticated=allow)  # fmt: skip
     stack.callback(session.close)
     options: dict[str, Any] = {"firmware": Firmware.choose(args.firmware or "auto")}
     if (args.port or "") == "sim":
