@@ -65,12 +65,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Bridge the robot until a signal (or ``--duration``) ends it."""
     from ego.core.environment import read_environment
+    from ego.ros2.extras import check_installed
     from ego.ros2.names import check_node_name, node_namespace
     from ego.zenoh_net.sessions import ZenohSettings
 
     environment = read_environment()  # once, at the edge
     args.namespace = node_namespace(args.namespace)  # "epuck" is "/epuck", as in rcl
     check_node_name(args.node_name)
+    check_installed()
     settings = ZenohSettings.from_environment(
         environment, listen=None, connect=args.router or [DEFAULT_ROUTER],
         config_file=args.zenoh_config,
