@@ -147,7 +147,7 @@ def test_one_swarm_robots_flood_does_not_delay_anothers_deadman() -> None:
             steps.close()
         print(
             f"swarm flood at epuck0: {sent:.0f} sent; epuck1's wheels stopped {wheels_s:.3f} s "
-            f"after its last Twist; its steps up to {late_s:.3f} s late"
+            f"after its last Twist (fired {_fired(bridge)}); its steps up to {late_s:.3f} s late"
         )
         assert sent >= FLOODERS * RATE * FLOOD_S / 2
         _check_deadman(bridge, emulator_of(victim).world)
