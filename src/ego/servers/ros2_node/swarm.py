@@ -61,7 +61,7 @@ class RosSwarm:
                 self._stack.callback(node.close)
                 bridge = Ros2Bridge(robot, node, period_ms=self.period_ms,
                                     deadline_s=self.deadline_s).attach()  # fmt: skip
-                self._stack.callback(bridge.detach)
+                self._stack.callback(bridge.close)
                 runner = NodeRunner(robot, self.period_ms, self.name(index))
                 self._stack.callback(runner.close)
                 self.robots.append(robot)
