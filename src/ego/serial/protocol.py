@@ -345,6 +345,15 @@ class Batch:
     #: For each request, the command on the wire whose reply holds its values and how
     #: to take them out (None: as they are); empty when every request went as itself.
     _routes: tuple[tuple[int, Callable[[Sequence[float]], tuple[float, ...]] | None], ...] = ()
+    #: The requests as they go on the wire, where routing changed them (empty: as asked).
+    _wire: tuple[Request, ...] = ()
+
+    @property
+    def wire(self) -> tuple[Request, ...]:
+        """The requests ``tx`` holds, in order: what a channel that answers requests
+        rather than bytes (the e-puck2's WiFi) must answer, so that its reply is the one
+        :meth:`decode` reads (reads the profile routes through ``ALL_SENSORS`` ride in it)."""
+        return self._wire or self.requests
 
     @property
     def expects_reply(self) -> bool:
@@ -405,7 +414,7 @@ def encode_batch(requests: Iterable[Request], profile: Profile) -> Batch:
         formats.append(fmt)
     tx.append(Command.END.value)
     reply = sum(f.prefix.size + f.reply.size for f in formats)
-    return Batch(reqs, bytes(tx), reply, tuple(formats), routes)
+    return Batch(reqs, bytes(tx), reply, tuple(formats), routes, tuple(wire) if routes else ())
 
 
 _Routes = tuple[tuple[int, Callable[[Sequence[float]], tuple[float, ...]] | None], ...]

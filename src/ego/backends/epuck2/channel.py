@@ -100,7 +100,8 @@ class Epuck2Channel(ChannelBase):
     def _exchange(self, batch: Batch) -> bytes:
         before = copy.copy(self._encoder)
         try:
-            getters = translate(batch.requests, self._encoder, self._name)
+            # What the batch put on the wire, as its decode reads it (issue 32, item 4).
+            getters = translate(batch.wire, self._encoder, self._name)
         except BaseException:
             self._encoder = before  # a refused batch changes nothing
             raise
