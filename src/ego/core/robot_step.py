@@ -67,6 +67,7 @@ class Stepping:
             return -1
         step_ms = check_int("time step", ms, 1, MAX_PERIOD_MS, " ms")
         self.clock.begin()
+        deadline_s = time.monotonic() + step_ms / 1000.0  # the I2C reads' too
         now = self._time_ms
         self._run_guards()
         try:
@@ -83,7 +84,7 @@ class Stepping:
             self._lost = self._parts.lost = True
             return -1
         # Beside the batch: what the firmware leaves on the Overo's I2C bus (its own lock).
-        run_i2c_step(self._step_parts, self.i2c, now)
+        run_i2c_step(self._step_parts, self.i2c, now, deadline_s=deadline_s)
         for local in self._local_devices:  # captured here, not over the link: the camera
             local.update(now)
         self._time_ms += step_ms
