@@ -113,6 +113,8 @@ def test_a_short_reply_to_the_probe_is_a_chip_not_found(overo_emulator: Emulator
     assert overo_emulator.i2c is not None
     bus = MisshapenBus(overo_emulator.i2c, -1)
     bus.armed = True
-    with ego.Robot(overo_emulator.path, i2c=bus) as robot:
-        with pytest.raises(UnsupportedDeviceError, match="0x60: 5 bytes, not 6"):
-            robot.floor.enable(STEP_MS)
+    with (
+        ego.Robot(overo_emulator.path, i2c=bus) as robot,
+        pytest.raises(UnsupportedDeviceError, match="0x60: 5 bytes, not 6"),
+    ):
+        robot.floor.enable(STEP_MS)
