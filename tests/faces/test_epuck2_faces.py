@@ -33,6 +33,14 @@ E_PUCK2_MAX_VELOCITY = 7.536
 FIRMWARE_MAX_RAD_S = 1100 * 2 * math.pi / 1000
 
 
+#: Six sigmas of the emulated ToF's noise at the arena's distances (2 % + 3 mm).
+_TOF_NOISE_MM = 60
+
+
+def _tof_mm(emu: Epuck2Emulator) -> int:
+    return emu.robot.tof.distance_mm()
+
+
 def _stopped(emu: Epuck2Emulator) -> bool:
     leds = emu.robot.leds
     return emu.world.speeds == (0, 0) and not any(leds.red) and not any(
@@ -83,8 +91,10 @@ def test_tof_is_a_distance_sensor_with_the_protos_lookup_table(
     assert math.isnan(tof.getValue())
     tof.enable(32)
     controller.step(32)
-    # The robot's millimetres unchanged, as Webots' e-puck2 remote control gives them.
-    assert tof.getValue() == e_puck2.robot.tof.distance_mm()
+    # The robot's millimetres unchanged, as Webots' e-puck2 remote control gives them
+    # (this world is noisy and the ToF reads anew every 33 ms: within its noise;
+    # test_epuck2_tof_value.py compares exactly, in a quiet world).
+    assert tof.getValue() == pytest.approx(_tof_mm(e_puck2), abs=_TOF_NOISE_MM)
     # The e-puck's own distance sensors keep theirs.
     ps0 = controller.getDevice("ps0")
     assert ps0.getAperture() == 0.1 and ps0.getType() == DistanceSensor.INFRA_RED
@@ -190,7 +200,8 @@ def test_the_webots_c_face_reaches_tof_gyro_and_rgb_leds(
             wb.wb_gyro_enable(gyro, 32)
             wb.wb_led_set(led3, 0x0000FF)
             wb.wb_robot_step(32)
-            assert wb.wb_distance_sensor_get_value(tof) == e_puck2.robot.tof.distance_mm()
+            got = wb.wb_distance_sensor_get_value(tof)
+            assert got == pytest.approx(_tof_mm(e_puck2), abs=_TOF_NOISE_MM)
             assert len(wb.wb_gyro_get_values(gyro)) == 3
             assert e_puck2.robot.leds.rgb[1] == [0, 0, 100]
         finally:
@@ -210,7 +221,7 @@ def test_the_overo_face_reaches_tof_and_rgb_leds_by_their_tags(
             overo.overo_led_set(tag_of("led7"), 0xFF0000)
             overo.overo_scheduler_robot_step(32)
             got = overo.overo_distance_sensors_get_value(tag_of("tof"))
-            assert got == e_puck2.robot.tof.distance_mm()
+            assert got == pytest.approx(_tof_mm(e_puck2), abs=_TOF_NOISE_MM)
             assert e_puck2.robot.leds.rgb[3] == [100, 0, 0]
         finally:
             overo.overo_serial_close()

@@ -16,6 +16,7 @@ from ego.controller import Robot as WebotsRobot
 from ego.controller.devices import DistanceSensor
 from ego.faces import default_robot, runtime
 from firmware_sim.epuck2 import Epuck2Emulator
+from firmware_sim.worlds import load_world
 
 
 @pytest.fixture(params=["usb", "wifi", "sim"])
@@ -24,7 +25,11 @@ def port(request: pytest.FixtureRequest) -> Iterator[tuple[str, Epuck2Emulator |
         yield "sim", None
         return
     wifi = request.param == "wifi"
-    with Epuck2Emulator("arena", seed=4, wifi=wifi, port=0) as emulator:
+    # A quiet world: each ToF reading (every 33 ms) is the one ego holds, however late
+    # the radio's stream brings it.
+    world = load_world("arena", seed=4)
+    world.noise = False
+    with Epuck2Emulator(world, seed=4, wifi=wifi, port=0) as emulator:
         if wifi:
             assert emulator.wifi_address is not None
             host, number = emulator.wifi_address
