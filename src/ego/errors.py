@@ -18,6 +18,7 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     ├── ProtocolError
     │   ├── ShortReplyError                      fewer bytes than the batch asks for
     │   ├── ExtraBytesError                      bytes left over after the reply
+    │   │   └── LineFloodedError                 a line that never goes quiet (a flood)
     │   ├── RobotResetError                      the dsPIC restarted (its banner arrived)
     │   ├── ChecksumError                        a reply whose checksum does not match
     │   └── FirmwareMismatchError                the firmware is not the one we were told
@@ -70,6 +71,7 @@ __all__ = [
     "FrameSizeError",
     "ImageFormatError",
     "InsecureSecretError",
+    "LineFloodedError",
     "LinkError",
     "LinkLostError",
     "LinkTimeoutError",
@@ -176,6 +178,11 @@ class ShortReplyError(ProtocolError):
 
 class ExtraBytesError(ProtocolError):
     """More reply bytes than the batch asks for: the stream is out of step."""
+
+
+class LineFloodedError(ExtraBytesError):
+    """A serial line still sending when its drain's bound (bytes or time) ran out: a peer
+    that never stops; retrying cannot help, so the step fails at once."""
 
 
 class RobotResetError(ProtocolError):

@@ -27,8 +27,11 @@ PACKET = struct.Struct("<3h3f3h3fb8H8HH4H2hHB3BB3H3HB")
 
 
 def packet(**fields: object) -> bytes:
-    """A 103-byte -0x08 reply whose 49 values are their index, but for ``fields``."""
+    """A 103-byte -0x08 reply whose 49 values are their index, but for ``fields`` and
+    the SD byte (37) and selector (41), which hold what the firmware sends (1, 8): the
+    packet's decoder refuses others (docs/protocol.md)."""
     values: list[object] = [*range(48), 0]
+    values[37], values[41] = 1, 8
     for index, value in fields.items():
         values[int(index.removeprefix("v"))] = value
     return PACKET.pack(*values)

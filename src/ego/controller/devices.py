@@ -260,9 +260,10 @@ class _ValueSensor(Sensor):
         return array
 
     def getValue(self) -> float:
-        """The reading as Webots' model gives it (its family says how: ``webots_value``)."""
+        """The reading as the robot gives it (the e-puck2's tof too: Webots' own remote
+        control hands the robot's millimetres to getValue unchanged)."""
         array = self._array_family()
-        return array.webots_value(array.reading(self._name))
+        return array.reading(self._name)
 
     def getLookupTable(self) -> list[float]:
         """Webots' table (distance m, value, noise per row), flattened: the family's own
@@ -738,7 +739,7 @@ class Gyro(Sensor):
         readings = family.readings() if self._readable() else None
         if readings is None:
             return [_NAN, _NAN, _NAN]
-        return [family.webots_value(v) for v in readings]
+        return [float(v) for v in readings]
 
     def getLookupTable(self) -> list[float]:
         return list(webots_model(self._core.device(self._name)).lookup or ())

@@ -144,6 +144,9 @@ class WireFormat:
     reply: struct.Struct = _NONE
     #: Bytes sent at once when the command is parsed, before the batch's replies (``U``).
     prefix: struct.Struct = _NONE
+    #: Checks the reply's bytes (a ProtocolError for bytes the firmware never sends), where
+    #: the command has such a check: the e-puck2's ``-0x08`` (docs/protocol.md).
+    check: Callable[[memoryview], object] | None = None
 
 
 @dataclass(frozen=True, slots=True)

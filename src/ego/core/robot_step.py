@@ -72,6 +72,7 @@ class Stepper(Generic[_Host]):
             return -1
         step_ms = check_int("time step", ms, 1, MAX_PERIOD_MS, " ms")
         self.clock.begin()
+        deadline_s = time.monotonic() + step_ms / 1000.0  # the I2C reads' too
         now = self.time_ms
         for guard in self.guards:
             guard(robot)
@@ -90,7 +91,7 @@ class Stepper(Generic[_Host]):
             self._parts.lost = True
             return -1
         # Beside the batch: what the firmware leaves on the Overo's I2C bus (its own lock).
-        run_i2c_step(parts, self._parts.i2c, now)
+        run_i2c_step(parts, self._parts.i2c, now, deadline_s=deadline_s)
         for local in self.local_devices:  # captured here, not over the link: the camera
             local.update(now)
         self.time_ms += step_ms

@@ -136,11 +136,6 @@ class Device:
         """The firmware changed (re-detected after a restart)."""
         self._profile = profile
 
-    def webots_value(self, reading: float) -> float:
-        """A member's reading as Webots' model reports it (through its lookup table
-        where the family's unit is not the model's); the reading itself by default."""
-        return reading
-
     @property
     def member_names(self) -> tuple[str, ...]:
         """The names that exist under the connected firmware."""

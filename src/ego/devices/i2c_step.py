@@ -23,9 +23,11 @@ def run_i2c_step(
     side: OveroI2C,
     now_ms: int,
     clock: Callable[[], float] = time.monotonic,
+    deadline_s: float | None = None,
 ) -> None:
     """Read the chip of every part served over I2C that is due at ``now_ms``, and hand
-    each its values as a reply of its serial command (validate, then apply).
+    each its values as a reply of its serial command (validate, then apply), each
+    transfer by ``deadline_s`` (the step's, time.monotonic(); ego.i2c.side).
 
     A chip that stops answering disables its family (UnsupportedDeviceError, raised once
     every other part has its values); values that stay implausible over
@@ -40,7 +42,7 @@ def run_i2c_step(
     for part, chip in due:
         request = Request(part.current_command())
         try:
-            values, now_s = _plausible(part, chip, side, request, clock)
+            values, now_s = _plausible(part, chip, side, request, clock, deadline_s)
         except OSError as exc:
             why = f"the {chip.name} at 0x{chip.address:02X} on {side.name} stopped answering"
             absent.append(part.missing(f"{why}: {exc}"))
@@ -54,11 +56,12 @@ def run_i2c_step(
 
 
 def _plausible(
-    part: Sensor, chip: Chip, side: OveroI2C, request: Request, clock: Callable[[], float]
+    part: Sensor, chip: Chip, side: OveroI2C, request: Request, clock: Callable[[], float],
+    deadline_s: float | None,
 ) -> tuple[tuple[int, ...], float]:
     problem = ""
     for _ in range(MAX_I2C_ATTEMPTS):
-        values = side.read(chip)
+        values = side.read(chip, deadline_s)
         now_s = clock()
         verdict = part.validate(request, values, now_s)
         if verdict.fine:

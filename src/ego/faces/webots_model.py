@@ -4,7 +4,8 @@ here, so that the device families (the core) hold no Webots model data.
 
 Sources: Webots' ``projects/robots/gctronic/e-puck/protos/E-puck.proto`` (version "2"):
 the ``tof`` DistanceSensor (lookupTable [0 19.8 0, 2 2000 0], aperture 0.44, type
-"generic"), and the ``gyro`` (lookupTable [-13.315805 -100000 0.003, 13.315805 100000
+"generic"; what ``getLookupTable`` answers, never applied to the robot's millimetres:
+issue 32), and the ``gyro`` (lookupTable [-13.315805 -100000 0.003, 13.315805 100000
 0.003]).
 """
 

@@ -32,6 +32,7 @@ from ego.core.profile import (
     WireFormat,
 )
 from ego.errors import ExtraBytesError, ShortReplyError, UnsupportedDeviceError
+from ego.serial.asercom2 import SensorLayout, decode_sensors
 
 __all__ = [
     "BANNER_MARKER",
@@ -145,7 +146,9 @@ _epuck2[Command.GYRO_RAW] = _fmt(reply="3h")
 # The new commands, their sizes as ego.serial.asercom2.COMMAND_SIZES gives them
 # (tests/unit/test_epuck2_profile.py checks the two agree).
 _epuck2.update({
-    Command.ALL_SENSORS: _fmt(reply="3h3f3h3fb8H8HH4H2hHB3BB3H3HB"),  # 103 bytes
+    # 103 bytes, checked by the decoder that reads the WiFi packet (reserved byte, SD...).
+    Command.ALL_SENSORS: WireFormat(reply=struct.Struct("<3h3f3h3fb8H8HH4H2hHB3BB3H3HB"),
+                                    check=lambda raw: decode_sensors(raw, SensorLayout.SERIAL)),
     Command.ALL_ACTUATORS: _fmt(arguments="Bhh13BB"),  # 19 bytes
     Command.RGB_LEDS: _fmt(arguments="12B"),
     Command.BUTTON: _fmt(reply="B"),
@@ -345,6 +348,12 @@ class Batch:
     #: For each request, the command on the wire whose reply holds its values and how
     #: to take them out (None: as they are); empty when every request went as itself.
     _routes: tuple[tuple[int, Callable[[Sequence[float]], tuple[float, ...]] | None], ...] = ()
+    _wire: tuple[Request, ...] = ()  # the wire's requests where routing changed them
+
+    @property
+    def wire(self) -> tuple[Request, ...]:
+        """The requests ``tx`` holds: what a channel answering requests answers (WiFi)."""
+        return self._wire or self.requests
 
     @property
     def expects_reply(self) -> bool:
@@ -374,6 +383,8 @@ class Batch:
         values: list[tuple[float, ...]] = []
         for fmt, prefix in zip(self._formats, prefixes, strict=True):
             values.append(prefix + fmt.reply.unpack_from(view, offset))
+            if fmt.check is not None:
+                fmt.check(view[offset : offset + fmt.reply.size])
             offset += fmt.reply.size
         if not self._routes:
             return values
@@ -405,7 +416,7 @@ def encode_batch(requests: Iterable[Request], profile: Profile) -> Batch:
         formats.append(fmt)
     tx.append(Command.END.value)
     reply = sum(f.prefix.size + f.reply.size for f in formats)
-    return Batch(reqs, bytes(tx), reply, tuple(formats), routes)
+    return Batch(reqs, bytes(tx), reply, tuple(formats), routes, tuple(wire) if routes else ())
 
 
 _Routes = tuple[tuple[int, Callable[[Sequence[float]], tuple[float, ...]] | None], ...]
