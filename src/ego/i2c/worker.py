@@ -4,10 +4,12 @@ An i2c-dev transfer blocks in the kernel until the adapter's driver gives up, an
 OMAP3's gives up only after a second (``OMAP_I2C_TIMEOUT``, 1000 ms, in
 torvalds/linux drivers/i2c/busses/i2c-omap.c), which the ``I2C_TIMEOUT`` ioctl does not
 shorten there. A step cannot wait that long (issue 32): each transfer runs on the bus's
-worker thread and its caller waits until its own deadline; past it, LinkTimeoutError.
-The transfer left running keeps the bus: later ones are refused at once (the same error)
-until it returns. The worker is started at the first transfer and stopped and joined by
-:meth:`BusWorker.close` (which waits for a transfer still running: the kernel ends it).
+worker thread and its caller waits until its own deadline; past it, the caller goes on
+without the reading (None: a late transfer, on a loaded board, is no fault). The transfer
+left running keeps the bus: later ones get None at once until it returns, and once it
+has held the bus for :data:`HUNG_S` it has hung: LinkTimeoutError. The worker is started
+at the first transfer and stopped and joined by :meth:`BusWorker.close` (which waits for
+a transfer still running: the kernel ends it).
 """
 
 from __future__ import annotations
@@ -19,9 +21,13 @@ from typing import Generic, TypeVar
 
 from ego.errors import LinkTimeoutError
 
-__all__ = ["BusWorker"]
+__all__ = ["HUNG_S", "BusWorker"]
 
 T = TypeVar("T")
+
+#: A transfer that holds the bus this long has hung: the OMAP3's driver gives up on a
+#: message after 1 s (OMAP_I2C_TIMEOUT), so a working bus never takes longer.
+HUNG_S = 1.0
 
 
 class _Job(Generic[T]):
@@ -48,30 +54,38 @@ class BusWorker:
         self._cond = threading.Condition()
         self._job: _Job[object] | None = None
         self._running: _Job[object] | None = None
+        #: When the transfer holding the bus was handed to the worker (time.monotonic()).
+        self._held_since = 0.0
         self._stopping = False
         self._thread: threading.Thread | None = None
 
-    def run(self, work: Callable[[], T], deadline_s: float, what: str) -> T:
-        """``work()``'s result, or its error; LinkTimeoutError if it has not returned by
-        ``deadline_s`` (time.monotonic()), or when an earlier transfer still holds the bus."""
+    def run(self, work: Callable[[], T], deadline_s: float, what: str) -> T | None:
+        """``work()``'s result, or its error; None if it has not returned by ``deadline_s``
+        (time.monotonic()), or while an earlier late transfer still holds the bus;
+        LinkTimeoutError once that one has held it for :data:`HUNG_S`."""
         job: _Job[T] = _Job(work)
         with self._cond:
             if self._stopping:
                 raise LinkTimeoutError(f"{self.name} is closed")
             if self._running is not None or self._job is not None:
-                raise LinkTimeoutError(
-                    f"{self.name}: {what}: the bus is still held by a transfer that timed out"
-                )
+                held_s = time.monotonic() - self._held_since
+                if held_s >= HUNG_S:
+                    raise LinkTimeoutError(
+                        f"{self.name}: {what}: the bus has been held {held_s:.1f} s by a "
+                        f"transfer that does not end (no answer within {HUNG_S:.0f} s)"
+                    )
+                return None
             if self._thread is None:
                 self._thread = threading.Thread(target=self._serve, name="ego-i2c-bus")
                 self._thread.start()
             self._job = job  # type: ignore[assignment]
+            self._held_since = time.monotonic()
             self._cond.notify_all()
         if not job.done.wait(max(0.0, deadline_s - time.monotonic())):
-            raise LinkTimeoutError(f"{self.name}: {what}: no answer within the step's deadline")
+            return None
         if job.error is not None:
             raise job.error
-        return job.value  # type: ignore[return-value]
+        return job.value
 
     def close(self) -> None:
         """Stop the thread and join it (after a transfer still running ends); idempotent."""
