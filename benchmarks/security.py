@@ -32,10 +32,13 @@ from pathlib import Path
 from benchmarks.common import THESIS_LINE_BAUD, Table, print_and_save
 from benchmarks.floods import FLOOD_KINDS, start_flood
 from ego.backends.remote.channel import RemoteChannel
+from ego.net.frames import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame
 from ego.net.messages import pack_step
-from ego.net.wire import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame, pack_json
+from ego.net.payloads import pack_json
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.serial.link import Link
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
 from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator

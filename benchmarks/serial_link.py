@@ -28,8 +28,9 @@ from benchmarks.common import (
     progress,
     thesis_csv,
 )
+from ego.seam.batch import Batch
 from ego.serial import Command, Firmware, Link, LinkSettings, Request, SerialTransport, encode_batch
-from ego.serial.protocol import PROFILES, Batch, wire_time_s
+from ego.serial.profiles import PROFILES, wire_time_s
 from firmware_sim.dspic import WORK_S
 
 __all__ = [

@@ -5,6 +5,8 @@ from __future__ import annotations
 import pytest
 
 from ego.errors import DeprecatedNameWarning, ProtocolError, UnsupportedDeviceError
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware
 from ego.serial.firmware import (
     OVERO_SELECTOR,
     identify,
@@ -14,7 +16,7 @@ from ego.serial.firmware import (
     parse_hardware_version,
     parse_selector,
 )
-from ego.serial.protocol import Command, Firmware, Request, encode_batch
+from ego.serial.protocol import encode_batch
 from firmware_sim.dspic import firmware_name
 
 # docs/protocol.md, "V": Asercom.c sends "v,Version 1.2.2 August 2008 GCtronic" then

@@ -16,9 +16,9 @@ import pytest
 from numpy.typing import NDArray
 
 import ego
-from ego.backends import Opened
 from ego.backends.zenoh_remote import _Truth
 from ego.controller.radio import _true_pose
+from ego.core.backend import Opened
 from ego.core.ground_truth import Box, GroundTruth, Layout, TruePose, TrueWorld
 from ego.core.robot import Robot
 from ego.core.telemetry import describe_world, world_pose

@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 
 import ego
-from ego.core.channel import ChannelBase
 from ego.errors import DeprecatedNameWarning
+from ego.seam.channel import ChannelBase
 from firmware_sim import Emulator
 
 

@@ -169,9 +169,9 @@ def _secret(args: argparse.Namespace) -> bytes | None:
 def _cmd_run(args: argparse.Namespace) -> int:
     from ego.app.observers import observe_run
     from ego.app.runner import run_controller
-    from ego.backends import takes_option
     from ego.core.environment import read_environment
     from ego.core.ports import resolve_port
+    from ego.core.registry import takes_option
     from ego.core.scheduler import tune_for_stepping
     from ego.servers.supervisor import wants_supervision
 
@@ -234,7 +234,7 @@ def _run_supervised(args: argparse.Namespace, secret: bytes | None) -> int:
 
 
 def _cmd_sim(args: argparse.Namespace) -> int:
-    from ego.backends import find_backend
+    from ego.core.registry import find_backend
 
     # The emulator's own command line, reached through its backend (ego.backends): the
     # library never imports the emulator.

@@ -15,7 +15,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmware
+from ego.seam.profile import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmware
 
 __all__ = [
     "DEFAULT_DASHBOARD",

@@ -15,7 +15,7 @@ from ego.controller.devices import WEBOTS_CAMERA_SIZE
 from ego.core.ports import default_baud
 from ego.core.robot import Robot
 from ego.faces import runtime
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 
 __all__ = ["DemoReport", "run_demo"]
 

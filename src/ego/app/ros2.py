@@ -98,7 +98,7 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     before the tokens go)."""
     from ego.core.robot import Robot
     from ego.ros2.participant import Participant
-    from ego.serial.protocol import Firmware
+    from ego.seam.profile import Firmware
     from ego.servers.ros2_node.bridge import Ros2Bridge
     from ego.servers.ros2_node.runner import NodeRunner
     from ego.zenoh_net.sessions import open_session

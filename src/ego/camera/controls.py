@@ -5,8 +5,8 @@ took is what reads back)."""
 from __future__ import annotations
 
 from ego.camera.source import CONTROLS, FrameSource, GrantedFormat, check_control_name
-from ego.core.validate import check_int
 from ego.errors import CameraError, OutOfRangeError
+from ego.seam.validate import check_int
 
 __all__ = ["CameraControls"]
 

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ego.core.validate import check_int
-from ego.devices.base import MAX_PERIOD_MS
 from ego.errors import OutOfRangeError
+from ego.seam.validate import MAX_PERIOD_MS, check_int
 
 if TYPE_CHECKING:
     from ego.camera.source import GrantedFormat

@@ -10,10 +10,10 @@ from collections.abc import Callable
 from types import TracebackType
 from typing import TYPE_CHECKING
 
-from ego.backends import Opened, open_port
-from ego.core.channel import Channel, ChannelBase, TappedChannel, as_channel_base
+from ego.core.backend import Opened
 from ego.core.environment import Environment, read_environment
 from ego.core.ports import resolve_port
+from ego.core.registry import open_port
 from ego.core.robot_camera import CameraWiring
 from ego.core.robot_devices import DeviceWiring
 from ego.core.robot_step import Stepping
@@ -23,12 +23,13 @@ from ego.core.scheduler import Pacer, StepClock
 from ego.errors import DeprecatedNameWarning
 from ego.i2c.bus import I2CBus, given_bus
 from ego.i2c.side import OveroI2C
+from ego.seam.channel import Channel, ChannelBase, TappedChannel, as_channel_base
 
 if TYPE_CHECKING:
     from ego.camera import FrameSource
     from ego.core.ground_truth import GroundTruth
     from ego.core.scene import Scene
-    from ego.serial.protocol import Batch
+    from ego.seam.batch import Batch
 
 __all__ = ["SIM_PORT", "Robot", "close_all_robots"]
 
@@ -56,7 +57,7 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
     detect it), ``baudrate``, ``link_settings``, ``camera_device`` and ``i2c_bus`` (the
     robot's own I2C bus: a number, a ``/dev/i2c-N`` path, or "none") for a serial port,
     ``seed`` for the emulator, ``secret`` for the network. ``channel`` instead steps
-    through a :class:`~ego.core.channel.Channel` opened elsewhere. ``i2c`` is the robot's own
+    through a :class:`~ego.seam.channel.Channel` opened elsewhere. ``i2c`` is the robot's own
     I2C bus, where the stock firmware in Overo mode leaves the ground sensors and a rev
     1.3's accelerometer (:mod:`ego.i2c`); by default the backend's (the Overo's
     ``/dev/i2c-3`` on its own UART, the emulator's for ``"sim"``).
@@ -82,7 +83,7 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         self._opened = self._open(port, channel, options, environment)
         if i2c is not None:
             self._opened.i2c = given_bus(i2c)
-        #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.core.channel). Its
+        #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.seam.channel). Its
         #: lock is held by a step and by a stop from another thread (a dashboard's button),
         #: so that a stop comes between two steps' batches, never inside a step's recovery.
         self.channel: ChannelBase = as_channel_base(self._opened.channel)

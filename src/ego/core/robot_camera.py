@@ -7,8 +7,8 @@ from typing import TYPE_CHECKING
 from ego.errors import CameraError
 
 if TYPE_CHECKING:
-    from ego.backends import Opened
     from ego.camera import Camera, FrameSource
+    from ego.core.backend import Opened
     from ego.core.robot_stop import Parts
 
 __all__ = ["CameraWiring"]

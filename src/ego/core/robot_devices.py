@@ -25,8 +25,8 @@ from ego.devices.tof import TofSensor
 from ego.errors import LinkLostError, UnknownDeviceError
 
 if TYPE_CHECKING:
-    from ego.core.channel import ChannelBase
     from ego.i2c.side import OveroI2C
+    from ego.seam.channel import ChannelBase
 
 __all__ = ["DeviceWiring"]
 

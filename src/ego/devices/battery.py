@@ -14,7 +14,8 @@ from collections.abc import Iterable, Sequence
 
 from ego.devices.base import Sensor, Verdict, out_of_range
 from ego.errors import UnsupportedDeviceError
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = ["Battery"]
 

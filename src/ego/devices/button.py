@@ -10,7 +10,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ego.devices.base import ArraySensor, Verdict, out_of_range
-from ego.serial.protocol import Command, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 
 __all__ = ["Button"]
 

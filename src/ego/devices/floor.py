@@ -5,7 +5,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ego.devices.base import FINE, ArraySensor, Verdict
-from ego.serial.protocol import Command, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 
 __all__ = ["FloorSensors"]
 

@@ -13,7 +13,8 @@ import math
 from collections.abc import Sequence
 
 from ego.devices.base import Sensor, Verdict, out_of_range
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = ["GYRO_COUNTS_PER_DEG_S", "Gyro"]
 

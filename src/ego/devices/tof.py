@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 from ego.devices.base import ArraySensor
-from ego.serial.protocol import Command
+from ego.seam.profile import Command
 
 __all__ = ["TOF_APERTURE_RAD", "TOF_LOOKUP", "TofSensor", "webots_value"]
 

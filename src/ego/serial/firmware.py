@@ -19,10 +19,10 @@ from __future__ import annotations
 
 import re
 
-from ego.core.channel import FirmwareInfo
-from ego.core.profile import Command, Firmware, Profile
 from ego.errors import ProtocolError
-from ego.serial.protocol import (
+from ego.seam.channel import FirmwareInfo
+from ego.seam.profile import Command, Firmware, Profile
+from ego.serial.profiles import (
     EPUCK2_BLUETOOTH,
     EPUCK2_USB,
     EPUCK2_WIFI,

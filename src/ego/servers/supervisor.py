@@ -29,9 +29,9 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
-from ego.app.serve import open_robot
 from ego.core.safety import SignalExit, install_signal_handlers, send_stop
 from ego.errors import EgoError
+from ego.servers.robot import open_robot
 from ego.servers.socket.server import Server, ServerThread
 
 __all__ = ["DEFAULT_DEADLINE_S", "run_supervised", "wants_supervision"]
