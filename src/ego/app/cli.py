@@ -18,6 +18,7 @@ from ego.app.cli_options import (
     DEFAULT_DASHBOARD,
     CommandParser,
     add_dashboard_options,
+    deadline_ms,
     error_line,
     firmware_parent,
     missing_extra,
@@ -48,14 +49,6 @@ def _camera_size(text: str) -> tuple[int, int]:
     return int(width), int(height)
 
 
-def _deadline_ms(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of ms") from None
-    if not 1 <= value <= 60000:
-        raise argparse.ArgumentTypeError(f"{value} ms is outside 1..60000")
-    return value
 
 
 def _speed(text: str) -> float:
@@ -346,7 +339,7 @@ def _add_run(sub: Any) -> None:
         "ends (SIGKILL, out of memory, a loop that stops stepping); default: on for the "
         "robot's own UART (/dev/ttyS*), off elsewhere",
     )  # fmt: skip
-    run.add_argument("--supervisor-deadline-ms", type=_deadline_ms, default=500, metavar="MS",
+    run.add_argument("--supervisor-deadline-ms", type=deadline_ms, default=500, metavar="MS",
                      help="a supervised controller that does not step for this long has its "
                      "robot stopped (1..60000, default 500)")  # fmt: skip
     add_dashboard_options(run, "a live dashboard of the robot", secret_help="the shared "

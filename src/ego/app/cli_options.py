@@ -19,8 +19,10 @@ from ego.seam.profile import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmwa
 
 __all__ = [
     "DEFAULT_DASHBOARD",
+    "MAX_DEADLINE_MS",
     "CommandParser",
     "add_dashboard_options",
+    "deadline_ms",
     "firmware_parent",
     "robot_parent",
     "seed_parent",
@@ -192,6 +194,23 @@ def world_parent(what: str) -> argparse.ArgumentParser:
 EXTRAS = {"matplotlib": ("matplotlib", "plot"), "zenoh": ("eclipse-zenoh", "zenoh")}
 #: What a secret file on the command line is called (Python says ``secret=...``).
 SECRET_REMEDY = "pass --secret-file FILE (ego secret makes one), or set EGO_SECRET_FILE"
+
+
+#: The longest deadline (or period) a command accepts: beyond a minute a deadman no
+#: longer protects anyone, and a longer step is a unit mistake.
+MAX_DEADLINE_MS = 60_000
+
+
+def deadline_ms(text: str) -> int:
+    """An argparse type for every ``--*-deadline-ms`` (and ``ego ros2 --period-ms``):
+    whole milliseconds within 1..MAX_DEADLINE_MS, refused with one message otherwise."""
+    stripped = text.strip()
+    value = int(stripped) if stripped.isdigit() and len(stripped) < 12 else -1
+    if not 1 <= value <= MAX_DEADLINE_MS:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a whole number of milliseconds within 1..{MAX_DEADLINE_MS}"
+        )
+    return value
 
 
 def error_line(exc: BaseException) -> str:

@@ -18,7 +18,7 @@ import sys
 import threading
 from typing import TYPE_CHECKING, Any
 
-from ego.app.cli_options import add_dashboard_options, error_line
+from ego.app.cli_options import add_dashboard_options, deadline_ms, error_line
 from ego.camera.v4l2 import DEFAULT_CAMERA_DEVICE
 from ego.core.environment import Environment, read_environment
 from ego.core.safety import TERMINATING_SIGNALS
@@ -37,19 +37,6 @@ __all__ = ["add_arguments", "run"]
 log = logging.getLogger(__name__)
 
 
-#: The longest deadman ego serve accepts: beyond a minute it no longer protects anyone.
-MAX_DEADLINE_MS = 60_000
-
-
-def _deadline_ms(text: str) -> int:
-    """An argparse type: whole milliseconds within 1..MAX_DEADLINE_MS."""
-    value = int(text) if text.strip().isdigit() and len(text.strip()) < 12 else -1
-    if not 1 <= value <= MAX_DEADLINE_MS:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not a whole number of milliseconds within 1..{MAX_DEADLINE_MS} "
-            "(the deadman stops the motors when the client is silent this long)"
-        )
-    return value
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -82,7 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--deadline-ms",
-        type=_deadline_ms,
+        type=deadline_ms,
         default=round(DEFAULT_DEADLINE_S * 1000),
         help="stop the motors when the client is silent this long (default: %(default)s)",
     )
