@@ -30,8 +30,8 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from benchmarks.common import Stats, Table, fmt, progress
-from benchmarks.serial_link import bare_client, emulator_process
+from benchmarks.common import Stats, Table, emulator_process, fmt, progress
+from benchmarks.serial_link import bare_client
 from ego.serial import Command, Firmware, Link, Request, SerialTransport, encode_batch
 from ego.serial.profiles import PROFILES, wire_time_s
 
