@@ -15,7 +15,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from ego.seam.profile import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmware
+from ego.seam.profile import FIRMWARE_CHOICES, Firmware
 
 __all__ = [
     "DEFAULT_DASHBOARD",
@@ -149,7 +149,7 @@ def firmware_parent(*, emulated: bool, default: str | None) -> argparse.Argument
         else "the dsPIC's firmware (default: auto, asked with V and C at open)"
     )
     parent.add_argument(
-        "--firmware", choices=(*choices, *DEPRECATED_FIRMWARE_NAMES), default=default,
+        "--firmware", choices=choices, default=default,
         metavar="{" + ",".join(choices) + "}", help=help_text,
     )  # fmt: skip
     return parent

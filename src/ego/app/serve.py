@@ -25,7 +25,7 @@ from ego.core.safety import TERMINATING_SIGNALS
 from ego.errors import EgoError
 from ego.net.auth import load_secret
 from ego.seam.channel import Channel
-from ego.seam.profile import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES
+from ego.seam.profile import FIRMWARE_CHOICES
 from ego.servers.robot import ServedRobot, open_robot
 from ego.servers.socket.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, Server, check_listen
 
@@ -62,7 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--firmware",
-        choices=(*FIRMWARE_CHOICES, *DEPRECATED_FIRMWARE_NAMES),
+        choices=FIRMWARE_CHOICES,
         metavar="{auto,gctronic,webots}",
         default="auto",
         help="dsPIC firmware (default: ask the robot); with --port sim, the one emulated",

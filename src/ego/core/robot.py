@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import logging
 import time
-import warnings
 import weakref
 from collections.abc import Callable
 from types import TracebackType
@@ -20,7 +19,6 @@ from ego.core.robot_step import Stepping
 from ego.core.robot_stop import Parts, SafeStop
 from ego.core.safety import OPEN_ROBOTS, install_signal_handlers
 from ego.core.scheduler import Pacer, StepClock
-from ego.errors import DeprecatedNameWarning
 from ego.i2c.bus import I2CBus, given_bus
 from ego.i2c.side import OveroI2C
 from ego.seam.channel import Channel, ChannelBase, TappedChannel, as_channel_base
@@ -147,11 +145,6 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         return self._opened.ground_truth
 
     @property
-    def emulator(self) -> GroundTruth | None:
-        """The former name of :attr:`ground_truth`, kept for existing code."""
-        return self._opened.ground_truth
-
-    @property
     def scene(self) -> Scene | None:
         """The simulated world's solids for a Webots Supervisor; None on a real robot."""
         return self._opened.scene
@@ -171,13 +164,6 @@ class Robot(DeviceWiring, CameraWiring, Stepping, SafeStop):
         """Call ``guard(robot)`` before every step's batch, after the controller's own
         commands: what it sets wins (a dashboard's stop and drive override the controller)."""
         self._guards.append(guard)
-
-    @property
-    def link(self) -> ChannelBase:
-        """The old name of :attr:`channel` (README's examples read ``robot.link.info``)."""
-        warnings.warn("Robot.link is deprecated: it is Robot.channel now",
-                      DeprecatedNameWarning, stacklevel=2)  # fmt: skip
-        return self.channel
 
     def tap_channel(self, tap: Callable[[Batch, bytes], None]) -> None:
         """Hand ``tap`` every batch this robot exchanges, with its reply (a recording)."""
