@@ -28,7 +28,7 @@ import sys
 
 from benchmarks.common import Table, fmt
 from ego.serial import Command, Firmware, Request, encode_batch
-from ego.serial.protocol import PROFILES, wire_time_s
+from ego.serial.profiles import PROFILES, wire_time_s
 
 __all__ = ["run"]
 

@@ -20,14 +20,14 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from ego.backends.base import BackendOptions, Opened, check
 from ego.backends.serial_line import open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
+from ego.core.backend import BackendOptions, Opened, check
 from ego.core.ground_truth import Box, Layout, TruePose
 from ego.errors import CameraCaptureError, CameraError, OutOfRangeError, WorldFileError
 from ego.i2c.bus import given_bus
+from ego.seam.profile import DEFAULT_BAUD, Firmware
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import DEFAULT_BAUD, Firmware
 from ego.serial.transport import SerialTransport, check_baudrate
 from firmware_sim.camera import SimulatedSource
 from firmware_sim.cli import main as cli_main

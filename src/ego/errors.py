@@ -44,8 +44,6 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
         ├── InsecureSecretError (ValueError)     a secret too short, or a file others can read
         └── FrameError (ValueError)              a malformed or oversized network frame
             └── VersionMismatchError             a frame of another ego protocol version
-    EgoWarning (UserWarning)
-    └── DeprecatedNameWarning (FutureWarning)    an old name that still works, for now
 """
 
 from __future__ import annotations
@@ -61,10 +59,8 @@ __all__ = [
     "ChecksumError",
     "ConfigSyntaxError",
     "ControllerError",
-    "DeprecatedNameWarning",
     "DeviceError",
     "EgoError",
-    "EgoWarning",
     "ExtraBytesError",
     "FirmwareMismatchError",
     "FrameError",
@@ -320,9 +316,3 @@ class VersionMismatchError(FrameError):
         self.session = session
 
 
-class EgoWarning(UserWarning):
-    """Base of ego's warnings."""
-
-
-class DeprecatedNameWarning(EgoWarning, FutureWarning):
-    """A name ego renamed (a firmware profile, say); it works, and says what replaced it."""

@@ -10,9 +10,10 @@ from typing import Any
 from ego.core.telemetry import Sampler, describe_firmware
 from ego.devices.proximity import ProximitySensors
 from ego.devices.table import TABLE, FamilySpec, Series
+from ego.seam.profile import Firmware
 from ego.serial.firmware import FirmwareInfo
 from ego.serial.link import LinkStats
-from ego.serial.protocol import PROFILES, Firmware
+from ego.serial.profiles import PROFILES
 from ego.servers.dashboard.control import ControlDesk, Reply
 from ego.servers.dashboard.server import DashboardServer
 

@@ -7,7 +7,10 @@ requests as asked and every step raised ExtraBytesError (222 bytes where 103 wer
 from __future__ import annotations
 
 import ego
-from ego.serial.protocol import EPUCK2_WIFI, Command, Request, encode_batch
+from ego.seam.batch import Request
+from ego.seam.profile import Command
+from ego.serial.profiles import EPUCK2_WIFI
+from ego.serial.protocol import encode_batch
 from firmware_sim.epuck2 import Epuck2Emulator
 
 

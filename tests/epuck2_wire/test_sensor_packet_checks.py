@@ -21,15 +21,10 @@ from test_asercom2_sensors import RESERVED, SD, SELECTOR, sample_packet
 
 import ego
 from ego.errors import ProtocolError
-from ego.serial.protocol import (
-    EPUCK2_BLUETOOTH,
-    EPUCK2_USB,
-    EPUCK2_WIFI,
-    Command,
-    Profile,
-    Request,
-    encode_batch,
-)
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.serial.profiles import EPUCK2_BLUETOOTH, EPUCK2_USB, EPUCK2_WIFI
+from ego.serial.protocol import encode_batch
 from firmware_sim.epuck2 import Epuck2Emulator
 
 _BAD = [(RESERVED, 1, "reserved byte 1"), (SELECTOR, 16, "selector 16"), (SD, 2, "SD card byte 2")]

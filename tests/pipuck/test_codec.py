@@ -21,7 +21,8 @@ from ego.backends.pipuck.packet import (
     encode_actuators,
 )
 from ego.errors import ChecksumError, OutOfRangeError, ShortReplyError
-from ego.serial.protocol import Command, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 
 
 def test_actuator_message_is_twenty_bytes_little_endian_with_xor_last() -> None:

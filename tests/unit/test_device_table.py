@@ -22,7 +22,7 @@ from ego.errors import UnknownDeviceError, UnsupportedDeviceError
 from ego.faces import tags
 from ego.faces.default_robot import FaceContext, activate
 from ego.faces.runtime import RunOptions
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 from firmware_sim import Emulator
 
 #: The tags as ego 0.1 published them: a device's tag is its place here, from 1.

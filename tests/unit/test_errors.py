@@ -63,10 +63,10 @@ def test_unknown_device_message_is_not_quoted_like_a_key() -> None:
     assert str(err) == "no device 'ps12'; valid names: ps0..ps7"
 
 
-def test_every_exported_name_exists_and_is_an_ego_error_or_warning() -> None:
+def test_every_exported_name_exists_and_is_an_ego_error() -> None:
     for name in errors.__all__:
         obj = getattr(errors, name)
-        assert issubclass(obj, (errors.EgoError, errors.EgoWarning)), name
+        assert issubclass(obj, errors.EgoError), name
 
 
 def _raised_names() -> set[str]:

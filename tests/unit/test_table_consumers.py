@@ -24,9 +24,10 @@ from ego.devices.light import LightSensors
 from ego.devices.table import TABLE, FamilySpec, Series
 from ego.errors import UnknownDeviceError
 from ego.recording.schemas import SCHEMAS, sensors_schema
+from ego.seam.profile import Command, Firmware
 from ego.serial.firmware import FirmwareInfo
 from ego.serial.link import LinkStats
-from ego.serial.protocol import PROFILES, Command, Firmware
+from ego.serial.profiles import PROFILES
 from ego.servers.dashboard import control, served
 from ego.servers.dashboard.control import ControlDesk
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import math
 import re
 import subprocess
 import sys
@@ -18,9 +17,13 @@ from ego.app.cli_options import (
     DEFAULT_DASHBOARD,
     CommandParser,
     add_dashboard_options,
+    camera_size,
+    deadline_ms,
     error_line,
     firmware_parent,
     missing_extra,
+    positive,
+    replay_speed,
     robot_parent,
     seed_parent,
     world_parent,
@@ -29,44 +32,6 @@ from ego.errors import ControllerError, EgoError
 from ego.faces import runtime
 
 __all__ = ["build_parser", "main"]
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan  # argparse would only say "invalid _positive value"
-    if not value > 0 or math.isinf(value):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a positive number")
-    return value
-
-
-def _camera_size(text: str) -> tuple[int, int]:
-    width, sep, height = text.lower().partition("x")
-    if not (sep and width.isdigit() and height.isdigit()):
-        raise argparse.ArgumentTypeError(f"{text!r} is not WIDTHxHEIGHT, as 160x120")
-    return int(width), int(height)
-
-
-def _deadline_ms(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of ms") from None
-    if not 1 <= value <= 60000:
-        raise argparse.ArgumentTypeError(f"{value} ms is outside 1..60000")
-    return value
-
-
-def _speed(text: str) -> float:
-    from ego.backends.replay import SPEEDS
-
-    value = _positive(text)
-    if value not in SPEEDS:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not one of {', '.join(f'{s:g}' for s in SPEEDS)}"
-        )
-    return value
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -173,9 +138,9 @@ def _secret(args: argparse.Namespace) -> bytes | None:
 def _cmd_run(args: argparse.Namespace) -> int:
     from ego.app.observers import observe_run
     from ego.app.runner import run_controller
-    from ego.backends import takes_option
     from ego.core.environment import read_environment
     from ego.core.ports import resolve_port
+    from ego.core.registry import takes_option
     from ego.core.scheduler import tune_for_stepping
     from ego.servers.supervisor import wants_supervision
 
@@ -238,7 +203,7 @@ def _run_supervised(args: argparse.Namespace, secret: bytes | None) -> int:
 
 
 def _cmd_sim(args: argparse.Namespace) -> int:
-    from ego.backends import find_backend
+    from ego.core.registry import find_backend
 
     # The emulator's own command line, reached through its backend (ego.backends): the
     # library never imports the emulator.
@@ -310,7 +275,7 @@ def _add_demo(sub: Any) -> None:
         parents=[firmware_parent(emulated=True, default="webots"), seed_parent(1, ""),
                  world_parent("the emulator's world"), robot_parent("the emulated robot")],
     )  # fmt: skip
-    demo.add_argument("--duration", type=_positive, default=20.0, help="seconds (default 20)")
+    demo.add_argument("--duration", type=positive, default=20.0, help="seconds (default 20)")
     add_dashboard_options(demo, "the live dashboard, on unless --no-dashboard", secret=False,
                           off_loopback="loopback only: the demo takes no secret")  # fmt: skip
     demo.add_argument("--no-dashboard", action="store_true", help="no dashboard")
@@ -331,11 +296,11 @@ def _add_run(sub: Any) -> None:
     run.add_argument("--port", default=None, help="serial port, pyserial URL, 'sim', tcp://, "
                      "udp://, unix://, zenoh://, epuck2://HOST (an e-puck2 over WiFi), "
                      "pipuck (on a Pi-puck's Pi) (default: EGO_PORT or /dev/ttyS0)")  # fmt: skip
-    run.add_argument("--duration", type=_positive, default=None,
+    run.add_argument("--duration", type=positive, default=None,
                      help="stop after this many seconds of controller time")  # fmt: skip
-    run.add_argument("--time-step", type=_positive, default=32.0,
+    run.add_argument("--time-step", type=positive, default=32.0,
                      help="what getBasicTimeStep() answers, ms (default 32)")  # fmt: skip
-    run.add_argument("--camera", type=_camera_size, default=None, metavar="WxH",
+    run.add_argument("--camera", type=camera_size, default=None, metavar="WxH",
                      help="the Webots face's camera size (default 52x39, Webots' "
                      "e-puck's)")  # fmt: skip
     run.add_argument("--strict", action="store_true", help="where Webots warns and carries "
@@ -353,7 +318,7 @@ def _add_run(sub: Any) -> None:
         "ends (SIGKILL, out of memory, a loop that stops stepping); default: on for the "
         "robot's own UART (/dev/ttyS*), off elsewhere",
     )  # fmt: skip
-    run.add_argument("--supervisor-deadline-ms", type=_deadline_ms, default=500, metavar="MS",
+    run.add_argument("--supervisor-deadline-ms", type=deadline_ms, default=500, metavar="MS",
                      help="a supervised controller that does not step for this long has its "
                      "robot stopped (1..60000, default 500)")  # fmt: skip
     add_dashboard_options(run, "a live dashboard of the robot", secret_help="the shared "
@@ -386,10 +351,10 @@ def _add_replay(sub: Any) -> None:
                         "saying at which step, where it asks what the run did not")  # fmt: skip
     add_dashboard_options(replay, "a dashboard of the replayed robot with --emulate (a "
                           "recording played back is always shown on one)")  # fmt: skip
-    replay.add_argument("--speed", type=_speed, default=1.0, metavar="X",
+    replay.add_argument("--speed", type=replay_speed, default=1.0, metavar="X",
                         help="times real time: 0.25, 0.5, 1, 2 or 4 (default 1); with "
                         "--emulate, the pace of the controller's steps")  # fmt: skip
-    replay.add_argument("--duration", type=_positive, default=None,
+    replay.add_argument("--duration", type=positive, default=None,
                         help="stop serving after this many seconds (default: Ctrl-C)")  # fmt: skip
     replay.set_defaults(func=_cmd_replay)
 
@@ -404,7 +369,7 @@ def _add_swarm(sub: Any) -> None:
                  robot_parent("the emulated robots")],
     )  # fmt: skip
     swarm.add_argument("--robots", type=int, default=4, help="how many (default 4)")
-    swarm.add_argument("--duration", type=_positive, default=None,
+    swarm.add_argument("--duration", type=positive, default=None,
                        help="each controller's duration, seconds of controller time")  # fmt: skip
     swarm.add_argument("--zenoh-endpoint", default="tcp/127.0.0.1:7447", metavar="ENDPOINT",
                        help="where the robots' Zenoh node listens (default loopback)")  # fmt: skip

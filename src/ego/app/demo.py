@@ -15,7 +15,7 @@ from ego.controller.devices import WEBOTS_CAMERA_SIZE
 from ego.core.ports import default_baud
 from ego.core.robot import Robot
 from ego.faces import runtime
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 
 __all__ = ["DemoReport", "run_demo", "run_pipuck_demo"]
 
@@ -156,7 +156,7 @@ def run_pipuck_demo(
     I2C buses through its shim, as a real Pi's ``/dev/i2c-N``; its exit status."""
     import subprocess
 
-    from ego.backends import find_backend
+    from ego.core.registry import find_backend
 
     backend: Any = find_backend("sim")  # the emulator's bridge; ego never imports it
     which = robot or "epuck2"

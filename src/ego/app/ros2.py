@@ -16,6 +16,7 @@ import threading
 from contextlib import ExitStack
 from typing import Any
 
+from ego.app.cli_options import deadline_ms
 from ego.core.safety import TERMINATING_SIGNALS
 
 __all__ = ["add_arguments", "run", "wait_for_signal"]
@@ -24,11 +25,6 @@ __all__ = ["add_arguments", "run", "wait_for_signal"]
 DEFAULT_ROUTER = "tcp/127.0.0.1:7447"
 
 
-def _deadline_ms(text: str) -> int:
-    value = int(text) if text.strip().isdigit() and len(text.strip()) < 7 else -1
-    if not 1 <= value <= 60_000:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of ms in 1..60000")
-    return value
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -53,9 +49,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--distro", default="jazzy", choices=("jazzy", "humble", "kilted"),
                         help="the ROS 2 distribution whose rmw_zenoh format to speak "
                         "(default jazzy)")  # fmt: skip
-    parser.add_argument("--period-ms", type=_deadline_ms, default=64,
+    parser.add_argument("--period-ms", type=deadline_ms, default=64,
                         help="step and publish period, ms (default 64, epuck_ros2's)")  # fmt: skip
-    parser.add_argument("--deadline-ms", type=_deadline_ms, default=500,
+    parser.add_argument("--deadline-ms", type=deadline_ms, default=500,
                         help="stop the wheels when cmd_vel is silent this long "
                         "(default 500)")  # fmt: skip
     parser.add_argument("--duration", type=float, default=None,
@@ -103,10 +99,10 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     """Open the session, the robot, the node and its bridge, and start stepping; each
     closed by ``stack`` in the reverse order (the runner joined first, the robot stopped
     before the tokens go)."""
-    from ego.backends import takes_option
+    from ego.core.registry import takes_option
     from ego.core.robot import Robot
     from ego.ros2.participant import Participant
-    from ego.serial.protocol import Firmware
+    from ego.seam.profile import Firmware
     from ego.servers.ros2_node.bridge import Ros2Bridge
     from ego.servers.ros2_node.router import open_router_session
     from ego.servers.ros2_node.runner import NodeRunner

@@ -26,9 +26,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import IO, Any
 
-from ego.backends import Opened, find_backend, open_port
+from ego.core.backend import Opened
 from ego.core.closing import close_each
-from ego.serial.protocol import Firmware
+from ego.core.registry import find_backend, open_port
+from ego.seam.profile import Firmware
 
 __all__ = ["MAX_ROBOTS", "Swarm", "robot_name", "robot_seed"]
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 from typing import Protocol
 
 from ego.camera.source import CONTROLS, FrameSource, GrantedFormat, check_control_name
-from ego.core.validate import check_int
 from ego.errors import OutOfRangeError
+from ego.seam.validate import check_int
 
 __all__ = ["CameraControls", "Controlled"]
 

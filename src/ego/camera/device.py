@@ -27,8 +27,8 @@ from ego.camera.source import (
     GrantedFormat,
     PixelFormat,
 )
-from ego.core.validate import check_int
 from ego.errors import CameraError, OutOfRangeError
+from ego.seam.validate import check_int
 
 __all__ = ["DEFAULT_FOV_RAD", "Camera"]
 

@@ -10,8 +10,8 @@ import numpy.typing as npt
 
 from ego.camera.convert import rgb888_to_bgra
 from ego.camera.encode import save_image
-from ego.core.validate import check_int
 from ego.errors import OutOfRangeError
+from ego.seam.validate import check_int
 
 __all__ = ["BgraCopy", "Framed", "PixelReads"]
 

@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-from ego.core.validate import check_int
-from ego.devices.base import MAX_PERIOD_MS
 from ego.errors import OutOfRangeError
+from ego.seam.validate import MAX_PERIOD_MS, check_int
 
 __all__ = ["SamplingSchedule"]
 

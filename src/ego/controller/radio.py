@@ -32,8 +32,8 @@ from typing import TYPE_CHECKING, Any
 
 from ego.controller.devices import Device
 from ego.core.environment import Environment, read_environment
-from ego.devices.base import MAX_PERIOD_MS, check_int
 from ego.errors import DeviceError, OutOfRangeError
+from ego.seam.validate import MAX_PERIOD_MS, check_int
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot as CoreRobot

@@ -4,16 +4,15 @@ from __future__ import annotations
 
 import logging
 import time
-import warnings
 import weakref
 from collections.abc import Callable
 from types import TracebackType
 from typing import TYPE_CHECKING
 
-from ego.backends import Opened, open_port
-from ego.core.channel import Channel, ChannelBase, TappedChannel, as_channel_base
+from ego.core.backend import Opened
 from ego.core.environment import Environment, read_environment
 from ego.core.ports import resolve_port
+from ego.core.registry import open_port
 from ego.core.robot_camera import CameraSlot
 from ego.core.robot_devices import FamilyAttribute, RobotDevices
 from ego.core.robot_step import Stepper
@@ -37,15 +36,16 @@ from ego.devices.selector import Selector
 from ego.devices.sound import Speaker
 from ego.devices.temperature import Temperature
 from ego.devices.tof import TofSensor
-from ego.errors import DeprecatedNameWarning, LinkLostError
+from ego.errors import LinkLostError
 from ego.i2c.bus import I2CBus, given_bus
 from ego.i2c.side import OveroI2C
+from ego.seam.channel import Channel, ChannelBase, TappedChannel, as_channel_base
 
 if TYPE_CHECKING:
     from ego.camera import Camera, FrameSource
     from ego.core.ground_truth import GroundTruth
     from ego.core.scene import Scene
-    from ego.serial.protocol import Batch
+    from ego.seam.batch import Batch
 
 __all__ = ["SIM_PORT", "Robot", "close_all_robots"]
 
@@ -71,7 +71,7 @@ class Robot:
     one, ``EGO_PORT``, else ``/dev/ttyS0``. The port's backend (:mod:`ego.backends`) takes
     the ``options`` it declares (``firmware``, ``baudrate``, ``i2c_bus``, ``seed``,
     ``secret``...). ``channel`` instead steps through a
-    :class:`~ego.core.channel.Channel` opened elsewhere; ``i2c`` is the robot's own I2C bus
+    :class:`~ego.seam.channel.Channel` opened elsewhere; ``i2c`` is the robot's own I2C bus
     (:mod:`ego.i2c`), by default the backend's.
 
     Leaving the ``with`` block, an exception, or dropping the Robot stops the motors and
@@ -95,7 +95,7 @@ class Robot:
         self.port, self._opened = _open(port, channel, options, environment)
         if i2c is not None:
             self._opened.i2c = given_bus(i2c)
-        #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.core.channel). Its
+        #: The way to the dsPIC: a serial Link, a RemoteChannel... (ego.seam.channel). Its
         #: lock is held by a step and by a stop from another thread (a dashboard's button),
         #: so that a stop comes between two steps' batches, never inside a step's recovery.
         self.channel: ChannelBase = as_channel_base(self._opened.channel)
@@ -156,18 +156,6 @@ class Robot:
         """What the simulator behind this robot knows of it and its world (its true pose,
         the world's layout: :mod:`ego.core.ground_truth`); None on a real robot."""
         return self._opened.ground_truth
-
-    @property
-    def emulator(self) -> GroundTruth | None:
-        """The former name of :attr:`ground_truth` (removed by the layers branch)."""
-        return self._opened.ground_truth
-
-    @property
-    def link(self) -> ChannelBase:
-        """The old name of :attr:`channel` (removed by the layers branch)."""
-        warnings.warn("Robot.link is deprecated: it is Robot.channel now",
-                      DeprecatedNameWarning, stacklevel=2)  # fmt: skip
-        return self.channel
 
     @property
     def scene(self) -> Scene | None:

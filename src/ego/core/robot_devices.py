@@ -14,7 +14,7 @@ from ego.errors import UnknownDeviceError
 
 if TYPE_CHECKING:
     from ego.i2c.side import OveroI2C
-    from ego.serial.protocol import Profile
+    from ego.seam.profile import Profile
 
 __all__ = ["FamilyAttribute", "HasDevices", "RobotDevices"]
 

@@ -8,16 +8,16 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Generic, TypeVar
 
 from ego.core.transaction import run_step
-from ego.devices.base import MAX_PERIOD_MS, check_int
 from ego.devices.i2c_step import run_i2c_step
 from ego.errors import LinkLostError, ReplayEndedError
+from ego.seam.validate import MAX_PERIOD_MS, check_int
 
 if TYPE_CHECKING:
     from ego.camera import Camera
-    from ego.core.channel import ChannelBase
     from ego.core.robot_devices import RobotDevices
     from ego.core.robot_stop import Parts
     from ego.core.scheduler import Pacer
+    from ego.seam.channel import ChannelBase
 
 __all__ = ["Stepper"]
 

@@ -10,11 +10,11 @@ from ego.core.safety import send_stop
 from ego.errors import EgoError
 
 if TYPE_CHECKING:
-    from ego.backends import Opened
     from ego.camera import Camera
-    from ego.core.channel import ChannelBase
+    from ego.core.backend import Opened
     from ego.core.scheduler import Pacer
     from ego.i2c.side import OveroI2C
+    from ego.seam.channel import ChannelBase
 
 __all__ = ["Parts"]
 

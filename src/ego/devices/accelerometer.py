@@ -21,7 +21,8 @@ from typing import ClassVar, NamedTuple
 
 from ego.devices.base import Sensor, Verdict, out_of_range
 from ego.devices.table import TABLE, Series
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = [
     "ACC_COUNTS_PER_G",

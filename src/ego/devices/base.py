@@ -30,18 +30,18 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
-from ego.core.validate import check_int  # re-exported: the families' integer check
 from ego.devices.table import TABLE, DeviceTable
 from ego.errors import DeviceError, UnknownDeviceError, UnsupportedDeviceError
 from ego.i2c.side import NO_I2C, OveroI2C
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.seam.validate import MAX_PERIOD_MS, check_int
 
 if TYPE_CHECKING:
     from ego.i2c.chips import Chip
 
 __all__ = [
     "FINE",
-    "MAX_PERIOD_MS",
     "PHASE",
     "ActingFamily",
     "Actuator",
@@ -55,8 +55,6 @@ __all__ = [
     "out_of_range",
 ]
 
-#: Longest sampling period accepted (a day); anything longer is surely a unit mistake.
-MAX_PERIOD_MS = 86_400_000
 
 
 def out_of_range(what: str, values: Sequence[float], low: float, high: float) -> str | None:

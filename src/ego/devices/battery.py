@@ -15,7 +15,8 @@ from collections.abc import Iterable, Sequence
 from ego.devices.base import Sensor, Verdict, out_of_range
 from ego.devices.table import TABLE
 from ego.errors import UnsupportedDeviceError
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = ["Battery"]
 

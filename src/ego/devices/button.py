@@ -11,7 +11,8 @@ from collections.abc import Sequence
 
 from ego.devices.base import ArraySensor, Verdict, out_of_range
 from ego.devices.table import TABLE, Series
-from ego.serial.protocol import Command, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 
 __all__ = ["Button"]
 

@@ -5,9 +5,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict, check_int
+from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict
 from ego.devices.table import STEP_RAD, TABLE, Series
-from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.seam.validate import check_int
+from ego.serial.profiles import MAX_SPEED_STEPS, STEPS_PER_TURN
 
 __all__ = ["Encoders", "wrap_int16"]
 

@@ -7,7 +7,7 @@ from typing import TypeVar
 from ego.devices.base import Device
 from ego.devices.table import TABLE, DeviceTable, FamilySpec
 from ego.errors import UnknownDeviceError
-from ego.serial.protocol import Profile
+from ego.seam.profile import Profile
 
 __all__ = ["family_class", "make_families", "pick"]
 

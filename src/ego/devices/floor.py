@@ -6,7 +6,8 @@ from collections.abc import Sequence
 
 from ego.devices.base import FINE, ArraySensor, Verdict
 from ego.devices.table import RAW, TABLE, Series
-from ego.serial.protocol import Command, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 
 __all__ = ["FloorSensors"]
 

@@ -14,7 +14,8 @@ from collections.abc import Sequence
 
 from ego.devices.base import Sensor, Verdict, out_of_range
 from ego.devices.table import RAW, TABLE, Series
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = ["GYRO_COUNTS_PER_DEG_S", "Gyro"]
 

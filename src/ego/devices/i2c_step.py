@@ -11,7 +11,7 @@ from ego.devices.base import Device, Sensor
 from ego.errors import DeviceError, UnsupportedDeviceError
 from ego.i2c.chips import Chip
 from ego.i2c.side import MAX_I2C_ATTEMPTS, OveroI2C
-from ego.serial.protocol import Request
+from ego.seam.batch import Request
 
 __all__ = ["run_i2c_step"]
 

@@ -5,11 +5,13 @@ from __future__ import annotations
 
 import enum
 
-from ego.devices.base import Actuator, check_int
+from ego.devices.base import Actuator
 from ego.devices.rgb_leds import MAX_COLOUR, colour_request
 from ego.devices.table import TABLE
 from ego.errors import UnsupportedDeviceError
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.seam.validate import check_int
 
 __all__ = ["LedValue", "Leds"]
 

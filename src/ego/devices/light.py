@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ego.devices.base import ArraySensor
 from ego.devices.table import RAW, TABLE, Series
-from ego.serial.protocol import Command
+from ego.seam.profile import Command
 
 __all__ = ["LightSensors"]
 

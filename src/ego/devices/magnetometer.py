@@ -14,7 +14,8 @@ from collections.abc import Iterable, Sequence
 from ego.devices.base import Verdict
 from ego.devices.packet import PacketSensor
 from ego.devices.table import TABLE, Series
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = ["Magnetometer"]
 

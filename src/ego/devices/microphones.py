@@ -5,10 +5,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from ego.devices.base import MAX_PERIOD_MS, ArraySensor, Verdict, check_int, out_of_range
+from ego.devices.base import ArraySensor, Verdict, out_of_range
 from ego.devices.table import TABLE, Series
 from ego.errors import DeviceError
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.seam.validate import MAX_PERIOD_MS, check_int
 
 if TYPE_CHECKING:  # numpy is imported when a buffer first arrives (import ego stays light)
     import numpy as np

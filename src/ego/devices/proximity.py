@@ -8,7 +8,7 @@ from typing import ClassVar
 from ego.devices.base import ArraySensor
 from ego.devices.table import RAW, TABLE, Series
 from ego.errors import EgoError
-from ego.serial.protocol import Command, Profile
+from ego.seam.profile import Command, Profile
 
 __all__ = ["ProximitySensors"]
 

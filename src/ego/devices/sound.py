@@ -15,7 +15,7 @@ from collections.abc import Callable
 from ego.devices.base import Device
 from ego.devices.table import TABLE
 from ego.errors import EgoError, OutOfRangeError, UnsupportedDeviceError
-from ego.serial.protocol import Profile
+from ego.seam.profile import Profile
 
 __all__ = ["Melody", "Speaker"]
 

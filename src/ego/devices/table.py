@@ -6,7 +6,7 @@ never renumbered), which family of :class:`ego.Robot` serves it (the attribute:
 ``robot.proximity``...) and at which index, its Webots node type, the units the Webots
 face reports it in, and the firmwares that serve it.
 
-``firmwares`` holds the names of :class:`ego.serial.protocol.Firmware` whose profile (as
+``firmwares`` holds the names of :class:`ego.seam.profile.Firmware` whose profile (as
 ``PROFILES`` gives it, the stock firmware in Overo mode for ``gctronic``) serves the
 device, over the line or, for what that firmware leaves on the Overo's own I2C bus
 (``Profile.i2c``: gs0..gs2, a rev 1.3's accelerometer), over that bus: the families
@@ -44,7 +44,7 @@ from dataclasses import dataclass
 from typing import Any, TypeVar
 
 from ego.errors import UnknownDeviceError
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 
 __all__ = [
     "BATTERY",
@@ -194,7 +194,7 @@ class FamilySpec:
     series: Series | None = None
 
 
-#: One wheel step in rad: 1000 steps a wheel turn (ego.serial.protocol.STEPS_PER_TURN).
+#: One wheel step in rad: 1000 steps a wheel turn (ego.serial.profiles.STEPS_PER_TURN).
 STEP_RAD = 2 * math.pi / 1000
 _C = TypeVar("_C", bound=type)
 

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from ego.devices.base import Verdict, out_of_range
 from ego.devices.packet import PacketSensor
 from ego.devices.table import TABLE, Series
-from ego.serial.protocol import Request
+from ego.seam.batch import Request
 
 __all__ = ["Temperature"]
 

@@ -19,7 +19,7 @@ from typing import ClassVar
 
 from ego.devices.base import ArraySensor
 from ego.devices.table import TABLE, Series
-from ego.serial.protocol import Command
+from ego.seam.profile import Command
 
 __all__ = ["TofSensor"]
 

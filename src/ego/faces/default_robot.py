@@ -28,7 +28,7 @@ from ego.core.robot import Robot
 from ego.core.safety import RobotKeeper
 from ego.errors import EgoError
 from ego.faces.runtime import RunOptions
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 
 __all__ = [
     "FaceContext",

@@ -41,7 +41,7 @@ from typing import Any
 from ego.core.odometry import AXLE_M, WHEEL_RADIUS_M
 from ego.devices.table import TABLE, DeviceSpec, DeviceTable
 from ego.ros2.epuck_driver import GROUND_TABLE, INFRARED_TABLE, interpolate_table
-from ego.serial.protocol import STEPS_PER_TURN
+from ego.serial.profiles import STEPS_PER_TURN
 
 __all__ = [
     "GROUND_TABLE",

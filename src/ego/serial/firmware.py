@@ -19,11 +19,11 @@ from __future__ import annotations
 
 import re
 
-from ego.core.channel import FirmwareInfo
-from ego.core.profile import Command, Firmware, Profile
 from ego.errors import ProtocolError
+from ego.seam.channel import FirmwareInfo
+from ego.seam.profile import Command, Firmware, Profile
 from ego.serial.pipuck import PIPUCK_PROFILES
-from ego.serial.protocol import (
+from ego.serial.profiles import (
     EPUCK2_BLUETOOTH,
     EPUCK2_USB,
     EPUCK2_WIFI,

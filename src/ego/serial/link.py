@@ -19,8 +19,6 @@ import logging
 import time
 from dataclasses import dataclass
 
-from ego.core.channel import ChannelBase, FirmwareInfo, LinkStats, reconnect_within
-from ego.core.profile import DEFAULT_BAUD, Firmware, Profile
 from ego.errors import (
     ExtraBytesError,
     LineFloodedError,
@@ -31,8 +29,11 @@ from ego.errors import (
     RobotResetError,
     ShortReplyError,
 )
+from ego.seam.batch import Batch
+from ego.seam.channel import ChannelBase, FirmwareInfo, LinkStats, reconnect_within
+from ego.seam.profile import DEFAULT_BAUD, Firmware, Profile
 from ego.serial.probe import probe_firmware
-from ego.serial.protocol import BANNER_MARKER, PROFILES, Batch, wire_time_s
+from ego.serial.profiles import BANNER_MARKER, PROFILES, wire_time_s
 from ego.serial.transport import Transport
 
 __all__ = ["Link", "LinkSettings", "LinkStats", "drain_line", "read_lines", "reply_timeout_s"]

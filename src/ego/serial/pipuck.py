@@ -17,8 +17,8 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Final
 
-from ego.core.profile import AsciiStop, Command, Firmware, Profile, WireFormat
-from ego.serial.protocol import EPUCK2_USB
+from ego.seam.profile import AsciiStop, Command, Firmware, Profile, WireFormat
+from ego.serial.profiles import EPUCK2_USB
 
 __all__ = ["EPUCK2_I2C_PROFILE", "I2C_BITS_PER_BYTE", "PIPUCK_PROFILES", "YORK_PROFILE"]
 

@@ -28,8 +28,8 @@ from ego.errors import (
     PortBusyError,
     PortNotFoundError,
 )
+from ego.seam.profile import DEFAULT_BAUD
 from ego.serial.port_holder import find_port_holder
-from ego.serial.protocol import DEFAULT_BAUD
 
 __all__ = ["MAX_BAUD", "MIN_BAUD", "SerialTransport", "Transport", "check_baudrate"]
 

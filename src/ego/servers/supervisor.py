@@ -29,9 +29,9 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
-from ego.app.serve import open_robot
 from ego.core.safety import SignalExit, install_signal_handlers, send_stop
 from ego.errors import EgoError
+from ego.servers.robot import open_robot
 from ego.servers.socket.server import Server, ServerThread
 
 __all__ = ["DEFAULT_DEADLINE_S", "run_supervised", "wants_supervision"]
@@ -48,8 +48,8 @@ def wants_supervision(port: str | None) -> bool:
     """Whether ``ego run`` supervises by default: on the robot's own UART (the Overo's
     /dev/ttyS*, /dev/ttyO*), or a port whose backend says ego runs on the robot (its
     ``on_robot``: a Pi-puck's), where nothing else could stop a killed controller's robot."""
-    from ego.backends import find_backend, scheme_of
     from ego.core.ports import is_robot_uart, resolve_port
+    from ego.core.registry import find_backend, scheme_of
 
     resolved = resolve_port(port)
     if is_robot_uart(resolved):

@@ -1,4 +1,4 @@
-"""The e-puck2 over WiFi as a :class:`~ego.core.channel.Channel`: batches in, the radio's
+"""The e-puck2 over WiFi as a :class:`~ego.seam.channel.Channel`: batches in, the radio's
 commands out, answers from its newest sensor packet.
 
 What the radio's firmware asks of a client (docs/protocol.md, "e-puck2"), and where it
@@ -40,12 +40,12 @@ from ego.backends.epuck2.connection import Heard, WifiConnection, connect
 from ego.backends.epuck2.drops import DropPolicy, DropTally
 from ego.backends.epuck2.requests import WIFI_PROFILE, answer, translate
 from ego.backends.epuck2.wifi_packets import Request, encode_command
-from ego.core.channel import ChannelBase, FirmwareInfo, reconnect_within
 from ego.errors import LinkError, LinkLostError, LinkTimeoutError, UnsupportedDeviceError
+from ego.seam.channel import ChannelBase, FirmwareInfo, reconnect_within
 from ego.serial.asercom2 import ActuatorEncoder, Actuators, encode_actuators
 
 if TYPE_CHECKING:
-    from ego.serial.protocol import Batch
+    from ego.seam.batch import Batch
 
 __all__ = ["IMAGE_IDLE_S", "Epuck2Channel", "WifiSettings"]
 

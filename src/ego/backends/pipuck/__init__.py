@@ -32,9 +32,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar, Literal
 
-from ego.backends.base import BackendOptions, Opened, check
 from ego.backends.pipuck.bus import open_buses
 from ego.backends.pipuck.detect import open_robot
+from ego.core.backend import BackendOptions, Opened, check
 from ego.errors import BackendOptionError, PortNotFoundError
 
 if TYPE_CHECKING:

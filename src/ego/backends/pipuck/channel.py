@@ -1,4 +1,4 @@
-"""A robot through a Pi-puck as a :class:`~ego.core.channel.Channel`: each batch's setters
+"""A robot through a Pi-puck as a :class:`~ego.seam.channel.Channel`: each batch's setters
 go to the microcontroller's side, its getters are answered from that side's reply, the
 chips beside it, or the battery, packed in the profile's wire formats.
 
@@ -17,10 +17,10 @@ from typing import Protocol
 from ego.backends.pipuck.beside import Battery, ChipReader, Tof
 from ego.backends.pipuck.bus import RobotBus
 from ego.backends.pipuck.chips import GROUND, Reader
-from ego.core.channel import ChannelBase, FirmwareInfo
-from ego.core.profile import Command, Profile
 from ego.errors import EgoError, UnsupportedDeviceError
-from ego.serial.protocol import Batch, Request
+from ego.seam.batch import Batch, Request
+from ego.seam.channel import ChannelBase, FirmwareInfo
+from ego.seam.profile import Command, Profile
 
 __all__ = ["McuSide", "PipuckChannel"]
 

@@ -20,8 +20,8 @@ from ego.backends.pipuck.chips import LSM330_ACC, LSM330_GYRO, MPU9250_ACC, MPU9
 from ego.backends.pipuck.epuck2 import Epuck2Side
 from ego.backends.pipuck.york import IR_CONTROL
 from ego.backends.pipuck.york_side import YorkSide
-from ego.core.channel import FirmwareInfo
 from ego.errors import ChecksumError, EgoError, LinkTimeoutError
+from ego.seam.channel import FirmwareInfo
 
 __all__ = ["detect", "open_robot"]
 

@@ -31,15 +31,15 @@ from ego.backends.pipuck.packet import (
     decode_sensors,
     encode_actuators,
 )
-from ego.core.profile import Command, Profile
 from ego.errors import (
     LinkTimeoutError,
     OutOfRangeError,
     ProtocolError,
     UnsupportedDeviceError,
 )
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 from ego.serial.pipuck import EPUCK2_I2C_PROFILE
-from ego.serial.protocol import Request
 
 __all__ = ["ATTEMPTS", "Epuck2Side", "fold"]
 

@@ -18,10 +18,10 @@ from typing import Final, TypeVar
 
 from ego.backends.pipuck import york
 from ego.backends.pipuck.bus import RobotBus, i2c_failure
-from ego.core.profile import Command, Profile
 from ego.errors import LinkTimeoutError, UnsupportedDeviceError
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 from ego.serial.pipuck import YORK_PROFILE
-from ego.serial.protocol import Request
 
 __all__ = ["ATTEMPTS", "YorkSide"]
 

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from ego.core.odometry import AXLE_M, WHEEL_RADIUS_M
 from ego.devices.motors import rad_s_to_steps
 from ego.ros2.epuck_driver import GROUND_TABLE, INFRARED_TABLE, interpolate_table
-from ego.serial.protocol import MAX_SPEED_STEPS
+from ego.serial.profiles import MAX_SPEED_STEPS
 
 __all__ = [
     "GROUND_TABLE",

@@ -15,8 +15,8 @@ from collections.abc import Callable
 from contextlib import ExitStack
 from typing import TYPE_CHECKING, Any
 
-from ego.backends import find_backend
-from ego.serial.protocol import Firmware
+from ego.core.registry import find_backend
+from ego.seam.profile import Firmware
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot

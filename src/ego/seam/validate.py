@@ -12,7 +12,10 @@ import numbers
 
 from ego.errors import OutOfRangeError
 
-__all__ = ["ROTATIONS", "check_int", "check_rotation"]
+__all__ = ["MAX_PERIOD_MS", "ROTATIONS", "check_int", "check_rotation"]
+
+#: Longest sampling period accepted (a day); anything longer is surely a unit mistake.
+MAX_PERIOD_MS = 86_400_000
 
 #: The rotations a frame can be given, degrees counter-clockwise (as ``np.rot90``).
 ROTATIONS = (0, 90, 180, 270)

@@ -33,8 +33,8 @@ from typing import TYPE_CHECKING, Protocol, TypeVar, runtime_checkable
 from ego.errors import ExtraBytesError, LinkLostError, ShortReplyError
 
 if TYPE_CHECKING:
-    from ego.core.profile import Firmware, Profile
-    from ego.serial.protocol import Batch
+    from ego.seam.batch import Batch
+    from ego.seam.profile import Firmware, Profile
 
 __all__ = [
     "Channel",

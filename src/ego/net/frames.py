@@ -1,4 +1,4 @@
-"""ego's remote protocol on the wire: framed, authenticated, sequenced messages (no I/O).
+"""ego's remote protocol on the wire: the frame, its header and its seal (no I/O).
 
 Every message, over TCP or UDP, is one frame::
 
@@ -39,21 +39,14 @@ from __future__ import annotations
 import enum
 import hashlib
 import hmac
-import json
-import re
 import struct
 import zlib
-from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
 
 from ego.errors import FrameError, VersionMismatchError
 
 __all__ = [
-    "ASCII_REPLY_LINES",
     "DEFAULT_CHUNK_SIZE",
-    "DEFAULT_PORT",
-    "FETCH",
     "HEADER",
     "MAC_SIZE",
     "MAGIC",
@@ -61,34 +54,18 @@ __all__ = [
     "MAX_PAYLOAD",
     "MAX_PREAUTH_PAYLOAD",
     "OVERHEAD",
-    "PART",
     "PROTOCOL_VERSION",
     "REQUEST_TYPES",
     "RESPONSE_TYPES",
+    "SEALED",
+    "SEALED_OVERHEAD",
     "Frame",
     "FrameKey",
     "FrameReader",
     "MessageType",
-    "SequenceGuard",
-    "Verdict",
     "decode_frame",
     "encode_frame",
-    "error_fields",
-    "next_seq",
-    "pack_ascii",
-    "pack_error",
-    "pack_fetch",
-    "pack_json",
-    "pack_part",
-    "parse_url",
     "peek_session",
-    "seq_after",
-    "split_reply",
-    "unpack_ascii",
-    "unpack_error",
-    "unpack_fetch",
-    "unpack_json",
-    "unpack_part",
 ]
 
 MAGIC = b"EG"
@@ -112,9 +89,6 @@ MAX_PREAUTH_PAYLOAD = 1024
 MAX_DATAGRAM = 65507
 #: Datagram size the server splits big replies into (camera frames over UDP).
 DEFAULT_CHUNK_SIZE = 16 * 1024
-#: The TCP/UDP port ``ego serve`` listens on unless told otherwise.
-DEFAULT_PORT = 4242
-_U32 = 0xFFFFFFFF
 
 
 class MessageType(enum.IntEnum):
@@ -316,206 +290,3 @@ class FrameReader:
     def buffered(self) -> int:
         """Bytes of an incomplete frame held back."""
         return len(self._buf)
-
-
-# -- sequence numbers ----------------------------------------------------------------------
-
-
-def seq_after(a: int, b: int) -> bool:
-    """Whether sequence number ``a`` comes after ``b`` (serial arithmetic, RFC 1982)."""
-    return 0 < ((a - b) & _U32) < 0x80000000
-
-
-def next_seq(seq: int) -> int:
-    """The sequence number after ``seq``: 1, 2, ... 2**32-1, 1 (0 means unsolicited)."""
-    return seq % _U32 + 1
-
-
-class Verdict(enum.Enum):
-    """What the server should do with a request, given the sequence numbers it has seen."""
-
-    NEW = "new"  # run it
-    REPEAT = "repeat"  # the last request again (its reply was lost): resend the cached reply
-    WORKING = "working"  # the request being run right now: say so, run nothing
-    STALE = "stale"  # older than the last one: a late duplicate; ignore it
-
-
-class SequenceGuard:
-    """The server's memory of one session's last request, so nothing runs twice.
-
-    >>> guard = SequenceGuard()
-    >>> guard.check(1)
-    <Verdict.NEW: 'new'>
-    >>> guard.begin(1); guard.done(1, b"reply")
-    >>> guard.check(1), guard.cached
-    (<Verdict.REPEAT: 'repeat'>, b'reply')
-    """
-
-    __slots__ = ("_cached", "_last", "_running")
-
-    def __init__(self) -> None:
-        self._last: int | None = None
-        self._running: int | None = None
-        self._cached = b""
-
-    @property
-    def cached(self) -> bytes:
-        """The encoded reply to the last request that completed."""
-        return self._cached
-
-    @property
-    def running(self) -> int | None:
-        """The request being run now, if any."""
-        return self._running
-
-    def check(self, seq: int) -> Verdict:
-        if seq == self._running:
-            return Verdict.WORKING
-        if self._last is None:
-            return Verdict.NEW
-        if seq == self._last:
-            return Verdict.REPEAT
-        if seq_after(seq, self._last) and (self._running is None or seq_after(seq, self._running)):
-            return Verdict.NEW
-        return Verdict.STALE
-
-    def begin(self, seq: int) -> None:
-        self._running = seq
-
-    def done(self, seq: int, reply: bytes) -> None:
-        if self._running == seq:
-            self._running = None
-        if self._last is None or seq_after(seq, self._last):
-            self._last = seq
-            self._cached = reply
-
-
-# -- payloads ------------------------------------------------------------------------------
-
-
-def pack_json(obj: Mapping[str, Any]) -> bytes:
-    return json.dumps(obj, separators=(",", ":")).encode()
-
-
-def unpack_json(payload: bytes) -> dict[str, Any]:
-    """A JSON object, or FrameError."""
-    try:
-        obj = json.loads(payload.decode())
-    except (UnicodeDecodeError, ValueError) as exc:
-        raise FrameError(f"payload is not JSON: {exc}") from exc
-    if not isinstance(obj, dict):
-        raise FrameError(f"payload is JSON {type(obj).__name__}, expected an object")
-    return obj
-
-
-def pack_error(name: str, message: str, fields: Mapping[str, object] | None = None) -> bytes:
-    """An ERROR payload: the ego error class to raise on the client, its message, and the
-    attributes the error carries beyond it (``holder_pid``, ``path``...), as JSON."""
-    return pack_json({"error": name, "message": message, "fields": dict(fields or {})})
-
-
-def error_fields(exc: BaseException) -> dict[str, object]:
-    """The JSON-able attributes an error carries beyond its message, for pack_error."""
-    return {
-        key: value
-        for key, value in vars(exc).items()
-        if not key.startswith("_") and isinstance(value, (str, int, float, bool, type(None)))
-    }
-
-
-def unpack_error(payload: bytes) -> tuple[str, str, dict[str, object]]:
-    try:
-        obj = unpack_json(payload)
-        name, message = obj["error"], obj["message"]
-        fields = obj.get("fields", {})
-    except (FrameError, KeyError, AttributeError):
-        return "RemoteError", f"malformed error reply {payload[:80]!r}", {}
-    return str(name), str(message), fields if isinstance(fields, dict) else {}
-
-
-#: ASCII commands relayed to the dsPIC, and how many reply lines each has (docs/protocol.md:
-#: V answers two lines, K two, S and C one). R (reset) is not relayed: its banner would
-#: leave the server's link to reset itself.
-ASCII_REPLY_LINES: Mapping[str, int] = {"V": 2, "C": 1, "S": 1, "K": 2}
-_ASCII = struct.Struct("<cB")
-
-
-def pack_ascii(letter: str, lines: int) -> bytes:
-    return _ASCII.pack(letter.encode("ascii"), lines)
-
-
-def unpack_ascii(payload: bytes) -> tuple[str, int]:
-    """The letter and line count of an ASCII request; FrameError if not relayable."""
-    if len(payload) != _ASCII.size:
-        raise FrameError(f"ASCII request of {len(payload)} bytes, expected {_ASCII.size}")
-    raw, lines = _ASCII.unpack(payload)
-    letter = raw.decode("latin-1")
-    if ASCII_REPLY_LINES.get(letter) != lines:
-        relayed = ", ".join(f"{k} ({n} lines)" for k, n in ASCII_REPLY_LINES.items())
-        raise FrameError(f"ASCII command {letter!r} with {lines} lines is not relayed: {relayed}")
-    return letter, lines
-
-
-#: A PART payload starts with the reply's type, its total size and this slice's offset.
-PART = struct.Struct("<BxxxII")
-#: A FETCH payload: the sequence number of the big reply and the offset wanted.
-FETCH = struct.Struct("<II")
-
-
-def pack_part(type_: MessageType, total: int, offset: int, data: bytes) -> bytes:
-    return PART.pack(type_, total, offset) + data
-
-
-def unpack_part(payload: bytes) -> tuple[MessageType, int, int, bytes]:
-    """The reply type, total size, offset and data of a PART; FrameError if inconsistent."""
-    if len(payload) < PART.size:
-        raise FrameError(f"PART of {len(payload)} bytes lacks its {PART.size}-byte header")
-    type_, total, offset = PART.unpack_from(payload)
-    data = payload[PART.size :]
-    if type_ not in (MessageType.OK, MessageType.ERROR):
-        raise FrameError(f"PART of a type {type_} reply")
-    if total > MAX_PAYLOAD or offset + len(data) > total or (not data and offset < total):
-        raise FrameError(f"PART slice {offset}+{len(data)} of {total} bytes is inconsistent")
-    return MessageType(type_), total, offset, data
-
-
-def pack_fetch(seq: int, offset: int) -> bytes:
-    return FETCH.pack(seq, offset)
-
-
-def unpack_fetch(payload: bytes) -> tuple[int, int]:
-    if len(payload) != FETCH.size:
-        raise FrameError(f"FETCH of {len(payload)} bytes, expected {FETCH.size}")
-    seq, offset = FETCH.unpack(payload)
-    return int(seq), int(offset)
-
-
-def split_reply(type_: MessageType, payload: bytes, offset: int, chunk_size: int) -> bytes:
-    """The PART payload carrying ``payload[offset:]`` that fits a ``chunk_size`` datagram."""
-    room = chunk_size - SEALED_OVERHEAD - PART.size
-    if room <= 0:
-        raise ValueError(f"chunk size {chunk_size} leaves no room for data")
-    if not 0 <= offset < len(payload):
-        raise FrameError(f"offset {offset} is outside the {len(payload)}-byte reply")
-    return pack_part(type_, len(payload), offset, payload[offset : offset + room])
-
-
-_URL = re.compile(r"^(tcp|udp)://(\[[0-9a-fA-F:.]+\]|[^:/\[\]]+)(?::(\d{1,5}))?/?$")
-
-
-def parse_url(url: str, default_port: int = DEFAULT_PORT) -> tuple[str, str, int]:
-    """``tcp://host:port``, ``udp://host:port`` or ``unix:///path`` as (scheme, host or
-    path, port); ValueError else."""
-    if url.startswith("unix://"):
-        path = url.removeprefix("unix://")
-        if not path.startswith("/") or len(path.encode()) > 107:
-            raise ValueError(f"{url!r} is not unix:///ABSOLUTE/PATH (at most 107 bytes)")
-        return "unix", path, 0
-    match = _URL.match(url)
-    if match is None:
-        raise ValueError(f"{url!r} is not tcp://HOST:PORT, udp://HOST:PORT or unix:///PATH")
-    scheme, host, port_text = match.groups()
-    port = int(port_text) if port_text else default_port
-    if port > 65535:
-        raise ValueError(f"port {port} in {url!r} is outside 0..65535")
-    return scheme, host.strip("[]"), port

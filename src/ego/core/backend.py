@@ -11,16 +11,16 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol, TypeVar
 
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 
 if TYPE_CHECKING:
     from ego.camera import FrameSource
-    from ego.core.channel import Channel
     from ego.core.environment import Environment
     from ego.core.ground_truth import GroundTruth
     from ego.core.scene import Scene
     from ego.core.scheduler import Pacer
     from ego.i2c.bus import I2CAccess
+    from ego.seam.channel import Channel
 
 __all__ = ["Backend", "BackendOptions", "Opened", "check"]
 

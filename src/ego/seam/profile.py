@@ -11,17 +11,15 @@ from __future__ import annotations
 
 import enum
 import struct
-import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Any
 
-from ego.errors import DeprecatedNameWarning, OutOfRangeError, UnsupportedDeviceError
+from ego.errors import OutOfRangeError, UnsupportedDeviceError
 
 __all__ = [
     "DEFAULT_BAUD",
-    "DEPRECATED_FIRMWARE_NAMES",
     "FIRMWARE_CHOICES",
     "AsciiStop",
     "Command",
@@ -101,18 +99,6 @@ class Firmware(str, enum.Enum):
         return self.value
 
     @classmethod
-    def _missing_(cls, value: object) -> Firmware | None:
-        new = DEPRECATED_FIRMWARE_NAMES.get(value) if isinstance(value, str) else None
-        if new is None:
-            return None
-        warnings.warn(
-            f"firmware name {value!r} is deprecated: it is {new!r} now",
-            DeprecatedNameWarning,
-            stacklevel=4,
-        )
-        return cls(new)
-
-    @classmethod
     def choose(cls, name: Firmware | str | None) -> Firmware | None:
         """The firmware a user named; None for "auto" (probe it). Refuses unknown names."""
         if name is None or name == "auto":
@@ -124,12 +110,7 @@ class Firmware(str, enum.Enum):
             raise OutOfRangeError(f"firmware {name!r} is not one of {choices}") from None
 
 
-#: The profiles' first names, kept working with a warning: ``thesis`` was described as
-#: Webots' firmware at 230400 baud, which no real robot runs.
-DEPRECATED_FIRMWARE_NAMES: Mapping[str, str] = MappingProxyType(
-    {"thesis": "webots", "gctronic-overo": "gctronic"}
-)
-#: The firmware names a user may give, "auto" first (the deprecated ones are accepted too).
+#: The firmware names a user may give, "auto" first.
 FIRMWARE_CHOICES = ("auto", "gctronic", "webots", "epuck2")
 
 
