@@ -67,7 +67,10 @@ class Scene:
         return vx, vy, 0.0, 0.0, 0.0, wz
 
     def reset(self) -> None:
-        """Everything back where the world began; the wheels keep what they were told."""
+        """Everything back where the world began, the robot standing still (Webots'
+        motors stop at a reset); the controller's robot then stops its wheels and zeroes
+        its counters over the wire, as the dsPIC takes them."""
+        self.world.set_speeds(0, 0)
         self.world.place(self._start.robot)
         for index, (x, y, yaw) in enumerate(self._start.blocks):
             self.world.move_block(index, x, y, yaw)

@@ -5,27 +5,20 @@ from __future__ import annotations
 import sys
 from typing import TYPE_CHECKING
 
-from ego.controller.devices import (
-    LED,
-    Accelerometer,
-    Camera,
-    Device,
-    DistanceSensor,
-    Gyro,
-    LightSensor,
-    Motor,
-    PositionSensor,
-    Speaker,
-    view_class,
-    webots_camera_size,
-)
-from ego.controller.radio import (
-    RADIO_DEVICES,
-    Emitter,
-    Receiver,
-    RobotRadio,
-    radio_available,
-)
+from ego.controller.accelerometer import Accelerometer
+from ego.controller.camera import Camera, webots_camera_size
+from ego.controller.device import Device
+from ego.controller.distance_sensor import DistanceSensor
+from ego.controller.emitter import Emitter
+from ego.controller.gyro import Gyro
+from ego.controller.led import LED
+from ego.controller.light_sensor import LightSensor
+from ego.controller.motor import Motor
+from ego.controller.position_sensor import PositionSensor
+from ego.controller.radio import RADIO_DEVICES, RobotRadio, radio_available
+from ego.controller.receiver import Receiver
+from ego.controller.speaker import Speaker
+from ego.controller.views import view_class
 from ego.errors import UnknownDeviceError
 
 if TYPE_CHECKING:
@@ -67,7 +60,7 @@ class DeviceLookup:
             if name in RADIO_DEVICES and radio_available(self._environment):
                 cls = Emitter if name == "emitter" else Receiver
             if cls is None and self._ground_truth(name):
-                from ego.controller.absent import ground_truth_class
+                from ego.controller.views import ground_truth_class
 
                 cls = ground_truth_class(name)
             if cls is None:

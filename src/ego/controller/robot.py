@@ -8,14 +8,13 @@ import sys
 import time
 from typing import ClassVar
 
-from ego.controller.devices import (
-    Device,
-    Motor,
-    encoder_steps,
-    whole_steps,
-)
-from ego.controller.inputs import Joystick, Keyboard, Mouse
+from ego.controller.device import Device
+from ego.controller.joystick import Joystick
+from ego.controller.keyboard import Keyboard
 from ego.controller.lookup import DeviceLookup
+from ego.controller.motor import Motor
+from ego.controller.mouse import Mouse
+from ego.controller.position_sensor import encoder_steps, whole_steps
 from ego.controller.radio import RobotRadio
 from ego.core.robot import Robot as CoreRobot
 from ego.errors import EgoError, UnsupportedDeviceError
@@ -30,6 +29,7 @@ log = logging.getLogger(__name__)
 EPUCK_MODEL = "GCtronic e-puck"
 #: What Webots prints for a second ``Robot()`` in one controller process.
 ONE_ROBOT_ONLY = "Error: only one Robot instance can be created per controller process."
+
 
 class Robot(DeviceLookup):
     """The e-puck as a Webots controller sees it.
@@ -128,7 +128,7 @@ class Robot(DeviceLookup):
         self._custom_data = str(data)
 
     def getKeyboard(self) -> Keyboard:
-        """The terminal's keyboard (see ego.controller.inputs)."""
+        """The terminal's keyboard (see ego.controller.keyboard)."""
         return self.keyboard
 
     def getMouse(self) -> Mouse:

@@ -1,0 +1,141 @@
+"""Webots patterns published controllers use, round 3: every device class subclassed and
+made by name, a reset that puts the motors back as Webots' does, and a controller that
+ignores -1 ended as Webots ends it. Each runs unchanged under ``ego run``."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+from pathlib import Path
+
+from helpers import ego_command
+
+CONTROLLERS = Path(__file__).parent / "controllers"
+
+#: Every class ``getDevice`` can return on the emulator, with a device of it and a call
+#: that reads it: the e-puck2's devices (it has the gyro), the ground-truth devices the
+#: world below declares, and Zenoh's radio.
+EVERY_DEVICE = {
+    "DistanceSensor": ("ps0", "getValue()"),
+    "LightSensor": ("ls0", "getValue()"),
+    "LED": ("led0", "get()"),
+    "Motor": ("left wheel motor", "getMaxVelocity()"),
+    "PositionSensor": ("left wheel sensor", "getValue()"),
+    "Accelerometer": ("accelerometer", "getValues()[2]"),
+    "Camera": ("camera", "getWidth()"),
+    "Gyro": ("gyro", "getSamplingPeriod()"),
+    "Speaker": ("speaker", "isSpeaking()"),
+    "Emitter": ("emitter", "getChannel()"),
+    "Receiver": ("receiver", "getQueueLength()"),
+    "GPS": ("gps", "getValues()[0]"),
+    "Compass": ("compass", "getValues()[1]"),
+    "TouchSensor": ("touch sensor", "getValue()"),
+}
+
+GROUND_TRUTH_WORLD = """
+devices = ["gps", "compass", "touch sensor"]
+
+[arena]
+size_m = 1.0
+
+[robot]
+x_m = 0.1
+y_m = -0.2
+heading_deg = 90
+"""
+
+#: A course's style: the subclass's own ``__init__`` takes no name and passes it up.
+_SUBCLASSED = """
+class Own{cls}({cls}):
+    def __init__(self):
+        super().__init__({name!r})
+        self.mine = "{cls}"
+"""
+
+
+def _run(tmp_path: Path, source: str, *args: str) -> subprocess.CompletedProcess[str]:
+    controller = tmp_path / "controller_under_test.py"
+    controller.write_text(source)
+    return subprocess.run(
+        [*ego_command(), "run", "--port", "sim", "--fast", *args, str(controller)],
+        capture_output=True, text=True, cwd=tmp_path, timeout=120,
+    )  # fmt: skip
+
+
+def _subclassing_controller(classes: list[str]) -> str:
+    lines = [f"from controller import Robot, {', '.join(classes)}", "robot = Robot()"]
+    for cls in classes:
+        lines.append(_SUBCLASSED.format(cls=cls, name=EVERY_DEVICE[cls][0]))
+    for cls in classes:
+        name = EVERY_DEVICE[cls][0]
+        lines += [
+            f"own, plain = Own{cls}(), {cls}({name!r})",
+            "for d in (own, plain):",
+            "    getattr(d, 'enable', lambda p: None)(32)",
+        ]
+    lines.append("robot.step(32)")
+    for cls in classes:
+        name, call = EVERY_DEVICE[cls]
+        lines += [
+            f"own, plain, served = Own{cls}(), {cls}({name!r}), robot.getDevice({name!r})",
+            f"assert type(served).__name__ == {cls!r}, type(served)",
+            f"print({cls!r}, type(own).__name__, own.mine, own.getName(),"
+            f" own.{call} == served.{call}, plain.{call} == served.{call})",
+        ]
+    return "\n".join(lines) + "\n"
+
+
+def test_every_device_class_can_be_subclassed_and_made_by_name(tmp_path: Path) -> None:
+    world = tmp_path / "truth.toml"
+    world.write_text(GROUND_TRUTH_WORLD)
+    # The emulated e-puck2 has the gyro and the speaker (no camera); the e-puck the others.
+    runs = {
+        "epuck": [c for c in EVERY_DEVICE if c not in ("Gyro", "Speaker")],
+        "epuck2": ["Gyro", "Speaker", "LED"],
+    }
+    said: dict[str, list[str]] = {}
+    for robot, classes in runs.items():
+        result = _run(tmp_path, _subclassing_controller(classes), "--robot", robot,
+                      "--world", str(world))  # fmt: skip
+        assert result.returncode == 0, result.stderr
+        said |= {line.split()[0]: line.split()[1:] for line in result.stdout.splitlines()}
+    assert sorted(said) == sorted(EVERY_DEVICE)
+    for cls, (name, _) in EVERY_DEVICE.items():
+        assert said[cls] == [f"Own{cls}", cls, *name.split(), "True", "True"], cls
+
+
+EPISODES_WORLD = """
+[arena]
+size_m = 1.0
+
+[robot]
+x_m = -0.2
+y_m = 0.1
+heading_deg = 30
+"""
+
+
+def test_a_deepbots_environment_starts_every_episode_where_the_world_began(
+    tmp_path: Path,
+) -> None:
+    # deepbots' reset() steps once after simulationReset: the motors must hold, as
+    # Webots' WbMotor::reset leaves them, not replay the last action (4 mm, 0.08 rad off).
+    world = tmp_path / "episodes.toml"
+    world.write_text(EPISODES_WORLD)
+    result = subprocess.run(
+        [*ego_command(), "run", "--port", "sim", "--fast", "--world", str(world), "--seed", "5",
+         str(CONTROLLERS / "deepbots_episodes.py")],
+        capture_output=True, text=True, cwd=tmp_path, timeout=120,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    starts = [line.split()[2:] for line in result.stdout.splitlines() if line.startswith("episode")]
+    moved = [float(line.split()[2]) for line in result.stdout.splitlines()
+             if line.startswith("moved")]  # fmt: skip
+    assert len(starts) == 5 and len(moved) == 5
+    for x, y, yaw in ([float(v) for v in start] for start in starts):
+        assert math.hypot(x + 0.2, y - 0.1) < 0.001
+        assert abs(yaw - math.radians(30)) < 0.01
+    assert min(moved) > 0.05  # every episode drove off its start
+    # The wheels as Webots' reset leaves them: held at 0 rad, velocity back at its maximum.
+    motors = [line.split()[2:] for line in result.stdout.splitlines() if line.startswith("motor")]
+    assert motors == [["0.0", "True", "0.0"]] * 5
