@@ -18,7 +18,7 @@ from ego.controller.position_sensor import encoder_steps, whole_steps
 from ego.controller.radio import RobotRadio
 from ego.core.robot import Robot as CoreRobot
 from ego.errors import EgoError, UnsupportedDeviceError
-from ego.faces.default_robot import current_context
+from ego.faces.default_robot import current_context, ended_reason
 from ego.faces.runtime import RunOptions
 
 __all__ = ["DifferentialWheels", "Robot"]
@@ -73,6 +73,8 @@ class Robot(DeviceLookup):
         self.joystick = Joystick(0)
         self._core = context.new_robot(options=options)
         self._environment = context.environment
+        #: The run's end: a controller going on after -1 is ended as Webots ends it.
+        self._termination = context.termination
         #: The robot's radio (its emitter's and receiver's), opened at first use.
         self._radio = RobotRadio(self._core, context.environment)
         #: The ego Robot underneath, for what Webots' API does not cover (a plain
@@ -88,13 +90,18 @@ class Robot(DeviceLookup):
 
     def step(self, duration: int | None = None) -> int:
         """One time step of ``duration`` ms (the basic time step if None); -1 when the run
-        ends or the link is lost."""
+        ends or the link is lost. A controller that goes on stepping is ended about one
+        second of real time later, as Webots ends it (ego.faces.termination)."""
         if duration is None:
             duration = int(self.getBasicTimeStep())
+        if self._core.closed and self._termination.ended_at is not None:
+            return self._termination.ended("")  # the grace after the first -1 runs
         if self._options.time_is_up(self._core.time_s):
             self._core.close()
-            return -1
+            return self._termination.ended(self._options.time_up_reason())
         result = self._core.step(duration)
+        if result == -1:
+            return self._termination.ended(ended_reason(self._core))
         for motor in self._motors:
             motor.step_update()
         return result
