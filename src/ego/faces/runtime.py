@@ -68,5 +68,7 @@ class RunOptions:
 
     def time_up_reason(self) -> str:
         """Why a step returned -1 once :meth:`time_is_up`, in words."""
+        if self.duration_s is None:
+            return "the run's time was up"
         return f"the run's --duration of {self.duration_s:g} s was up"
 
