@@ -7,7 +7,9 @@ from __future__ import annotations
 import math
 import re
 import subprocess
+import threading
 from pathlib import Path
+from typing import Any
 
 from helpers import ego_command
 
@@ -213,3 +215,34 @@ def test_a_controller_that_ignores_minus_one_is_ended_on_a_serial_robot(
         )  # fmt: skip
         _ended_as_webots_ends_it(result)
         assert_stopped(emu.world)  # stopped at the first -1, before the grace
+
+
+def test_step_begin_returns_while_the_step_runs_and_step_end_collects_it(
+    webots_robot: Any, emulator: Any, caplog: Any
+) -> None:
+    # The step's own work (a core step listener) waits for the controller to have worked
+    # after stepBegin: if stepBegin ran the whole step itself, the controller could never
+    # work during it, and the step would give up waiting.
+    worked = threading.Event()
+    seen_work: list[bool] = []
+    webots_robot.core.add_step_listener(lambda core: seen_work.append(worked.wait(10.0)))
+    ps0 = webots_robot.getDevice("ps0")
+    left = webots_robot.getDevice("left wheel motor")
+    ps0.enable(32)
+    left.setPosition(float("inf"))
+    answered = len(emulator.history)
+    for step in range(3):
+        worked.clear()
+        assert webots_robot.stepBegin(32) == 0
+        left.setVelocity(2.0 + step)  # the controller's work, during the step
+        worked.set()
+        assert webots_robot.stepEnd() == 0
+    assert seen_work == [True, True, True]
+    # A speed set while its batch was in flight is not taken for a misread reply.
+    assert not [r for r in caplog.records if "implausible" in r.getMessage()]
+    assert len(emulator.history) >= answered + 3  # each step's batch went to the robot
+    assert ps0.getValue() == ps0.getValue() and ps0.getValue() > 0  # a value, not NaN
+    assert webots_robot.stepEnd() == 0  # none begun: nothing to wait for
+    # The last speed set during a step goes with the next batch.
+    assert webots_robot.step(32) == 0
+    assert emulator.world.speeds[0] == round(4.0 / 0.00628)

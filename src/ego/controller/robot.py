@@ -16,6 +16,7 @@ from ego.controller.motor import Motor
 from ego.controller.mouse import Mouse
 from ego.controller.position_sensor import encoder_steps, whole_steps
 from ego.controller.radio import RobotRadio
+from ego.controller.step_overlap import StepOverlap
 from ego.core.robot import Robot as CoreRobot
 from ego.errors import EgoError, UnsupportedDeviceError
 from ego.faces.default_robot import current_context, ended_reason
@@ -82,8 +83,11 @@ class Robot(DeviceLookup):
         self.core = self._core
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
-        # The keyboard's reader thread ends with the robot, however the run closes it.
+        # The keyboard's reader thread ends with the robot, however the run closes it;
+        # so does a step in flight between stepBegin and stepEnd.
         self._core.add_closer(self._stop_inputs)
+        self._overlap = StepOverlap(self.step)
+        self._core.add_closer(self._overlap.close)
         context.webots_robot = self
         for callback in options.on_robot:
             callback(self._core)
@@ -154,11 +158,16 @@ class Robot(DeviceLookup):
     EVENT_JOYSTICK_POV = 32
 
     def stepBegin(self, duration: int | None = None) -> int:
-        """The whole step runs here (the dsPIC's batch cannot be split); stepEnd() returns."""
-        return self.step(duration)
+        """Start a step and return at once: the exchange with the robot runs while the
+        controller computes, until :meth:`stepEnd` (ego.controller.step_overlap)."""
+        if self._core.closed and self._termination.ended_at is not None:
+            return self._termination.ended("")
+        self._overlap.begin(duration)
+        return 0
 
     def stepEnd(self) -> int:
-        return 0
+        """Wait for the step :meth:`stepBegin` started; its result (-1: the run ended)."""
+        return self._overlap.end()
 
     def waitForUserInputEvent(self, event_type: int, timeout: int) -> int:
         """Wait up to ``timeout`` ms for a key (the only input a robot has); the event."""
