@@ -139,8 +139,8 @@ def _tokens(text: str) -> Iterator[str]:
     while pos < len(text):
         match = _TOKEN.match(text, pos)
         if match is None or match.end() == pos:
-            if text[pos:pos + 4096].strip():
-                raise ValueError(f"unreadable text at offset {pos}: {text[pos:pos + 20]!r}")
+            if text[pos : pos + 4096].strip():
+                raise ValueError(f"unreadable text at offset {pos}: {text[pos : pos + 20]!r}")
             break
         pos = match.end()
         token = match.group(1) or match.group(2) or match.group(3)
@@ -426,11 +426,54 @@ def _colour(shape: Node) -> tuple[int, int, int]:
 
 def _block(node: Node, size: tuple[float, ...], rgb: tuple[int, int, int]) -> Block:
     x, y, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
-    sx, sy, sz = size
-    if min(sx, sy, sz) <= 0:
+    if min(size) <= 0:
         raise ValueError(f"{node.type} size must be positive, not {size}")
-    yaw = _yaw(node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0)), node.type)
+    rotation = node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0))
+    (sx, sy, sz), yaw = _standing(rotation, size, _named(node))
     return Block(x, y, sx / 2, rgb, half_y_m=sy / 2, yaw_rad=yaw, height_m=sz, name=node.name)
+
+
+def _matrix(rotation: tuple[float, ...]) -> list[list[float]]:
+    """The 3x3 matrix of a Webots axis-angle rotation (Rodrigues' formula)."""
+    ax, ay, az, angle = rotation
+    norm = math.sqrt(ax * ax + ay * ay + az * az)
+    if norm == 0:
+        return [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    x, y, z = ax / norm, ay / norm, az / norm
+    c, s = math.cos(angle), math.sin(angle)
+    t = 1 - c
+    return [
+        [t * x * x + c, t * x * y - z * s, t * x * z + y * s],
+        [t * x * y + z * s, t * y * y + c, t * y * z - x * s],
+        [t * x * z - y * s, t * y * z + x * s, t * z * z + c],
+    ]
+
+
+def _standing(
+    rotation: tuple[float, ...], size: tuple[float, ...], what: str
+) -> tuple[tuple[float, float, float], float]:
+    """A box's footprint (x, y along its yaw), height and yaw, for any rotation that
+    leaves one of its faces on the floor: about the vertical, or one that lies it on a
+    face (Webots' world converter writes ``rotation 1 0 0 1.5708`` for a box whose
+    height was its y). A tilt that stands it on an edge or a corner is refused."""
+    m = _matrix(rotation)
+    # The box's own axis that the rotation turns vertical: its column's z is +-1.
+    upright = [k for k in range(3) if abs(abs(m[2][k]) - 1.0) < 1e-3]
+    if not upright:
+        turn = " ".join(f"{v:g}" for v in rotation)
+        raise ValueError(f"{what}.rotation {turn} stands the box on an edge or a corner: "
+                         "the emulator's world is flat (a box may turn about the vertical, "
+                         "or lie on a face)")  # fmt: skip
+    k = upright[0]
+    across = [j for j in range(3) if j != k]
+    first = across[0]  # the footprint's x: this axis, turned into the floor's plane
+    yaw = math.atan2(m[1][first], m[0][first])
+    return (size[first], size[across[1]], size[k]), yaw
+
+
+def _named(node: Node) -> str:
+    """The node as an error names it: its type, and its DEF name if it has one."""
+    return f"{node.type} {node.name}" if node.name else node.type
 
 
 def _pose(node: Node) -> Pose:
