@@ -100,7 +100,7 @@ def table(steps: int, rounds: int) -> Table:
             "max(wire, work)",
             "wire + work",
             "plain / overlapped",
-        ],  # fmt: skip
+        ],
     )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the 1 ms steps overrun on purpose
