@@ -14,7 +14,10 @@ numbers, strings, ``TRUE``/``FALSE``, a node, or a ``[ ... ]`` list of either, w
 * each ``E-puck``: ``translation`` and ``rotation`` (the start poses: a swarm's robots
   in order), and the first one's ``camera_width``/``camera_height`` fields (the camera
   size a Webots controller gets);
-* a ``PointLight``'s ``location``: the lamp the light sensors see.
+* a ``PointLight``'s ``location``: the lamp the light sensors see;
+* any other ``Solid`` (``Transform``, ``Pose``, ``Group``) with a DEF name, whatever its
+  shape (a flat marker, a Plane): its pose only (firmware_sim.markers), for a
+  Supervisor's ``getFromDef``; nothing bumps into it or senses it.
 
 Everything else (Viewpoint, backgrounds, other robots...) is skipped, each skipped node
 type listed in :attr:`WbtWorld.notes`. Worlds are read in the frame Webots has used since
@@ -43,6 +46,7 @@ from typing import Any
 
 from firmware_sim.files import read_regular
 from firmware_sim.floor import ImageFloor, Plain
+from firmware_sim.markers import Marker
 from firmware_sim.world import Arena, Block, Lamp, Pose, World
 
 __all__ = [
@@ -59,6 +63,9 @@ __all__ = [
     "world_from_wbt",
 ]
 
+#: Node types whose DEF-named instances a Supervisor finds (``getFromDef``) whatever
+#: their shape: a flat marker, a Plane, a goal with no box.
+MARKER_TYPES = frozenset({"Solid", "Transform", "Pose", "Group"})
 #: A .wbt file's size, at most (Webots' own worlds are tens of KB).
 MAX_WBT_BYTES = 8 << 20
 #: Nodes in a file, at most, and how deep they nest.
@@ -311,6 +318,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     lamp: Lamp | None = None
     robot_name: str | None = None
     skipped: dict[str, int] = {}
+    markers: list[Marker] = []
     try:
         for node in nodes:
             if node.type == "RectangleArena":
@@ -328,6 +336,8 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
             elif node.type == "PointLight" and lamp is None:
                 x, y, z = node.numbers("location", 3, (0.0, 0.0, 0.0))
                 lamp = Lamp(x, y, max(z, 0.0))
+            elif node.name and node.type in MARKER_TYPES:
+                markers.append(_marker(node))
             else:
                 skipped[node.type] = skipped.get(node.type, 0) + 1
             _within_bounds(blocks, starts)
@@ -347,6 +357,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
         starts=starts,
     )
     world.robot_name = robot_name
+    world.markers = markers
     return WbtWorld(world, notes)
 
 
@@ -474,6 +485,14 @@ def _standing(
 def _named(node: Node) -> str:
     """The node as an error names it: its type, and its DEF name if it has one."""
     return f"{node.type} {node.name}" if node.name else node.type
+
+
+def _marker(node: Node) -> Marker:
+    """A named solid with no box: its pose, for a Supervisor's ``getFromDef``."""
+    x, y, z = node.numbers("translation", 3, (0.0, 0.0, 0.0))
+    rotation = node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0))
+    yaw = _yaw(rotation, f"{_named(node)}.rotation")
+    return Marker(str(node.name), x, y, z, yaw, node.type)
 
 
 def _pose(node: Node) -> Pose:

@@ -11,6 +11,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
+import pytest
 from helpers import ego_command
 
 CONTROLLERS = Path(__file__).parent / "controllers"
@@ -246,3 +247,62 @@ def test_step_begin_returns_while_the_step_runs_and_step_end_collects_it(
     # The last speed set during a step goes with the next batch.
     assert webots_robot.step(32) == 0
     assert emulator.world.speeds[0] == round(4.0 / 0.00628)
+
+
+#: A navigation lab as Webots writes it: a goal drawn as a flat Plane and a start mark
+#: as a thin Cylinder, Solids with DEF names and no box, beside a box and the e-puck.
+MARKED_WORLD = """#VRML_SIM R2023b utf8
+EXTERNPROTO "https://raw.githubusercontent.com/cyberbotics/webots/R2023b/projects/objects/floors/protos/RectangleArena.proto"
+WorldInfo { basicTimeStep 32 }
+RectangleArena { floorSize 1 1 }
+DEF GOAL Solid {
+  translation 0.3 0.25 0.001
+  rotation 0 0 1 0.5
+  children [
+    Shape {
+      appearance PBRAppearance { baseColor 0 1 0 }
+      geometry Plane { size 0.1 0.1 }
+    }
+  ]
+  name "goal"
+}
+DEF START_MARK Solid {
+  translation -0.2 -0.1 0.0005
+  children [ Shape { geometry Cylinder { height 0.001 radius 0.03 } } ]
+  name "start mark"
+}
+DEF BOX Solid {
+  translation 0 0.3 0.025
+  children [ Shape { geometry Box { size 0.05 0.05 0.05 } } ]
+  boundingObject Box { size 0.05 0.05 0.05 }
+}
+DEF ME E-puck { translation -0.2 -0.1 0 controller "supervised" supervisor TRUE }
+"""
+
+SEEKS_THE_GOAL = """
+from controller import Supervisor
+
+robot = Supervisor()
+goal, mark = robot.getFromDef("GOAL"), robot.getFromDef("START_MARK")
+print("goal", goal.getTypeName(), *goal.getPosition(), goal.getField("rotation").getSFRotation()[3])
+print("mark", mark.getTypeName(), *mark.getPosition())
+goal.getField("translation").setSFVec3f([-0.3, 0.1, 0.001])
+robot.step(32)
+print("moved", *goal.getPosition())
+robot.simulationReset()
+robot.step(32)
+print("reset", *goal.getPosition())
+"""
+
+
+def test_get_from_def_finds_a_named_solid_of_any_shape(tmp_path: Path) -> None:
+    world = tmp_path / "marked.wbt"
+    world.write_text(MARKED_WORLD)
+    result = _run(tmp_path, SEEKS_THE_GOAL, "--world", str(world))
+    assert result.returncode == 0, result.stderr
+    said = {line.split()[0]: line.split()[1:] for line in result.stdout.splitlines()}
+    assert said["goal"][0] == "Solid" and said["mark"][0] == "Solid"
+    assert [float(v) for v in said["goal"][1:]] == pytest.approx([0.3, 0.25, 0.001, 0.5])
+    assert [float(v) for v in said["mark"][1:]] == pytest.approx([-0.2, -0.1, 0.0005])
+    assert [float(v) for v in said["moved"]] == pytest.approx([-0.3, 0.1, 0.001])
+    assert [float(v) for v in said["reset"]] == pytest.approx([0.3, 0.25, 0.001])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ego.controller.device import NAN as _NAN
+from ego.controller.device import view
 from ego.controller.sensor import Sensor
 
 __all__ = ["Accelerometer"]
@@ -11,6 +12,7 @@ __all__ = ["Accelerometer"]
 ACCELEROMETER_TABLE = (-100, -100, 0.003, 100, 100, 0.003)
 
 
+@view("Accelerometer")
 class Accelerometer(Sensor):
     def getLookupTable(self) -> list[float]:
         return list(ACCELEROMETER_TABLE)

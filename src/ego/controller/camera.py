@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from ego.controller.device import view
 from ego.controller.sensor import Sensor
 from ego.errors import EgoError
 
@@ -48,6 +49,7 @@ def webots_camera_size(core: CoreRobot) -> None:
         core.camera.set_size(*size)
 
 
+@view("Camera")
 class Camera(Sensor):
     """The camera, BGRA images as Webots gives them. The Webots faces give it Webots'
     e-puck size (52x39) unless ``ego run --camera WxH`` asks another

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 import numbers
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, TypeVar
 
 from ego.controller.node_types import node_type
 from ego.devices.table import find
@@ -13,9 +14,34 @@ from ego.errors import EgoError, UnknownDeviceError
 if TYPE_CHECKING:
     from ego.core.robot import Robot as CoreRobot
 
-__all__ = ["Device"]
+DeviceT = TypeVar("DeviceT", bound="Device")
+
+__all__ = ["Device", "view", "view_class"]
 
 NAN = float("nan")
+
+#: The Webots class of each kind of :mod:`ego.devices.table` the e-puck has (``Motor``...):
+#: each class's module registers it (:func:`view`), so nothing here imports them.
+_VIEWS: dict[str, type[Device]] = {}
+
+
+def view(kind: str) -> Callable[[type[DeviceT]], type[DeviceT]]:
+    """Register the decorated class as the Webots view of the table's ``kind``."""
+
+    def register(cls: type[DeviceT]) -> type[DeviceT]:
+        _VIEWS[kind] = cls
+        return cls
+
+    return register
+
+
+def view_class(name: str) -> type[Device] | None:
+    """The Webots class of a device name; None for ego's names Webots has no device for
+    (the microphones)."""
+    found = find(name)
+    if found is None or not found.webots_device:
+        return None
+    return _VIEWS.get(found.kind)
 
 
 def _view_base(cls: type[Device]) -> type[Device]:
@@ -64,8 +90,6 @@ def _sibling(device: Device, name: str) -> Device | None:
     if robot is not None and robot._core is device._core:  # type: ignore[attr-defined]
         found = robot.getDevice(name)  # type: ignore[attr-defined]
         return found if isinstance(found, Device) else None
-    from ego.controller.views import view_class
-
     view = view_class(name)
     return view(device._core, name, strict=device._strict) if view is not None else None
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
+from ego.controller.device import view
 from ego.controller.sensor import _ValueSensor
 
 __all__ = ["DistanceSensor"]
@@ -18,6 +19,7 @@ PROXIMITY_TABLE = (
 PROXIMITY_APERTURE_RAD = 0.1
 
 
+@view("DistanceSensor")
 class DistanceSensor(_ValueSensor):
     """ps0..ps9 proximity and gs0..gs2 floor sensors: raw values, as Webots' e-puck gives."""
 

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 from ego.controller.device import NAN as _NAN
+from ego.controller.device import view
 from ego.controller.sensor import Sensor
 
 __all__ = ["Gyro"]
 
 
+@view("Gyro")
 class Gyro(Sensor):
     """Webots' Gyro: x, y, z through the model's lookup table (NaN while not enabled)."""
 

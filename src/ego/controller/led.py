@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numbers
 
-from ego.controller.device import Device
+from ego.controller.device import Device, view
 
 __all__ = ["LED"]
 
 
+@view("LED")
 class LED(Device):
     """An LED: ``set(0)`` off, any other value on (Webots' meaning for the e-puck's LEDs);
     an RGB LED (where the firmware has them: the e-puck2's led1, led3, led5, led7) takes

@@ -7,7 +7,7 @@ import math
 import sys
 from typing import TYPE_CHECKING
 
-from ego.controller.device import Device, _is_real, _sibling
+from ego.controller.device import Device, _is_real, _sibling, view
 from ego.devices.motors import rad_s_to_steps, steps_to_rad_s
 from ego.devices.position_control import position_speed
 from ego.devices.table import spec
@@ -21,6 +21,7 @@ __all__ = ["Motor"]
 log = logging.getLogger(__name__)
 
 
+@view("Motor")
 class Motor(Device):
     """A wheel motor. ``setPosition(float('inf'))`` then ``setVelocity(rad/s)``, max 6.28.
 

@@ -6,7 +6,7 @@ import math
 from typing import TYPE_CHECKING
 
 from ego.controller.device import NAN as _NAN
-from ego.controller.device import Device, _sibling
+from ego.controller.device import Device, _sibling, view
 from ego.controller.sensor import Sensor
 from ego.devices.table import spec
 
@@ -30,6 +30,7 @@ def encoder_steps(core: CoreRobot, side: int) -> float:
     return float(encoders.values[side]) if encoders.enabled and encoders.has_values else _NAN
 
 
+@view("PositionSensor")
 class PositionSensor(Sensor):
     """A wheel's step counter as an angle in radians."""
 

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import sys
 
-from ego.controller.device import Device
+from ego.controller.device import Device, view
 from ego.errors import UnsupportedDeviceError
 
 __all__ = ["Speaker"]
 
 
+@view("Speaker")
 class Speaker(Device):
     """Webots' Speaker on the robot's own sounds: ``playSound`` plays the firmware's sound
     a file is named after (``mario.wav``, ``star_wars``, ``tone_4khz``...: the family's
