@@ -321,7 +321,9 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     markers: list[Marker] = []
     try:
         for node in nodes:
-            if node.type == "RectangleArena":
+            if node.type == "WorldInfo":
+                _frame(node)
+            elif node.type == "RectangleArena":
                 arena, floor = _arena(node, path.parent)
             elif node.type == "WoodenBox":
                 size = node.numbers("size", 3, (0.6, 0.6, 0.6))
@@ -385,10 +387,27 @@ def _yaw(rotation: tuple[float, ...], what: str) -> float:
     return angle * math.copysign(1.0, az)
 
 
+def _frame(node: Node) -> None:
+    """Refuse a world in a frame the emulator does not read (its values would all be
+    read wrong): ENU is Webots' since R2022a."""
+    given = node.fields.get("coordinateSystem", "ENU")
+    system = given[0] if isinstance(given, list) and given else given
+    if system != "ENU":
+        raise ValueError(f"WorldInfo.coordinateSystem {system!r}: the emulator reads ENU "
+                         "worlds (x east, y north, z up), Webots' frame since R2022a")  # fmt: skip
+
+
 def _arena(node: Node, folder: Path) -> tuple[Arena, ImageFloor | Plain]:
-    tx, ty, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
-    if abs(tx) > 1e-6 or abs(ty) > 1e-6:
-        raise ValueError("a RectangleArena off the origin is not modelled")
+    translation = node.numbers("translation", 3, (0.0, 0.0, 0.0))
+    if abs(translation[0]) > 1e-6 or abs(translation[1]) > 1e-6:
+        where = " ".join(f"{v:g}" for v in translation)
+        raise ValueError(f"RectangleArena.translation {where}: an arena off the origin is "
+                         "not modelled (move the world so that the arena is centred)")  # fmt: skip
+    rotation = node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0))
+    if abs(math.sin(_yaw(rotation, "RectangleArena.rotation"))) > 1e-6:
+        turn = " ".join(f"{v:g}" for v in rotation)
+        raise ValueError(f"RectangleArena.rotation {turn}: an arena turned by other than a "
+                         "half turn is not modelled")  # fmt: skip
     sx, sy = node.numbers("floorSize", 2, (1.0, 1.0))
     tile_x, tile_y = node.numbers("floorTileSize", 2, (0.5, 0.5))
     tile = (tile_x, tile_y)

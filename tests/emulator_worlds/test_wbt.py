@@ -150,6 +150,18 @@ def test_a_world_without_texture_has_a_plain_floor(tmp_path: Path) -> None:
             "WoodenBox.rotation 1 0 0 0.3 stands the box on an edge or a corner",
         ),
         ("#VRML_SIM R2023b utf8\nRectangleArena { floorSize 1 }\n", "floorSize must be 2"),
+        (
+            '#VRML_SIM R2023b utf8\nWorldInfo { coordinateSystem "NUE" }\n',
+            "WorldInfo.coordinateSystem 'NUE': the emulator reads ENU",
+        ),
+        (
+            "#VRML_SIM R2023b utf8\nRectangleArena { translation 0.5 0 0 }\n",
+            "RectangleArena.translation 0.5 0 0: an arena off the origin",
+        ),
+        (
+            "#VRML_SIM R2023b utf8\nRectangleArena { rotation 0 0 1 0.3 }\n",
+            "RectangleArena.rotation 0 0 1 0.3: an arena turned",
+        ),
         ("#VRML_SIM R2023b utf8\nRectangleArena { floorSize 0 1 }\n", "must be positive"),
         ("#VRML_SIM R2023b utf8\nRectangleArena {\n", "ends inside a node"),
         ("#VRML_SIM R2023b utf8\nE-puck { camera_width 52.5 }\n", "whole pixels"),
