@@ -22,9 +22,12 @@ numbers, strings, ``TRUE``/``FALSE``, a node, or a ``[ ... ]`` list of either, w
 Everything else (Viewpoint, backgrounds, other robots...) is skipped, each skipped node
 type listed in :attr:`WbtWorld.notes`. Worlds are read in the frame Webots has used since
 R2022a (ENU: z up, the floor in x-y); an older file (y up) is refused with the advice
-Webots itself gives (open and save it once in a newer Webots, which converts it). A box
-or robot rotated about anything but the vertical is refused: the emulator's world is
-flat.
+Webots itself gives (open and save it once in a newer Webots, which converts it), and so
+is one declared ``coordinateSystem "NUE"``. A box may turn about the vertical or lie on a
+face (a rotation that swaps its axes, as Webots' converter writes it): it stands on the
+floor with its sides swapped; one on an edge or a corner, a robot rotated about anything
+but the vertical, and a ``RectangleArena`` off the origin or turned are refused naming
+the node and field: the emulator's world is flat and centred.
 
 Bounds (docs/bad_input.md): a file of at most :data:`MAX_WBT_BYTES`, at most
 :data:`MAX_NODES` nodes nested at most :data:`MAX_DEPTH` deep and :data:`MAX_TOKENS`
