@@ -15,6 +15,7 @@ steps, so that no pacing wait hides either. Rounds of the three are interleaved.
 
 from __future__ import annotations
 
+import os
 import statistics
 import sys
 import time
@@ -102,6 +103,7 @@ def table(steps: int, rounds: int) -> Table:
             "plain / overlapped",
         ],
     )
+    load_before = os.getloadavg()[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the 1 ms steps overrun on purpose
         for baud in BAUDS:
@@ -120,7 +122,11 @@ def table(steps: int, rounds: int) -> Table:
         "The emulator runs in its own process, pacing each byte at 10 bits of the baud "
         "and modelling the dsPIC's work; ego's cost (encoding, the pty, decoding, the step "
         "thread) is inside 'wire'. The work is numpy matrix products, which hold the GIL "
-        "between them, as a learning controller's forward pass does."
+        "between them, as a learning controller's forward pass does. While a step is in "
+        "flight the step thread needs the CPU and the GIL: on a machine busy with other "
+        "work (load average here: "
+        f"{load_before:.1f} before, {os.getloadavg()[0]:.1f} after, on {os.cpu_count()} "
+        "CPUs), 'plain' runs beyond wire + work and the overlap gains less."
     )
     return result
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 import re
 import subprocess
+import sys
 import threading
 from pathlib import Path
 from typing import Any
@@ -232,6 +233,7 @@ def test_step_begin_returns_while_the_step_runs_and_step_end_collects_it(
     ps0.enable(32)
     left.setPosition(float("inf"))
     answered = len(emulator.history)
+    interval = sys.getswitchinterval()
     for step in range(3):
         worked.clear()
         assert webots_robot.stepBegin(32) == 0
@@ -239,6 +241,7 @@ def test_step_begin_returns_while_the_step_runs_and_step_end_collects_it(
         worked.set()
         assert webots_robot.stepEnd() == 0
     assert seen_work == [True, True, True]
+    assert sys.getswitchinterval() == interval  # the interpreter's own, given back
     # A speed set while its batch was in flight is not taken for a misread reply.
     assert not [r for r in caplog.records if "implausible" in r.getMessage()]
     assert len(emulator.history) >= answered + 3  # each step's batch went to the robot

@@ -12,16 +12,26 @@ Between the two calls the controller's commands go to the next batch, as in Webo
 sensor reads may already give this step's values for the families already answered
 (Webots gives the last step's until ``stepEnd``): read them after ``stepEnd``.
 
+While a step is in flight the interpreter switches threads every 0.5 ms instead of 5
+(:data:`STEP_SWITCH_INTERVAL_S`), so that the step thread gets the GIL as its reply
+bytes arrive while the controller computes in Python; ``stepEnd`` puts it back.
+
 The thread is the Robot's: ``end`` joins it, and so does the robot's close (a step in
 flight when the controller fails or the run ends is waited for, never left running).
 """
 
 from __future__ import annotations
 
+import sys
 import threading
 from collections.abc import Callable
 
-__all__ = ["StepOverlap"]
+__all__ = ["STEP_SWITCH_INTERVAL_S", "StepOverlap"]
+
+#: The interpreter's thread switch interval while a step is in flight (its default is
+#: 5 ms): the step thread wakes each time reply bytes arrive, and a controller computing
+#: in Python holds the GIL; without this, each wake could wait 5 ms for it.
+STEP_SWITCH_INTERVAL_S = 0.0005
 
 
 class StepOverlap:
@@ -32,6 +42,7 @@ class StepOverlap:
         self._thread: threading.Thread | None = None
         self._result = 0
         self._error: BaseException | None = None
+        self._saved_interval = sys.getswitchinterval()
 
     @property
     def in_flight(self) -> bool:
@@ -42,6 +53,8 @@ class StepOverlap:
         if self._thread is not None:
             self.end()
         self._result, self._error = 0, None
+        self._saved_interval = sys.getswitchinterval()
+        sys.setswitchinterval(min(self._saved_interval, STEP_SWITCH_INTERVAL_S))
         self._thread = threading.Thread(target=self._run, args=(duration,), name="ego-step")
         self._thread.start()
 
@@ -58,6 +71,7 @@ class StepOverlap:
         if thread is None:
             return 0
         thread.join()
+        sys.setswitchinterval(self._saved_interval)
         error, self._error = self._error, None
         if error is not None:
             raise error
@@ -70,3 +84,4 @@ class StepOverlap:
         thread = self._thread
         if thread is not None and thread is not threading.current_thread():
             thread.join()
+            sys.setswitchinterval(self._saved_interval)
