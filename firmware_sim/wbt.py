@@ -43,13 +43,15 @@ import math
 import re
 from collections import deque
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from firmware_sim.files import read_regular
 from firmware_sim.floor import ImageFloor, Plain
 from firmware_sim.markers import Marker
+from firmware_sim.wbt_node import MAX_LENGTH_M, Node
+from firmware_sim.wbt_solids import MARKER_TYPES, block, box_shape, marker, yaw
 from firmware_sim.world import Arena, Block, Lamp, Pose, World
 
 __all__ = [
@@ -66,9 +68,6 @@ __all__ = [
     "world_from_wbt",
 ]
 
-#: Node types whose DEF-named instances a Supervisor finds (``getFromDef``) whatever
-#: their shape: a flat marker, a Plane, a goal with no box.
-MARKER_TYPES = frozenset({"Solid", "Transform", "Pose", "Group"})
 #: A .wbt file's size, at most (Webots' own worlds are tens of KB).
 MAX_WBT_BYTES = 8 << 20
 #: Nodes in a file, at most, and how deep they nest.
@@ -81,8 +80,6 @@ MAX_TOKENS = 500_000
 #: come back within the link's reply time (the built-in maze has 4).
 MAX_BOXES = 100
 MAX_ROBOTS = 100
-#: Every length and position, in metres, is within +-this.
-MAX_LENGTH_M = 100.0
 
 # A string is matched as runs of plain characters between escapes ("unrolled"): an
 # alternation repeated per character kept a backtracking record per character, 1 GB for
@@ -91,56 +88,6 @@ _TOKEN = re.compile(
     r'\s*(?:#[^\n]*|("[^"\\]*(?:\\.[^"\\]*)*")|([\[\]{}])|([^\s\[\]{}"#]+))', re.DOTALL
 )
 _LITERALS = {"TRUE": True, "FALSE": False}
-
-
-@dataclass
-class Node:
-    """One node of the file: its type, its DEF name, and its fields as parsed values."""
-
-    type: str
-    fields: dict[str, Any] = field(default_factory=dict)
-    name: str | None = None
-
-    def numbers(
-        self,
-        key: str,
-        count: int,
-        default: tuple[float, ...],
-        low: float = -MAX_LENGTH_M,
-        high: float = MAX_LENGTH_M,
-    ) -> tuple[float, ...]:
-        """The field ``key``: ``count`` finite numbers within ``low..high``."""
-        value = self.fields.get(key)
-        if value is None:
-            return default
-        if (
-            not isinstance(value, list)
-            or len(value) != count
-            or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
-        ):
-            raise ValueError(f"{self.type}.{key} must be {count} numbers, not {value!r}"[:200])
-        if not all(math.isfinite(v) and low <= v <= high for v in value):
-            each = "must be a finite number" if count == 1 else "must each be finite numbers"
-            raise ValueError(f"{self.type}.{key} {' '.join(map(str, value))}: {each} within "
-                             f"{low:g}..{high:g}")  # fmt: skip
-        return tuple(float(v) for v in value)
-
-    def walk(self) -> Iterator[Node]:
-        """This node and every node below it, each once (a USE is its DEF's node, so a
-        file that USEs a node twice at each of 40 levels still has 41 nodes to visit)."""
-        seen: set[int] = set()
-        stack = [self]
-        while stack:
-            node = stack.pop()
-            if id(node) in seen:
-                continue
-            seen.add(id(node))
-            yield node
-            children: list[Node] = []
-            for value in node.fields.values():
-                children.extend(i for i in (value if isinstance(value, list) else [value])
-                                if isinstance(i, Node))  # fmt: skip
-            stack.extend(reversed(children))
 
 
 def _tokens(text: str) -> Iterator[str]:
@@ -300,19 +247,7 @@ class WbtWorld:
 def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     """The emulator's World for a Webots world file (the subset in this module's doc)."""
     where = str(path)
-    try:
-        text = read_regular(path, MAX_WBT_BYTES, "a Webots world").decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{where}: byte {exc.start} is not UTF-8 text") from exc
-    except OSError as exc:
-        raise ValueError(f"{where}: {exc.strerror or exc}") from exc
-    try:
-        version, nodes = parse_wbt(text)
-    except ValueError as exc:
-        raise ValueError(f"{where}: {exc}") from exc
-    if _before_r2022a(version):
-        raise ValueError(f"{where}: a {version} world is y-up; open and save it once in "
-                         "Webots R2022a or newer, which converts it to z-up")  # fmt: skip
+    nodes = _read_nodes(path)
     arena, floor = Arena(), None
     blocks: list[Block] = []
     start: Pose | None = None
@@ -330,9 +265,9 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
                 arena, floor = _arena(node, path.parent)
             elif node.type == "WoodenBox":
                 size = node.numbers("size", 3, (0.6, 0.6, 0.6))
-                blocks.append(_block(node, size, (150, 110, 60)))
-            elif node.type == "Solid" and (shape := _box_shape(node)) is not None:
-                blocks.append(_block(node, *shape))
+                blocks.append(block(node, size, (150, 110, 60)))
+            elif node.type == "Solid" and (shape := box_shape(node)) is not None:
+                blocks.append(block(node, *shape))
             elif node.type == "E-puck":
                 starts.append(_pose(node))
                 if start is None:
@@ -342,7 +277,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
                 x, y, z = node.numbers("location", 3, (0.0, 0.0, 0.0))
                 lamp = Lamp(x, y, max(z, 0.0))
             elif node.name and node.type in MARKER_TYPES:
-                markers.append(_marker(node))
+                markers.append(marker(node))
             else:
                 skipped[node.type] = skipped.get(node.type, 0) + 1
             _within_bounds(blocks, starts)
@@ -366,6 +301,25 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     return WbtWorld(world, notes)
 
 
+def _read_nodes(path: Path) -> list[Node]:
+    """The top-level nodes of the world file at ``path`` (an older, y-up one refused)."""
+    where = str(path)
+    try:
+        text = read_regular(path, MAX_WBT_BYTES, "a Webots world").decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{where}: byte {exc.start} is not UTF-8 text") from exc
+    except OSError as exc:
+        raise ValueError(f"{where}: {exc.strerror or exc}") from exc
+    try:
+        version, nodes = parse_wbt(text)
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from exc
+    if _before_r2022a(version):
+        raise ValueError(f"{where}: a {version} world is y-up; open and save it once in "
+                         "Webots R2022a or newer, which converts it to z-up")  # fmt: skip
+    return nodes
+
+
 def _within_bounds(blocks: list[Block], starts: list[Pose]) -> None:
     if len(blocks) > MAX_BOXES:
         raise ValueError(f"more than {MAX_BOXES} boxes: over the bound for a world")
@@ -376,18 +330,6 @@ def _within_bounds(blocks: list[Block], starts: list[Pose]) -> None:
 def _before_r2022a(version: str) -> bool:
     match = re.fullmatch(r"R(\d{4})([ab])(?:-.*)?", version)
     return match is not None and (int(match.group(1)), match.group(2)) < (2022, "a")
-
-
-def _yaw(rotation: tuple[float, ...], what: str) -> float:
-    """The angle about +z of a Webots axis-angle rotation; refused if it tilts."""
-    ax, ay, az, angle = rotation
-    if abs(math.sin(angle)) < 1e-6 and math.cos(angle) > 0:
-        return 0.0
-    norm = math.sqrt(ax * ax + ay * ay + az * az)
-    if norm == 0 or math.hypot(ax, ay) / norm > 1e-3:
-        raise ValueError(f"{what} is rotated about {rotation[:3]}, not the vertical: "
-                         "the emulator's world is flat")  # fmt: skip
-    return angle * math.copysign(1.0, az)
 
 
 def _frame(node: Node) -> None:
@@ -407,7 +349,7 @@ def _arena(node: Node, folder: Path) -> tuple[Arena, ImageFloor | Plain]:
         raise ValueError(f"RectangleArena.translation {where}: an arena off the origin is "
                          "not modelled (move the world so that the arena is centred)")  # fmt: skip
     rotation = node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0))
-    if abs(math.sin(_yaw(rotation, "RectangleArena.rotation"))) > 1e-6:
+    if abs(math.sin(yaw(rotation, "RectangleArena.rotation"))) > 1e-6:
         turn = " ".join(f"{v:g}" for v in rotation)
         raise ValueError(f"RectangleArena.rotation {turn}: an arena turned by other than a "
                          "half turn is not modelled")  # fmt: skip
@@ -436,91 +378,10 @@ def _texture(folder: Path, url: object) -> Path:
     return image
 
 
-def _box_shape(solid: Node) -> tuple[tuple[float, ...], tuple[int, int, int]] | None:
-    children = solid.fields.get("children") or []
-    for child in children if isinstance(children, list) else [children]:
-        if not isinstance(child, Node) or child.type != "Shape":
-            continue
-        geometry = child.fields.get("geometry")
-        if isinstance(geometry, Node) and geometry.type == "Box":
-            return geometry.numbers("size", 3, (2.0, 2.0, 2.0)), _colour(child)
-    return None
-
-
-def _colour(shape: Node) -> tuple[int, int, int]:
-    appearance = shape.fields.get("appearance")
-    for sub in appearance.walk() if isinstance(appearance, Node) else ():
-        for key in ("baseColor", "diffuseColor"):
-            if key in sub.fields:
-                r, g, b = sub.numbers(key, 3, (1.0, 1.0, 1.0), 0.0, 1.0)
-                return (round(255 * r), round(255 * g), round(255 * b))
-    return (200, 200, 200)
-
-
-def _block(node: Node, size: tuple[float, ...], rgb: tuple[int, int, int]) -> Block:
-    x, y, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
-    if min(size) <= 0:
-        raise ValueError(f"{node.type} size must be positive, not {size}")
-    rotation = node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0))
-    (sx, sy, sz), yaw = _standing(rotation, size, _named(node))
-    return Block(x, y, sx / 2, rgb, half_y_m=sy / 2, yaw_rad=yaw, height_m=sz, name=node.name)
-
-
-def _matrix(rotation: tuple[float, ...]) -> list[list[float]]:
-    """The 3x3 matrix of a Webots axis-angle rotation (Rodrigues' formula)."""
-    ax, ay, az, angle = rotation
-    norm = math.sqrt(ax * ax + ay * ay + az * az)
-    if norm == 0:
-        return [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-    x, y, z = ax / norm, ay / norm, az / norm
-    c, s = math.cos(angle), math.sin(angle)
-    t = 1 - c
-    return [
-        [t * x * x + c, t * x * y - z * s, t * x * z + y * s],
-        [t * x * y + z * s, t * y * y + c, t * y * z - x * s],
-        [t * x * z - y * s, t * y * z + x * s, t * z * z + c],
-    ]
-
-
-def _standing(
-    rotation: tuple[float, ...], size: tuple[float, ...], what: str
-) -> tuple[tuple[float, float, float], float]:
-    """A box's footprint (x, y along its yaw), height and yaw, for any rotation that
-    leaves one of its faces on the floor: about the vertical, or one that lies it on a
-    face (Webots' world converter writes ``rotation 1 0 0 1.5708`` for a box whose
-    height was its y). A tilt that stands it on an edge or a corner is refused."""
-    m = _matrix(rotation)
-    # The box's own axis that the rotation turns vertical: its column's z is +-1.
-    upright = [k for k in range(3) if abs(abs(m[2][k]) - 1.0) < 1e-3]
-    if not upright:
-        turn = " ".join(f"{v:g}" for v in rotation)
-        raise ValueError(f"{what}.rotation {turn} stands the box on an edge or a corner: "
-                         "the emulator's world is flat (a box may turn about the vertical, "
-                         "or lie on a face)")  # fmt: skip
-    k = upright[0]
-    across = [j for j in range(3) if j != k]
-    first = across[0]  # the footprint's x: this axis, turned into the floor's plane
-    yaw = math.atan2(m[1][first], m[0][first])
-    return (size[first], size[across[1]], size[k]), yaw
-
-
-def _named(node: Node) -> str:
-    """The node as an error names it: its type, and its DEF name if it has one."""
-    return f"{node.type} {node.name}" if node.name else node.type
-
-
-def _marker(node: Node) -> Marker:
-    """A named solid with no box: its pose, for a Supervisor's ``getFromDef``."""
-    x, y, z = node.numbers("translation", 3, (0.0, 0.0, 0.0))
-    rotation = node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0))
-    yaw = _yaw(rotation, f"{_named(node)}.rotation")
-    return Marker(str(node.name), x, y, z, yaw, node.type)
-
-
 def _pose(node: Node) -> Pose:
     """The robot's start pose: in an ENU world the e-puck's front is its own +x."""
     x, y, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
-    return Pose(x, y, _yaw(node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0)), "E-puck"))
+    return Pose(x, y, yaw(node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0)), "E-puck"))
 
 
 def _camera_size(node: Node) -> tuple[int, int] | None:
