@@ -217,6 +217,7 @@ class SimOptions(BackendOptions):
     #: The e-puck2 on its radio's WiFi (open_epuck2_wifi): ``robot="epuck2", wifi=True``.
     wifi: bool | None = None
 
+
 #: The options that go to the Emulator as they are, when given.
 _EMULATOR_OPTIONS = (
     "hardware_version", "rev13", "selector", "ground_module", "latency_s",

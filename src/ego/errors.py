@@ -44,6 +44,10 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
         ├── InsecureSecretError (ValueError)     a secret too short, or a file others can read
         └── FrameError (ValueError)              a malformed or oversized network frame
             └── VersionMismatchError             a frame of another ego protocol version
+    ControllerTerminated (SystemExit)            a controller that went on after step()
+                                                 returned -1, ended a second later as
+                                                 Webots ends it (no ``except Exception``
+                                                 catches it, as none survives Webots' kill)
 """
 
 from __future__ import annotations
@@ -59,6 +63,7 @@ __all__ = [
     "ChecksumError",
     "ConfigSyntaxError",
     "ControllerError",
+    "ControllerTerminated",
     "DeviceError",
     "EgoError",
     "ExtraBytesError",
@@ -107,6 +112,24 @@ class ControllerError(EgoError):
     def __init__(self, message: str, traceback: str = "") -> None:
         super().__init__(message)
         self.traceback = traceback
+
+
+class ControllerTerminated(SystemExit):
+    """A controller went on after ``step()`` returned -1 and was ended, as Webots ends it
+    ("Controller Termination" in Webots' user guide: the controller is killed about one
+    second of real time after its step returned -1).
+
+    A SystemExit, so that the controller's own ``except Exception`` cannot keep it alive;
+    ``ego run`` says why in one line and exits with :attr:`code`
+    (:data:`ego.faces.termination.TERMINATED_STATUS`).
+    """
+
+    def __init__(self, message: str, code: int) -> None:
+        super().__init__(code)
+        self.message = message
+
+    def __str__(self) -> str:
+        return self.message
 
 
 class DeviceError(EgoError):

@@ -19,7 +19,9 @@ import pytest
 from ego import webots as wb
 from ego.app.runner import run_controller
 from ego.controller import Robot as WebotsRobot
-from ego.controller.devices import DistanceSensor, Gyro, Speaker
+from ego.controller.distance_sensor import DistanceSensor
+from ego.controller.gyro import Gyro
+from ego.controller.speaker import Speaker
 from ego.errors import OutOfRangeError, UnsupportedDeviceError
 from ego.faces import default_robot, runtime
 from ego.faces.default_robot import FaceContext, activate

@@ -15,7 +15,7 @@ import ego
 from ego import overo
 from ego import webots as wb
 from ego.controller import Robot as WebotsRobot
-from ego.controller.devices import view_class
+from ego.controller.device import view_class
 from ego.devices import table
 from ego.devices.table import BATTERY, CAMERA, DEVICES, FAMILIES, names_of, spec, spec_of_tag
 from ego.errors import UnknownDeviceError, UnsupportedDeviceError

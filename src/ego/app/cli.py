@@ -28,7 +28,7 @@ from ego.app.cli_options import (
     seed_parent,
     world_parent,
 )
-from ego.errors import ControllerError, EgoError
+from ego.errors import ControllerError, ControllerTerminated, EgoError
 from ego.faces import runtime
 
 __all__ = ["build_parser", "main"]
@@ -470,6 +470,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     try:
         return int(args.func(args))
+    except ControllerTerminated as exc:
+        print(f"ego: {exc}", file=sys.stderr)  # the robot was stopped at the first -1
+        return int(exc.code)  # type: ignore[arg-type]  # always an int: TERMINATED_STATUS
     except ControllerError as exc:
         # The user's own file and line, always: ego's frames are left out (-vv: all).
         shown = "".join(traceback.format_exception(exc.__cause__)) if args.verbose > 1 else None

@@ -11,7 +11,7 @@ from typing import Any, TextIO
 
 from ego.app.observers import observe_run
 from ego.app.runner import run_controller
-from ego.controller.devices import WEBOTS_CAMERA_SIZE
+from ego.controller.camera import WEBOTS_CAMERA_SIZE
 from ego.core.ports import default_baud
 from ego.core.robot import Robot
 from ego.faces import runtime

@@ -5,27 +5,22 @@ from __future__ import annotations
 import sys
 from typing import TYPE_CHECKING
 
-from ego.controller.devices import (
-    LED,
-    Accelerometer,
-    Camera,
-    Device,
-    DistanceSensor,
-    Gyro,
-    LightSensor,
-    Motor,
-    PositionSensor,
-    Speaker,
-    view_class,
-    webots_camera_size,
-)
-from ego.controller.radio import (
-    RADIO_DEVICES,
-    Emitter,
-    Receiver,
-    RobotRadio,
-    radio_available,
-)
+from ego.controller.accelerometer import Accelerometer
+from ego.controller.camera import Camera, webots_camera_size
+from ego.controller.compass import Compass
+from ego.controller.device import Device, view_class
+from ego.controller.distance_sensor import DistanceSensor
+from ego.controller.emitter import Emitter
+from ego.controller.gps import GPS
+from ego.controller.gyro import Gyro
+from ego.controller.led import LED
+from ego.controller.light_sensor import LightSensor
+from ego.controller.motor import Motor
+from ego.controller.position_sensor import PositionSensor
+from ego.controller.radio import RADIO_DEVICES, RobotRadio, radio_available
+from ego.controller.receiver import Receiver
+from ego.controller.speaker import Speaker
+from ego.controller.touch_sensor import TouchSensor
 from ego.errors import UnknownDeviceError
 
 if TYPE_CHECKING:
@@ -34,6 +29,11 @@ if TYPE_CHECKING:
     from ego.faces.runtime import RunOptions
 
 __all__ = ["DeviceLookup"]
+
+#: The ground-truth devices a world file may declare (on the emulator), and their classes.
+GROUND_TRUTH_CLASSES: dict[str, type[Device]] = {
+    "gps": GPS, "compass": Compass, "touch sensor": TouchSensor
+}  # fmt: skip
 
 
 class DeviceLookup:
@@ -73,9 +73,7 @@ class DeviceLookup:
             if name in RADIO_DEVICES and radio_available(self._environment):
                 cls = Emitter if name == "emitter" else Receiver
             if cls is None and self._ground_truth(name):
-                from ego.controller.absent import ground_truth_class
-
-                cls = ground_truth_class(name)
+                cls = GROUND_TRUTH_CLASSES.get(name)
             if cls is None:
                 if not self._options.strict:
                     print(

@@ -56,6 +56,9 @@ class WheelSpeeds(Device):
         super().__init__(profile)
         self.speed = (0, 0)
         self.pending: Request | None = None
+        #: The speeds the batch in flight asks for: the controller may set others while
+        #: it runs (Webots' stepBegin..stepEnd), which go in the next batch.
+        self.asked = (0, 0)
         #: The read-back the confirming E also refreshes.
         self.echo: Sensor | None = None
 
@@ -65,7 +68,11 @@ class WheelSpeeds(Device):
             self.pending = Request(Command.SET_SPEED, self.speed)
 
     def plan(self, now_ms: int) -> list[Request]:
-        return [self.pending, Request(Command.GET_SPEED)] if self.pending is not None else []
+        if self.pending is None:
+            return []
+        left, right = self.pending.arguments
+        self.asked = (left, right)
+        return [self.pending, Request(Command.GET_SPEED)]
 
     def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
         """E echoes the speeds the dsPIC holds: they must be the ones ego asked for.
@@ -76,10 +83,10 @@ class WheelSpeeds(Device):
         if request.command is not Command.GET_SPEED:
             return FINE
         held = (int(values[0]), int(values[1]))
-        if held == self.speed:
+        if held == self.asked:
             return FINE
         return Verdict(
-            f"the dsPIC holds speeds {held}, ego asked for {self.speed}",
+            f"the dsPIC holds speeds {held}, ego asked for {self.asked}",
             correction=Request(Command.SET_SPEED, self.speed),
         )
 
