@@ -13,7 +13,7 @@ import pytest
 
 import ego
 from ego.controller import Robot as WebotsRobot
-from ego.controller.devices import DistanceSensor
+from ego.controller.distance_sensor import DistanceSensor
 from ego.faces import default_robot, runtime
 from firmware_sim.epuck2 import Epuck2Emulator
 from firmware_sim.worlds import load_world
