@@ -27,7 +27,9 @@ SECTIONS = {
     "dashboard": "Watching a run: the dashboard's and the recorder's cost per step",
     "swarm": "Swarms: 2 to 16 robots over Zenoh and over UDP, side by side",
     "virtual_time": "Virtual time: the avoidance controller in real time and with --fast",
+    "step_overlap": "Webots' stepBegin/stepEnd: a computing controller's step beside plain step",
     "ros2_bridge": "ROS 2: what the bridge adds to a robot's step, beside the Overo's budget",
+    "pipuck_i2c": "The Pi-puck's I2C at 100 and 400 kHz beside ego's CPU and the other links",
     # Last: a Zenoh client in this process leaves the security section's TCP server
     # resetting its handshakes when it runs after it (seen, not yet understood).
     "channel_cpu": "The controller's CPU per step over TCP and over Zenoh",

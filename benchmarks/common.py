@@ -9,8 +9,11 @@ from __future__ import annotations
 
 import csv
 import statistics
+import subprocess
+import sys
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -22,11 +25,13 @@ __all__ = [
     "Interrupted",
     "Stats",
     "Table",
+    "emulator_process",
     "fmt",
     "interleaved",
     "progress",
     "ratio",
     "thesis_csv",
+    "write_section",
 ]
 
 REPO = Path(__file__).resolve().parents[1]
@@ -189,6 +194,56 @@ def _plain_progress(items: Iterable[Any], desc: str, total: int | None) -> Itera
 #: The thesis measured the Overo line at 230400 baud with the command set of Table 4.1
 #: (the one Webots' firmware serves, M included); the emulator carries it at that rate.
 THESIS_LINE_BAUD = 230400
+
+
+
+@contextmanager
+def emulator_process(*flags: str) -> Iterator[str]:
+    """``python -m firmware_sim`` at the thesis' baud (seed 1) in its own process; yields
+    its pty (or its URL, with ``--wifi``).
+
+    In its own process so that the client's CPU time (``time.process_time``) and its GIL
+    are its own, and every client measured meets the same emulator.
+    """
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "firmware_sim", "--baud", str(THESIS_LINE_BAUD), "--seed", "1",
+         *flags],
+        stdout=subprocess.PIPE,
+        text=True,
+        cwd=REPO,  # never src/ego, where ego/serial would shadow pyserial
+    )  # fmt: skip
+    try:
+        assert proc.stdout is not None
+        path = proc.stdout.readline().strip()
+        if not path:
+            raise RuntimeError("the emulator printed no pty path")
+        yield path
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+        if proc.stdout is not None:
+            proc.stdout.close()
+
+
+def write_section(
+    path: Path, markers: tuple[str, str], body: Sequence[str], *, after: str = "",
+    heading: str = "",
+) -> None:
+    """Put ``body`` (Markdown blocks) between the ``markers`` (begin, end) in ``path``: in
+    place of the section already there, else right after the marker ``after`` when the
+    file has it, else at the end (a missing file starts as ``heading``)."""
+    begin, end = markers
+    section = "\n".join([begin, *body, end])
+    text = path.read_text() if path.exists() else heading
+    if begin in text:
+        head, rest = text.split(begin, 1)
+        text = head + section + rest.split(end, 1)[1]
+    elif after and after in text:
+        head, sep, rest = text.partition(after)
+        text = head + sep + "\n\n" + section + rest
+    else:
+        text = text.rstrip("\n") + "\n\n" + section + "\n"
+    path.write_text(text)
 
 
 def print_and_save(tables: list[Table], quick: bool) -> Path:

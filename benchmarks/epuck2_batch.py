@@ -19,8 +19,9 @@ from collections.abc import Sequence
 from dataclasses import replace
 from types import MappingProxyType
 
+from ego.seam.batch import Batch
+from ego.seam.profile import DEFAULT_BAUD, Profile
 from ego.serial import Command, Link, Request, SerialTransport, encode_batch
-from ego.serial.protocol import DEFAULT_BAUD, Batch, Profile
 from firmware_sim.epuck2.emulator import UART_BAUD, Epuck2Emulator
 
 __all__ = ["SETS", "measure", "run"]

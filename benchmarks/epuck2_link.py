@@ -30,10 +30,10 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from benchmarks.common import Stats, Table, fmt, progress
-from benchmarks.serial_link import bare_client, emulator_process
+from benchmarks.common import Stats, Table, emulator_process, fmt, progress
+from benchmarks.serial_link import bare_client
 from ego.serial import Command, Firmware, Link, Request, SerialTransport, encode_batch
-from ego.serial.protocol import PROFILES, wire_time_s
+from ego.serial.profiles import PROFILES, wire_time_s
 
 __all__ = ["run"]
 
@@ -104,9 +104,9 @@ def _epuck2_usb(steps: int) -> list[Measured]:
 
 
 def _epuck2_wifi(steps: int) -> list[Measured]:
-    from ego.backends import open_port
     from ego.backends.epuck2.channel import Epuck2Channel
     from ego.backends.epuck2.requests import WIFI_PROFILE
+    from ego.core.registry import open_port
 
     batch = encode_batch([_SPEEDS, _PROXIMITY], WIFI_PROFILE)
     out = []

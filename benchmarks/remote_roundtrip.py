@@ -27,18 +27,14 @@ from typing import Any
 
 from benchmarks.common import REPO, THESIS_LINE_BAUD, Table, interleaved
 from ego.backends.remote.channel import RemoteChannel
-from ego.core.channel import Channel
-from ego.net.wire import MessageType, SequenceGuard, decode_frame, encode_frame
+from ego.net.frames import MessageType, decode_frame, encode_frame
+from ego.net.sequence import SequenceGuard
+from ego.seam.batch import Request
+from ego.seam.channel import Channel
+from ego.seam.profile import Command, Firmware
 from ego.serial.link import Link
-from ego.serial.protocol import (
-    PROFILES,
-    Command,
-    Firmware,
-    Request,
-    encode_batch,
-    parse_batch,
-    wire_time_s,
-)
+from ego.serial.profiles import PROFILES, wire_time_s
+from ego.serial.protocol import encode_batch, parse_batch
 from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator
 
@@ -229,8 +225,8 @@ def _handshake(session: object, peer: object, secret: bytes | None) -> object:
     """A completed handshake with ``session``, driven by hand: its key and session id."""
     from types import SimpleNamespace
 
+    from ego.net.frames import Frame
     from ego.net.handshake import ClientHandshake
-    from ego.net.wire import Frame
 
     shake = ClientHandshake(secret, "bench")
     (send,) = session.receive(peer, Frame(MessageType.HELLO, 1, shake.hello()), 0.0)  # type: ignore[attr-defined]

@@ -29,13 +29,16 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
-from benchmarks.common import THESIS_LINE_BAUD, Table, print_and_save
+from benchmarks.common import THESIS_LINE_BAUD, Table, print_and_save, write_section
 from benchmarks.floods import FLOOD_KINDS, start_flood
 from ego.backends.remote.channel import RemoteChannel
+from ego.net.frames import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame
 from ego.net.messages import pack_step
-from ego.net.wire import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame, pack_json
+from ego.net.payloads import pack_json
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.serial.link import Link
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
 from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator
@@ -441,25 +444,14 @@ authentication the robot needs over both transports with no new dependency.
 """
 
 
-def write_section(tables: list[Table], path: Path) -> None:
-    """Put the security section (threat model and figures) into reliability.md."""
-    body = [BEGIN, THREAT_MODEL, *(t.markdown() for t in tables), END]
-    text = path.read_text() if path.exists() else "# Reliability\n"
-    if BEGIN in text:
-        head, rest = text.split(BEGIN, 1)
-        text = head + "\n".join(body) + rest.split(END, 1)[1]
-    else:
-        text = text.rstrip("\n") + "\n\n" + "\n".join(body) + "\n"
-    path.write_text(text)
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a smoke run: fewer trials")
     args = parser.parse_args(argv)
     tables = run(quick=args.quick)
     folder = print_and_save(tables, args.quick)
-    write_section(tables, folder / "reliability.md")
+    body = [THREAT_MODEL, *(t.markdown() for t in tables)]
+    write_section(folder / "reliability.md", (BEGIN, END), body, heading="# Reliability\n")
     print(f"\nreport: {folder / 'reliability.md'}")
     return 0
 

@@ -11,31 +11,26 @@ from __future__ import annotations
 import os
 import select
 import statistics
-import subprocess
-import sys
 import time
 import tty
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 
 from benchmarks.common import (
-    REPO,
-    THESIS_LINE_BAUD,
     Stats,
     Table,
+    emulator_process,
     fmt,
     progress,
     thesis_csv,
 )
+from ego.seam.batch import Batch
 from ego.serial import Command, Firmware, Link, LinkSettings, Request, SerialTransport, encode_batch
-from ego.serial.protocol import PROFILES, Batch, wire_time_s
+from ego.serial.profiles import PROFILES, wire_time_s
 from firmware_sim.dspic import WORK_S
 
 __all__ = [
     "bare_client",
     "ego_client",
-    "emulator_process",
     "modelled_s",
     "overhead_tables",
     "run",
@@ -127,41 +122,6 @@ def overhead_tables() -> list[Table]:
         )
         tables.append(table)
     return tables
-
-
-@contextmanager
-def emulator_process(*flags: str) -> Iterator[str]:
-    """``python -m firmware_sim`` at the thesis' baud in its own process; yields its pty.
-
-    In its own process so that the client's CPU time (``time.process_time``) and its GIL
-    are its own, and ego and the bare client meet the same emulator.
-    """
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "firmware_sim",
-            "--baud",
-            str(THESIS_LINE_BAUD),
-            "--seed",
-            "1",
-            *flags,
-        ],
-        stdout=subprocess.PIPE,
-        text=True,
-        cwd=REPO,  # never src/ego, where ego/serial would shadow pyserial
-    )
-    try:
-        assert proc.stdout is not None
-        path = proc.stdout.readline().strip()
-        if not path:
-            raise RuntimeError("the emulator printed no pty path")
-        yield path
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)
-        if proc.stdout is not None:
-            proc.stdout.close()
 
 
 @dataclass(frozen=True)

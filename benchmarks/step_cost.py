@@ -13,32 +13,21 @@ from __future__ import annotations
 
 import os
 import select
-import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 
-from benchmarks.common import Table, interleaved_rounds, ratio_rows, section_main
+from benchmarks.common import (
+    Table,
+    emulator_process,
+    interleaved_rounds,
+    ratio_rows,
+    section_main,
+)
 
 __all__ = ["main", "run"]
 
 STEP_MS = 32
-
-
-@contextmanager
-def emulator_process() -> Iterator[str]:
-    """A Webots-firmware emulator in its own process; its pty's path."""
-    process = subprocess.Popen(
-        [sys.executable, "-m", "firmware_sim", "--firmware", "webots", "--seed", "1"],
-        stdout=subprocess.PIPE, text=True,
-    )  # fmt: skip
-    try:
-        assert process.stdout is not None
-        yield process.stdout.readline().strip()
-    finally:
-        process.terminate()
-        process.wait(timeout=10)
 
 
 def _avoid(values: list[float]) -> tuple[float, float]:
@@ -130,7 +119,7 @@ def table(steps: int, rounds: int) -> Table:
         f"{steps} steps a round, {rounds} rounds interleaved; emulator in its own process)",
         columns=["contender", "CPU per step [us]", "x bare client"],
     )
-    with emulator_process() as port:
+    with emulator_process("--firmware", "webots") as port:
         tx, reply_size = _batch_bytes(port)
         contenders: dict[str, Callable[[], float]] = {
             "bare Python client": lambda: _bare_steps(port, steps, tx, reply_size),

@@ -48,8 +48,8 @@ def _zenoh_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
 @contextlib.contextmanager
 def _udp_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
     from ego.app.swarm import robot_seed
-    from ego.backends import find_backend, open_port
-    from ego.serial.protocol import Firmware
+    from ego.core.registry import find_backend, open_port
+    from ego.seam.profile import Firmware
     from ego.servers.socket.server import Server, ServerThread
 
     backend: Any = find_backend("sim")

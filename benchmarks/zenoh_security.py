@@ -33,7 +33,7 @@ from pathlib import Path
 from typing import Any
 
 import ego
-from benchmarks.common import RESULTS, THESIS_LINE_BAUD, Table
+from benchmarks.common import RESULTS, THESIS_LINE_BAUD, Table, write_section
 from benchmarks.zenoh_floods import flood_result, start_ascii_flood, start_radio_flood
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
@@ -183,20 +183,6 @@ def tables(before: dict[str, Any], after: dict[str, Any]) -> list[Table]:
     return [ascii_table, radio_table]
 
 
-def write_section(found: list[Table], path: Path) -> None:
-    """Put "Zenoh under floods" into reliability.md, right after the security section."""
-    body = "\n".join([BEGIN, "## Zenoh under floods\n", *(t.markdown() for t in found), END])
-    text = path.read_text()
-    if BEGIN in text:
-        head, rest = text.split(BEGIN, 1)
-        text = head + body + rest.split(END, 1)[1]
-    else:
-        anchor = "<!-- security:end -->"
-        head, sep, rest = text.partition(anchor)
-        text = head + sep + "\n\n" + body + rest if sep else text.rstrip() + "\n\n" + body + "\n"
-    path.write_text(text)
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--trials", type=int, default=5)
@@ -212,7 +198,9 @@ def main(argv: list[str] | None = None) -> int:
         found = tables(json.loads(args.before.read_text()), after)
         for table in found:
             table.print()
-        write_section(found, RESULTS / "reliability.md")
+        write_section(RESULTS / "reliability.md", (BEGIN, END),
+                      ["## Zenoh under floods\n", *(t.markdown() for t in found)],
+                      after="<!-- security:end -->")  # fmt: skip
     return 0
 
 

@@ -9,7 +9,7 @@ import sys
 from collections.abc import Callable
 from types import FrameType
 
-from firmware_sim.dspic import FIRMWARE_ALIASES, FIRMWARES
+from firmware_sim.dspic import FIRMWARES
 from firmware_sim.faults import FAULT_KINDS, MAX_FAULT_S, FaultTimings, parse_fault
 from firmware_sim.server import Emulator
 
@@ -83,7 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     parser.add_argument(
         "--firmware",
-        choices=(*FIRMWARES, *FIRMWARE_ALIASES),
+        choices=FIRMWARES,
         metavar="{" + ",".join(FIRMWARES) + "}",
         default="webots",
         help="which firmware to answer as (default: webots)",
@@ -234,4 +234,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None, prog: str = "python -m firmware_sim") -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["pipuck"]:  # the Pi-puck's I2C buses: firmware_sim.pipuck
+        from firmware_sim.pipuck.cli import main as pipuck_main
+
+        return pipuck_main(argv[1:], f"{prog} pipuck")
     return run(build_parser(prog).parse_args(argv))

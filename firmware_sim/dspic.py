@@ -9,7 +9,6 @@ of :class:`Emission` (the reply of a batch, U's 600 bytes sent at once, an ASCII
 from __future__ import annotations
 
 import struct
-import warnings
 from dataclasses import dataclass, field
 
 from firmware_sim.world import World
@@ -17,7 +16,6 @@ from firmware_sim.world import World
 __all__ = [
     "BANNER",
     "FIRMWARES",
-    "FIRMWARE_ALIASES",
     "BatchRecord",
     "Dspic",
     "Emission",
@@ -49,17 +47,10 @@ RC5_SPEEDS = {
     6: (600, -600), 7: (-300, -600), 8: (-600, -600), 9: (-600, -300),
 }  # fmt: skip
 FIRMWARES = ("gctronic", "webots")
-#: The profiles' first names, still accepted with a warning.
-FIRMWARE_ALIASES = {"thesis": "webots", "gctronic-overo": "gctronic"}
 
 
 def firmware_name(name: str) -> str:
-    """``name`` if it is a firmware of :data:`FIRMWARES`, its new name if an old one."""
-    if name in FIRMWARE_ALIASES:
-        new = FIRMWARE_ALIASES[name]
-        warnings.warn(f"firmware name {name!r} is deprecated: use {new!r}", FutureWarning,
-                      stacklevel=3)  # fmt: skip
-        return new
+    """``name`` if it is a firmware of :data:`FIRMWARES`; ValueError else."""
     if name not in FIRMWARES:
         raise ValueError(f"firmware {name!r} is not one of {', '.join(FIRMWARES)}")
     return name

@@ -10,22 +10,24 @@ imports ``firmware_sim``.
 
 from __future__ import annotations
 
+import contextlib
 import errno
-from collections.abc import Sequence
+import os
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ego.backends.base import BackendOptions, Opened, check
 from ego.backends.serial_line import open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
+from ego.core.backend import BackendOptions, Opened, check
 from ego.core.ground_truth import Box, Layout, TruePose
 from ego.errors import CameraCaptureError, CameraError, OutOfRangeError, WorldFileError
 from ego.i2c.bus import given_bus
+from ego.seam.profile import DEFAULT_BAUD, Firmware
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import DEFAULT_BAUD, Firmware
 from ego.serial.transport import SerialTransport, check_baudrate
 from firmware_sim.camera import SimulatedSource
 from firmware_sim.cli import main as cli_main
@@ -215,6 +217,7 @@ class SimOptions(BackendOptions):
     #: The e-puck2 on its radio's WiFi (open_epuck2_wifi): ``robot="epuck2", wifi=True``.
     wifi: bool | None = None
 
+
 #: The options that go to the Emulator as they are, when given.
 _EMULATOR_OPTIONS = (
     "hardware_version", "rev13", "selector", "ground_module", "latency_s",
@@ -292,6 +295,23 @@ class SimBackend:
     def main(argv: list[str], prog: str = "ego sim") -> int:
         """``ego sim ARGS``: the emulator's own command line."""
         return cli_main(argv, prog)
+
+    @staticmethod
+    @contextlib.contextmanager
+    def pipuck_environment(
+        robot: str | None, seed: int | None, world: str | None
+    ) -> Iterator[dict[str, str]]:
+        """An emulated Pi-puck carrying ``robot`` ("epuck2" by default, or "epuck") for as
+        long as the context lasts, and the environment of a child process that reaches it
+        as ``ego run --port pipuck`` would a real one (this process's, with the shim, its
+        socket and ``EGO_SYSFS``): ``ego demo --pipuck``. A Pi-puck's I2C is reached only
+        through a process started with it, never from this one."""
+        from firmware_sim.pipuck import PipuckEmulator
+
+        spec = load_world(world, seed) if world else None
+        with PipuckEmulator(robot or "epuck2", "current", spec, seed=seed) as emulator:
+            sysfs = str(emulator.sysfs_root / "sys")
+            yield {**os.environ, **emulator.environ(), "EGO_SYSFS": sysfs}
 
 
 def given_world(given: SimOptions) -> World | None:

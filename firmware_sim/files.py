@@ -4,7 +4,7 @@ with a size bound.
 A FIFO would make ``open`` wait forever for a writer and a device (``/dev/zero``) never
 ends, so the file is opened without blocking and refused, with ValueError naming it and
 the reason, unless it is a regular file of at most the bound. (The emulator is written
-apart from ego, so this is its own small copy of ``ego.core.files``.)
+apart from ego, so this is its own small copy of ``ego.seam.files``.)
 """
 
 from __future__ import annotations

@@ -136,8 +136,10 @@ class ImageFloor:
             with image:
                 width, height = image.size  # read from the header: nothing decoded yet
                 if width * height > MAX_TEXTURE_PIXELS:
-                    raise ValueError(f"{path}: a floor image of {width}x{height} pixels is "
-                                     f"over the bound of {MAX_TEXTURE_PIXELS} (4096x4096)")
+                    raise ValueError(
+                        f"{path}: a floor image of {width}x{height} pixels is "
+                        f"over the bound of {MAX_TEXTURE_PIXELS} (4096x4096)"
+                    )
                 rgb = np.asarray(image.convert("RGB"), dtype=np.uint8)
         except (OSError, UnidentifiedImageError, Image.DecompressionBombError) as exc:
             raise ValueError(f"floor image {str(path)!r} cannot be read: {exc}") from exc

@@ -4,8 +4,9 @@ poses and velocities, moved by hand and put back as the world began (Webots'
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
+from firmware_sim.markers import Marker
 from firmware_sim.world import Pose, World
 
 __all__ = ["ROBOT", "Scene"]
@@ -18,6 +19,7 @@ ROBOT = ""
 class _Start:
     robot: Pose
     blocks: tuple[tuple[float, float, float], ...]
+    markers: tuple[Marker, ...]
 
 
 class Scene:
@@ -26,7 +28,9 @@ class Scene:
     def __init__(self, world: World) -> None:
         self.world = world
         self._start = _Start(
-            world.snapshot(), tuple((b.x_m, b.y_m, b.yaw_rad) for b in world.blocks)
+            world.snapshot(),
+            tuple((b.x_m, b.y_m, b.yaw_rad) for b in world.blocks),
+            tuple(world.markers),
         )
 
     @property
@@ -37,43 +41,66 @@ class Scene:
     def names(self) -> tuple[str, ...]:
         """Every DEF name the scene answers to (the robot's first, if it has one)."""
         robot = (self.world.robot_name,) if self.world.robot_name else ()
-        return (*robot, *(b.name for b in self.world.blocks if b.name))
+        markers = (m.name for m in self.world.markers)
+        return (*robot, *(b.name for b in self.world.blocks if b.name), *markers)
 
     def kind(self, name: str) -> str:
-        """The Webots node type behind ``name``: ``E-puck`` or ``Solid``."""
-        return "E-puck" if self._is_robot(name) else "Solid"
+        """The Webots node type behind ``name``: ``E-puck``, ``Solid``, or a marker's own."""
+        if self._is_robot(name):
+            return "E-puck"
+        marker = self._marker(name)
+        return "Solid" if marker is None else self.world.markers[marker].kind
 
     def pose(self, name: str) -> tuple[float, float, float, float]:
         """x, y, z (m) and the yaw about the vertical (rad) of the solid ``name``."""
         if self._is_robot(name):
             p = self.world.snapshot()
             return p.x_m, p.y_m, 0.0, p.theta_rad
+        marker = self._marker(name)
+        if marker is not None:
+            m = self.world.markers[marker]
+            return m.x_m, m.y_m, m.z_m, m.yaw_rad
         block = self.world.blocks[self._block(name)]
         return block.x_m, block.y_m, block.height_m / 2, block.yaw_rad
 
     def set_pose(self, name: str, x_m: float, y_m: float, yaw_rad: float) -> None:
         """Put the solid ``name`` at (x, y), turned ``yaw_rad`` (kept out of the walls)."""
+        marker = self._marker(name)
         if self._is_robot(name):
             self.world.place(Pose(x_m, y_m, yaw_rad))
+        elif marker is not None:
+            markers = self.world.markers
+            markers[marker] = replace(markers[marker], x_m=x_m, y_m=y_m, yaw_rad=yaw_rad)
         else:
             self.world.move_block(self._block(name), x_m, y_m, yaw_rad)
 
     def velocity(self, name: str) -> tuple[float, float, float, float, float, float]:
         """Linear (m/s) and angular (rad/s) velocity, world frame; boxes stand still."""
         if not self._is_robot(name):
-            self._block(name)
+            if self._marker(name) is None:
+                self._block(name)
             return (0.0,) * 6
         vx, vy, wz = self.world.velocity()
         return vx, vy, 0.0, 0.0, 0.0, wz
 
     def reset(self) -> None:
-        """Everything back where the world began; the wheels keep what they were told."""
+        """Everything back where the world began, the robot standing still (Webots'
+        motors stop at a reset); the controller's robot then stops its wheels and zeroes
+        its counters over the wire, as the dsPIC takes them."""
+        self.world.set_speeds(0, 0)
         self.world.place(self._start.robot)
         for index, (x, y, yaw) in enumerate(self._start.blocks):
             self.world.move_block(index, x, y, yaw)
+        self.world.markers[:] = self._start.markers
 
     def _is_robot(self, name: str) -> bool:
         return name == ROBOT or name == self.world.robot_name
+
+    def _marker(self, name: str) -> int | None:
+        for index, marker in enumerate(self.world.markers):
+            if marker.name == name:
+                return index
+        return None
 
     def _block(self, name: str) -> int:
         for index, block in enumerate(self.world.blocks):

@@ -14,14 +14,20 @@ numbers, strings, ``TRUE``/``FALSE``, a node, or a ``[ ... ]`` list of either, w
 * each ``E-puck``: ``translation`` and ``rotation`` (the start poses: a swarm's robots
   in order), and the first one's ``camera_width``/``camera_height`` fields (the camera
   size a Webots controller gets);
-* a ``PointLight``'s ``location``: the lamp the light sensors see.
+* a ``PointLight``'s ``location``: the lamp the light sensors see;
+* any other ``Solid`` (``Transform``, ``Pose``, ``Group``) with a DEF name, whatever its
+  shape (a flat marker, a Plane): its pose only (firmware_sim.markers), for a
+  Supervisor's ``getFromDef``; nothing bumps into it or senses it.
 
 Everything else (Viewpoint, backgrounds, other robots...) is skipped, each skipped node
 type listed in :attr:`WbtWorld.notes`. Worlds are read in the frame Webots has used since
 R2022a (ENU: z up, the floor in x-y); an older file (y up) is refused with the advice
-Webots itself gives (open and save it once in a newer Webots, which converts it). A box
-or robot rotated about anything but the vertical is refused: the emulator's world is
-flat.
+Webots itself gives (open and save it once in a newer Webots, which converts it), and so
+is one declared ``coordinateSystem "NUE"``. A box may turn about the vertical or lie on a
+face (a rotation that swaps its axes, as Webots' converter writes it): it stands on the
+floor with its sides swapped; one on an edge or a corner, a robot rotated about anything
+but the vertical, and a ``RectangleArena`` off the origin or turned are refused naming
+the node and field: the emulator's world is flat and centred.
 
 Bounds (docs/bad_input.md): a file of at most :data:`MAX_WBT_BYTES`, at most
 :data:`MAX_NODES` nodes nested at most :data:`MAX_DEPTH` deep and :data:`MAX_TOKENS`
@@ -37,12 +43,15 @@ import math
 import re
 from collections import deque
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from firmware_sim.files import read_regular
 from firmware_sim.floor import ImageFloor, Plain
+from firmware_sim.markers import Marker
+from firmware_sim.wbt_node import MAX_LENGTH_M, Node
+from firmware_sim.wbt_solids import MARKER_TYPES, block, box_shape, marker, yaw
 from firmware_sim.world import Arena, Block, Lamp, Pose, World
 
 __all__ = [
@@ -71,8 +80,6 @@ MAX_TOKENS = 500_000
 #: come back within the link's reply time (the built-in maze has 4).
 MAX_BOXES = 100
 MAX_ROBOTS = 100
-#: Every length and position, in metres, is within +-this.
-MAX_LENGTH_M = 100.0
 
 # A string is matched as runs of plain characters between escapes ("unrolled"): an
 # alternation repeated per character kept a backtracking record per character, 1 GB for
@@ -83,64 +90,14 @@ _TOKEN = re.compile(
 _LITERALS = {"TRUE": True, "FALSE": False}
 
 
-@dataclass
-class Node:
-    """One node of the file: its type, its DEF name, and its fields as parsed values."""
-
-    type: str
-    fields: dict[str, Any] = field(default_factory=dict)
-    name: str | None = None
-
-    def numbers(
-        self,
-        key: str,
-        count: int,
-        default: tuple[float, ...],
-        low: float = -MAX_LENGTH_M,
-        high: float = MAX_LENGTH_M,
-    ) -> tuple[float, ...]:
-        """The field ``key``: ``count`` finite numbers within ``low..high``."""
-        value = self.fields.get(key)
-        if value is None:
-            return default
-        if (
-            not isinstance(value, list)
-            or len(value) != count
-            or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
-        ):
-            raise ValueError(f"{self.type}.{key} must be {count} numbers, not {value!r}"[:200])
-        if not all(math.isfinite(v) and low <= v <= high for v in value):
-            each = "must be a finite number" if count == 1 else "must each be finite numbers"
-            raise ValueError(f"{self.type}.{key} {' '.join(map(str, value))}: {each} within "
-                             f"{low:g}..{high:g}")  # fmt: skip
-        return tuple(float(v) for v in value)
-
-    def walk(self) -> Iterator[Node]:
-        """This node and every node below it, each once (a USE is its DEF's node, so a
-        file that USEs a node twice at each of 40 levels still has 41 nodes to visit)."""
-        seen: set[int] = set()
-        stack = [self]
-        while stack:
-            node = stack.pop()
-            if id(node) in seen:
-                continue
-            seen.add(id(node))
-            yield node
-            children: list[Node] = []
-            for value in node.fields.values():
-                children.extend(i for i in (value if isinstance(value, list) else [value])
-                                if isinstance(i, Node))  # fmt: skip
-            stack.extend(reversed(children))
-
-
 def _tokens(text: str) -> Iterator[str]:
     """The file's tokens, one at a time (a list of them all would be ten times the text)."""
     pos = count = 0
     while pos < len(text):
         match = _TOKEN.match(text, pos)
         if match is None or match.end() == pos:
-            if text[pos:pos + 4096].strip():
-                raise ValueError(f"unreadable text at offset {pos}: {text[pos:pos + 20]!r}")
+            if text[pos : pos + 4096].strip():
+                raise ValueError(f"unreadable text at offset {pos}: {text[pos : pos + 20]!r}")
             break
         pos = match.end()
         token = match.group(1) or match.group(2) or match.group(3)
@@ -290,19 +247,7 @@ class WbtWorld:
 def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     """The emulator's World for a Webots world file (the subset in this module's doc)."""
     where = str(path)
-    try:
-        text = read_regular(path, MAX_WBT_BYTES, "a Webots world").decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{where}: byte {exc.start} is not UTF-8 text") from exc
-    except OSError as exc:
-        raise ValueError(f"{where}: {exc.strerror or exc}") from exc
-    try:
-        version, nodes = parse_wbt(text)
-    except ValueError as exc:
-        raise ValueError(f"{where}: {exc}") from exc
-    if _before_r2022a(version):
-        raise ValueError(f"{where}: a {version} world is y-up; open and save it once in "
-                         "Webots R2022a or newer, which converts it to z-up")  # fmt: skip
+    nodes = _read_nodes(path)
     arena, floor = Arena(), None
     blocks: list[Block] = []
     start: Pose | None = None
@@ -311,15 +256,18 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     lamp: Lamp | None = None
     robot_name: str | None = None
     skipped: dict[str, int] = {}
+    markers: list[Marker] = []
     try:
         for node in nodes:
-            if node.type == "RectangleArena":
+            if node.type == "WorldInfo":
+                _frame(node)
+            elif node.type == "RectangleArena":
                 arena, floor = _arena(node, path.parent)
             elif node.type == "WoodenBox":
                 size = node.numbers("size", 3, (0.6, 0.6, 0.6))
-                blocks.append(_block(node, size, (150, 110, 60)))
-            elif node.type == "Solid" and (shape := _box_shape(node)) is not None:
-                blocks.append(_block(node, *shape))
+                blocks.append(block(node, size, (150, 110, 60)))
+            elif node.type == "Solid" and (shape := box_shape(node)) is not None:
+                blocks.append(block(node, *shape))
             elif node.type == "E-puck":
                 starts.append(_pose(node))
                 if start is None:
@@ -328,6 +276,8 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
             elif node.type == "PointLight" and lamp is None:
                 x, y, z = node.numbers("location", 3, (0.0, 0.0, 0.0))
                 lamp = Lamp(x, y, max(z, 0.0))
+            elif node.name and node.type in MARKER_TYPES:
+                markers.append(marker(node))
             else:
                 skipped[node.type] = skipped.get(node.type, 0) + 1
             _within_bounds(blocks, starts)
@@ -347,7 +297,27 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
         starts=starts,
     )
     world.robot_name = robot_name
+    world.markers = markers
     return WbtWorld(world, notes)
+
+
+def _read_nodes(path: Path) -> list[Node]:
+    """The top-level nodes of the world file at ``path`` (an older, y-up one refused)."""
+    where = str(path)
+    try:
+        text = read_regular(path, MAX_WBT_BYTES, "a Webots world").decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{where}: byte {exc.start} is not UTF-8 text") from exc
+    except OSError as exc:
+        raise ValueError(f"{where}: {exc.strerror or exc}") from exc
+    try:
+        version, nodes = parse_wbt(text)
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from exc
+    if _before_r2022a(version):
+        raise ValueError(f"{where}: a {version} world is y-up; open and save it once in "
+                         "Webots R2022a or newer, which converts it to z-up")  # fmt: skip
+    return nodes
 
 
 def _within_bounds(blocks: list[Block], starts: list[Pose]) -> None:
@@ -362,22 +332,27 @@ def _before_r2022a(version: str) -> bool:
     return match is not None and (int(match.group(1)), match.group(2)) < (2022, "a")
 
 
-def _yaw(rotation: tuple[float, ...], what: str) -> float:
-    """The angle about +z of a Webots axis-angle rotation; refused if it tilts."""
-    ax, ay, az, angle = rotation
-    if abs(math.sin(angle)) < 1e-6 and math.cos(angle) > 0:
-        return 0.0
-    norm = math.sqrt(ax * ax + ay * ay + az * az)
-    if norm == 0 or math.hypot(ax, ay) / norm > 1e-3:
-        raise ValueError(f"{what} is rotated about {rotation[:3]}, not the vertical: "
-                         "the emulator's world is flat")  # fmt: skip
-    return angle * math.copysign(1.0, az)
+def _frame(node: Node) -> None:
+    """Refuse a world in a frame the emulator does not read (its values would all be
+    read wrong): ENU is Webots' since R2022a."""
+    given = node.fields.get("coordinateSystem", "ENU")
+    system = given[0] if isinstance(given, list) and given else given
+    if system != "ENU":
+        raise ValueError(f"WorldInfo.coordinateSystem {system!r}: the emulator reads ENU "
+                         "worlds (x east, y north, z up), Webots' frame since R2022a")  # fmt: skip
 
 
 def _arena(node: Node, folder: Path) -> tuple[Arena, ImageFloor | Plain]:
-    tx, ty, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
-    if abs(tx) > 1e-6 or abs(ty) > 1e-6:
-        raise ValueError("a RectangleArena off the origin is not modelled")
+    translation = node.numbers("translation", 3, (0.0, 0.0, 0.0))
+    if abs(translation[0]) > 1e-6 or abs(translation[1]) > 1e-6:
+        where = " ".join(f"{v:g}" for v in translation)
+        raise ValueError(f"RectangleArena.translation {where}: an arena off the origin is "
+                         "not modelled (move the world so that the arena is centred)")  # fmt: skip
+    rotation = node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0))
+    if abs(math.sin(yaw(rotation, "RectangleArena.rotation"))) > 1e-6:
+        turn = " ".join(f"{v:g}" for v in rotation)
+        raise ValueError(f"RectangleArena.rotation {turn}: an arena turned by other than a "
+                         "half turn is not modelled")  # fmt: skip
     sx, sy = node.numbers("floorSize", 2, (1.0, 1.0))
     tile_x, tile_y = node.numbers("floorTileSize", 2, (0.5, 0.5))
     tile = (tile_x, tile_y)
@@ -403,40 +378,10 @@ def _texture(folder: Path, url: object) -> Path:
     return image
 
 
-def _box_shape(solid: Node) -> tuple[tuple[float, ...], tuple[int, int, int]] | None:
-    children = solid.fields.get("children") or []
-    for child in children if isinstance(children, list) else [children]:
-        if not isinstance(child, Node) or child.type != "Shape":
-            continue
-        geometry = child.fields.get("geometry")
-        if isinstance(geometry, Node) and geometry.type == "Box":
-            return geometry.numbers("size", 3, (2.0, 2.0, 2.0)), _colour(child)
-    return None
-
-
-def _colour(shape: Node) -> tuple[int, int, int]:
-    appearance = shape.fields.get("appearance")
-    for sub in appearance.walk() if isinstance(appearance, Node) else ():
-        for key in ("baseColor", "diffuseColor"):
-            if key in sub.fields:
-                r, g, b = sub.numbers(key, 3, (1.0, 1.0, 1.0), 0.0, 1.0)
-                return (round(255 * r), round(255 * g), round(255 * b))
-    return (200, 200, 200)
-
-
-def _block(node: Node, size: tuple[float, ...], rgb: tuple[int, int, int]) -> Block:
-    x, y, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
-    sx, sy, sz = size
-    if min(sx, sy, sz) <= 0:
-        raise ValueError(f"{node.type} size must be positive, not {size}")
-    yaw = _yaw(node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0)), node.type)
-    return Block(x, y, sx / 2, rgb, half_y_m=sy / 2, yaw_rad=yaw, height_m=sz, name=node.name)
-
-
 def _pose(node: Node) -> Pose:
     """The robot's start pose: in an ENU world the e-puck's front is its own +x."""
     x, y, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
-    return Pose(x, y, _yaw(node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0)), "E-puck"))
+    return Pose(x, y, yaw(node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0)), "E-puck"))
 
 
 def _camera_size(node: Node) -> tuple[int, int] | None:

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from firmware_sim.floor import ImageFloor, LineTrack, Marks, Plain
+from firmware_sim.markers import Marker
 from firmware_sim.wheels import WheelModel, Wheels
 
 Floor = Marks | LineTrack | Plain | ImageFloor
@@ -206,6 +207,8 @@ class World:
         #: The other robots sharing this world (a swarm: firmware_sim.crowd), else None.
         self.crowd: Any = None
         self.blocks = _default_blocks() if blocks is None else list(blocks)
+        #: Named solids only a Supervisor sees (firmware_sim.markers): a world file's.
+        self.markers: list[Marker] = []
         self.lamp = lamp or Lamp()
         self.sound = sound or SoundSource()
         self.noise = noise

@@ -11,8 +11,8 @@ from collections import deque
 from collections.abc import Callable, Iterable
 
 from ego.errors import LinkLostError
+from ego.seam.profile import DEFAULT_BAUD
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import DEFAULT_BAUD
 from ego.serial.transport import Transport
 from firmware_sim import FaultTimings
 

@@ -25,6 +25,7 @@ __all__ = [
     "run_async",
     "spawn",
     "wait_until",
+    "world_of",
 ]
 
 #: Whether this process can hold subnormal floats: False when something set the FPU's
@@ -40,6 +41,14 @@ def emulator_of(robot: ego.Robot) -> Emulator:
     truth = robot.ground_truth
     assert isinstance(truth, EmulatorTruth) and truth.emulator is not None, truth
     return truth.emulator
+
+
+def world_of(robot: ego.Robot) -> World:
+    """The simulated world behind ``Robot("sim")``, from its ground truth (the sim
+    backend's :class:`EmulatorTruth`, which follows ego's GroundTruth protocol)."""
+    truth = robot.ground_truth
+    assert isinstance(truth, EmulatorTruth), truth
+    return truth.world
 
 
 @contextlib.contextmanager

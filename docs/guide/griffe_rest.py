@@ -13,7 +13,7 @@ from typing import Any
 
 import griffe
 
-#: ``:class:`~ego.core.channel.Channel``` and the like: the role's target, as code.
+#: ``:class:`~ego.seam.channel.Channel``` and the like: the role's target, as code.
 _ROLE = re.compile(r":(?:py:)?(?:mod|class|func|meth|attr|data|exc|obj):`~?([^`]+)`")
 _PROMPT = re.compile(r"^(\s*)(>>>|\.\.\.)( |$)")
 _SKIP = re.compile(r"\s*# doctest: \+SKIP\s*$")

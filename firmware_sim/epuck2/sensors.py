@@ -37,6 +37,11 @@ class Proximity:
         """calibrate_ir: remember what the sensors see now as their zero."""
         self._init_value = self.world.proximity()
 
+    def forget_calibration(self) -> None:
+        """Zero offsets, as in firmware that does not calibrate at power-on (the
+        ``gumstix`` branch's main(), e-puck2_main-processor@517ef07:src/main.c:378-430)."""
+        self._init_value = [0] * 8
+
     def _sample(self) -> tuple[list[int], list[int]]:
         if self.sampling:
             delta = self.world.proximity()
@@ -46,6 +51,11 @@ class Proximity:
 
     def calibrated(self) -> list[int]:
         return self._sample()[0]
+
+    def sample(self) -> tuple[list[int], list[int]]:
+        """Calibrated proximity and ambient light from one sampling of the world."""
+        calibrated, ambient = self._sample()
+        return list(calibrated), list(ambient)
 
     def ambient(self) -> list[int]:
         return self._sample()[1]

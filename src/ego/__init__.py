@@ -6,12 +6,18 @@
 ...     robot.step(64)
 """
 
-from ego import errors
+# The composition root: ``ego.backends`` registers the built-in backends by name, so that
+# Robot(port) finds them although the core names none (docs/architecture.md). Python runs
+# this file before any ``ego.*`` module, so every Robot sees them.
+from ego import (
+    backends,  # noqa: F401  (imported for its registrations)
+    errors,
+)
 from ego._version import __version__
 from ego.core.robot import SIM_PORT, Robot
 from ego.devices.leds import LedValue
+from ego.seam.profile import Firmware
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import Firmware
 
 
 def __getattr__(name: str) -> object:

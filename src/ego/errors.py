@@ -18,7 +18,9 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     ├── ProtocolError
     │   ├── ShortReplyError                      fewer bytes than the batch asks for
     │   ├── ExtraBytesError                      bytes left over after the reply
+    │   │   └── LineFloodedError                 a line that never goes quiet (a flood)
     │   ├── RobotResetError                      the dsPIC restarted (its banner arrived)
+    │   ├── ChecksumError                        a reply whose checksum does not match
     │   └── FirmwareMismatchError                the firmware is not the one we were told
     ├── BackendOptionError (ValueError)          an option a port's backend does not take,
     │                                            or one of the wrong type or value
@@ -42,8 +44,10 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
         ├── InsecureSecretError (ValueError)     a secret too short, or a file others can read
         └── FrameError (ValueError)              a malformed or oversized network frame
             └── VersionMismatchError             a frame of another ego protocol version
-    EgoWarning (UserWarning)
-    └── DeprecatedNameWarning (FutureWarning)    an old name that still works, for now
+    ControllerTerminated (SystemExit)            a controller that went on after step()
+                                                 returned -1, ended a second later as
+                                                 Webots ends it (no ``except Exception``
+                                                 catches it, as none survives Webots' kill)
 """
 
 from __future__ import annotations
@@ -56,18 +60,19 @@ __all__ = [
     "CameraConfigError",
     "CameraError",
     "CameraTimeoutError",
+    "ChecksumError",
     "ConfigSyntaxError",
     "ControllerError",
-    "DeprecatedNameWarning",
+    "ControllerTerminated",
     "DeviceError",
     "EgoError",
-    "EgoWarning",
     "ExtraBytesError",
     "FirmwareMismatchError",
     "FrameError",
     "FrameSizeError",
     "ImageFormatError",
     "InsecureSecretError",
+    "LineFloodedError",
     "LinkError",
     "LinkLostError",
     "LinkTimeoutError",
@@ -107,6 +112,24 @@ class ControllerError(EgoError):
     def __init__(self, message: str, traceback: str = "") -> None:
         super().__init__(message)
         self.traceback = traceback
+
+
+class ControllerTerminated(SystemExit):
+    """A controller went on after ``step()`` returned -1 and was ended, as Webots ends it
+    ("Controller Termination" in Webots' user guide: the controller is killed about one
+    second of real time after its step returned -1).
+
+    A SystemExit, so that the controller's own ``except Exception`` cannot keep it alive;
+    ``ego run`` says why in one line and exits with :attr:`code`
+    (:data:`ego.faces.termination.TERMINATED_STATUS`).
+    """
+
+    def __init__(self, message: str, code: int) -> None:
+        super().__init__(code)
+        self.message = message
+
+    def __str__(self) -> str:
+        return self.message
 
 
 class DeviceError(EgoError):
@@ -176,8 +199,17 @@ class ExtraBytesError(ProtocolError):
     """More reply bytes than the batch asks for: the stream is out of step."""
 
 
+class LineFloodedError(ExtraBytesError):
+    """A serial line still sending when its drain's bound (bytes or time) ran out: a peer
+    that never stops; retrying cannot help, so the step fails at once."""
+
+
 class RobotResetError(ProtocolError):
     """The dsPIC printed its welcome banner mid-stream: it restarted."""
+
+
+class ChecksumError(ProtocolError):
+    """A reply whose checksum does not match its bytes (the Pi-puck's I2C packet)."""
 
 
 class FirmwareMismatchError(ProtocolError):
@@ -307,9 +339,3 @@ class VersionMismatchError(FrameError):
         self.session = session
 
 
-class EgoWarning(UserWarning):
-    """Base of ego's warnings."""
-
-
-class DeprecatedNameWarning(EgoWarning, FutureWarning):
-    """A name ego renamed (a firmware profile, say); it works, and says what replaced it."""

@@ -12,13 +12,10 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from ego.controller.devices import (
-    Camera,
-    DistanceSensor,
-    LightSensor,
-    encoder_steps,
-    whole_steps,
-)
+from ego.controller.camera import Camera
+from ego.controller.distance_sensor import DistanceSensor
+from ego.controller.light_sensor import LightSensor
+from ego.controller.position_sensor import encoder_steps, whole_steps
 from ego.devices.accelerometer import AccelerometerMode
 from ego.devices.table import DEVICES, names_of, spec
 from ego.errors import UnknownDeviceError

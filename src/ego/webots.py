@@ -11,19 +11,14 @@ from __future__ import annotations
 import logging
 from typing import TypeVar
 
-from ego.controller.devices import (
-    LED,
-    Accelerometer,
-    Camera,
-    Device,
-    DistanceSensor,
-    Gyro,
-    LightSensor,
-    encoder_steps,
-    view_class,
-    webots_camera_size,
-    whole_steps,
-)
+from ego.controller.accelerometer import Accelerometer
+from ego.controller.camera import Camera, webots_camera_size
+from ego.controller.device import Device, view_class
+from ego.controller.distance_sensor import DistanceSensor
+from ego.controller.gyro import Gyro
+from ego.controller.led import LED
+from ego.controller.light_sensor import LightSensor
+from ego.controller.position_sensor import encoder_steps, whole_steps
 from ego.errors import EgoError, OutOfRangeError, UnknownDeviceError
 from ego.faces import default_robot
 from ego.faces.tags import name_of, tag_of

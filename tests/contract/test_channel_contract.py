@@ -2,7 +2,7 @@
 Unix socket (with and without a shared secret), ZenohChannel over a loopback Zenoh
 session, and ReplayChannel over a real recording.
 
-A channel is what a Robot steps through (ego.core.channel). Each factory below yields a channel
+A channel is what a Robot steps through (ego.seam.channel). Each factory below yields a channel
 and the emulator behind it, whose world is the ground truth; a replay has no emulator (None):
 it answers only the batches its run asked, so the tests of the whole contract
 (``ALL_CHANNELS``) ask only :data:`READ` batches, and the tests that look at the emulator's
@@ -25,10 +25,9 @@ from pathlib import Path
 import pytest
 import zenoh
 
-from ego.backends import open_port
 from ego.backends.remote.channel import RemoteChannel
 from ego.backends.zenoh_remote import ZenohChannel
-from ego.core.channel import Channel, ChannelBase, TappedChannel
+from ego.core.registry import open_port
 from ego.core.robot import Robot
 from ego.core.safety import send_stop
 from ego.errors import (
@@ -39,8 +38,12 @@ from ego.errors import (
     UnsupportedDeviceError,
 )
 from ego.recording.writer import Recorder
+from ego.seam.batch import Batch, Request
+from ego.seam.channel import Channel, ChannelBase, TappedChannel
+from ego.seam.profile import Command, Firmware, Profile
 from ego.serial.link import Link, LinkSettings
-from ego.serial.protocol import PROFILES, Batch, Command, Firmware, Profile, Request, encode_batch
+from ego.serial.profiles import PROFILES
+from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
 from ego.servers.socket.server import Server, ServerThread
 from ego.servers.zenoh_node.node import RobotNode

@@ -16,6 +16,7 @@ from typing import IO, Any
 
 import ego
 from ego.servers.dashboard.live import RobotDashboard
+from tests.helpers import world_of
 
 #: An empty walled arena: the robot starts facing the east wall, 25 cm from it.
 OPEN_WORLD = """
@@ -37,7 +38,7 @@ class Served:
 
     @property
     def world(self) -> Any:
-        return self.robot.emulator.world
+        return world_of(self.robot)
 
 
 @contextmanager

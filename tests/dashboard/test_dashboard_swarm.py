@@ -12,9 +12,11 @@ from pathlib import Path
 from typing import Any
 
 from ego.app.swarm import robot_seed
-from ego.backends import find_backend, open_port
+from ego.core.registry import find_backend, open_port
 from ego.errors import RobotResetError
-from ego.serial.protocol import Command, Firmware, Request, encode_batch
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware
+from ego.serial.protocol import encode_batch
 from ego.servers.dashboard.served import SwarmFeed, WatchedChannel
 from ego.servers.dashboard.server import DashboardServer
 

@@ -8,15 +8,16 @@ import time
 from typing import Any
 
 from ego.core.telemetry import Sampler, describe_firmware
+from ego.devices.proximity import ProximitySensors
 from ego.devices.table import TABLE, FamilySpec, Series
+from ego.seam.profile import Firmware
 from ego.serial.firmware import FirmwareInfo
 from ego.serial.link import LinkStats
-from ego.serial.protocol import PROFILES, Command, Firmware
+from ego.serial.profiles import PROFILES
 from ego.servers.dashboard.control import ControlDesk, Reply
 from ego.servers.dashboard.server import DashboardServer
 
-SONAR = FamilySpec("sonar", "ego.devices.proximity:ProximitySensors", 99, Command.PROXIMITY,
-                 Series("sonar", "mm", ("sonar",)))  # fmt: skip
+SONAR = FamilySpec("sonar", ProximitySensors, 99, Series("sonar", "mm", ("sonar",)))
 WITH_SONAR = TABLE.extended(rows=[("sonar", "sonar", 0, "DistanceSensor", "mm", frozenset())],
                           families=[SONAR])  # fmt: skip
 

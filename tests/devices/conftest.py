@@ -10,6 +10,7 @@ from helpers import assert_stopped
 
 import ego
 from firmware_sim import Emulator
+from tests.helpers import world_of
 
 #: One seed for every emulator here, so that a failure replays with the same sensor noise.
 SEED = 7
@@ -38,9 +39,9 @@ def sim_robot(emulator: Emulator) -> Iterator[ego.Robot]:
 
 @pytest.fixture
 def builtin_sim_robot() -> Iterator[ego.Robot]:
-    """``Robot("sim")`` with the default settings: the built-in emulator, as ``robot.emulator``."""
+    """``Robot("sim")`` with the default settings: the built-in emulator (``world_of``)."""
     robot = ego.Robot("sim", seed=SEED)
-    world = robot.emulator.world
+    world = world_of(robot)
     try:
         yield robot
     finally:

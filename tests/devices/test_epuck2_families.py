@@ -13,7 +13,7 @@ import pytest
 import ego
 from ego.devices.sound import Melody
 from ego.errors import OutOfRangeError, UnknownDeviceError, UnsupportedDeviceError
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 from firmware_sim.epuck2 import Epuck2Emulator
 from firmware_sim.world import Pose, World
 

@@ -21,8 +21,8 @@ from ego.core.ports import default_baud
 from ego.devices.accelerometer import ANGLE_OVERSHOOT
 from ego.devices.motors import real_speed_steps
 from ego.errors import UnsupportedDeviceError
+from ego.seam.profile import Command, Firmware
 from ego.serial.link import Link
-from ego.serial.protocol import Command, Firmware
 
 STEP_MS = 16
 

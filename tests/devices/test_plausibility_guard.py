@@ -17,8 +17,10 @@ from fakes import INSTANT_LINK, ScriptedTransport
 import ego
 from ego.devices.base import Verdict
 from ego.devices.encoders import Encoders, wrap_int16
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware
 from ego.serial.link import Link
-from ego.serial.protocol import PROFILES, Command, Firmware, Request
+from ego.serial.profiles import PROFILES
 from firmware_sim import Emulator, World
 
 STEP_MS = 16

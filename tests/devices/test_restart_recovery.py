@@ -10,6 +10,7 @@ from __future__ import annotations
 from helpers import emulator_of
 
 import ego
+from tests.helpers import world_of
 
 STEP_MS = 32
 
@@ -22,11 +23,11 @@ def run(robot: ego.Robot, steps: int) -> None:
 def test_the_builtin_emulator_is_reachable_from_the_robot(builtin_sim_robot: ego.Robot) -> None:
     robot = builtin_sim_robot
     assert robot.port == ego.SIM_PORT
-    assert robot.emulator is not None
+    assert robot.ground_truth is not None
     robot.motors.set_speed(200, 200)
     robot.encoders.enable(STEP_MS)
     run(robot, 1)
-    assert robot.emulator.world.speeds == (200, 200)
+    assert world_of(robot).speeds == (200, 200)
     assert emulator_of(robot).history[-1].commands == "DEQ"
     robot.motors.set_speed(0, 0)
 
@@ -35,7 +36,7 @@ def test_after_a_reset_the_next_step_succeeds_and_actuators_are_reapplied(
     builtin_sim_robot: ego.Robot,
 ) -> None:
     robot = builtin_sim_robot
-    world = robot.emulator.world
+    world = world_of(robot)
     robot.encoders.enable(STEP_MS)
     robot.proximity.enable(STEP_MS)
     robot.motors.set_speed(400, -400)
@@ -68,7 +69,7 @@ def test_a_reset_while_standing_still_does_not_start_the_motors(
     builtin_sim_robot: ego.Robot,
 ) -> None:
     robot = builtin_sim_robot
-    world = robot.emulator.world
+    world = world_of(robot)
     robot.motors.enable(STEP_MS)
     robot.motors.set_speed(300, 300)
     run(robot, 2)

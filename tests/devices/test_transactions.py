@@ -12,7 +12,9 @@ import ego
 from ego.core.transaction import run_step
 from ego.devices.base import PHASE, Device, Phase, Sensor
 from ego.devices.motors import SpeedReadback, WheelSpeeds
-from ego.serial.protocol import PROFILES, Command, Firmware, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware
+from ego.serial.profiles import PROFILES
 
 WEBOTS = PROFILES[Firmware.WEBOTS]
 

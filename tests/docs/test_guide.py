@@ -124,7 +124,7 @@ def test_docstrings_become_markdown_for_the_api_reference() -> None:
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     docstring = (
-        "Steps through a :class:`~ego.core.channel.Channel` (:mod:`ego.backends`).\n"
+        "Steps through a :class:`~ego.seam.channel.Channel` (:mod:`ego.backends`).\n"
         "\n"
         ">>> import ego\n"
         '>>> with ego.Robot("sim") as robot:                  # doctest: +SKIP\n'

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import logging
 import math
+import re
 import subprocess
 from pathlib import Path
 
@@ -144,8 +145,23 @@ def test_a_world_without_texture_has_a_plain_floor(tmp_path: Path) -> None:
     ("text", "error"),
     [
         ("#VRML_SIM R2021b utf8\nRectangleArena { }\n", "y-up.*R2022a"),
-        ("#VRML_SIM R2023b utf8\nWoodenBox { rotation 1 0 0 0.3 }\n", "not the vertical"),
+        (
+            "#VRML_SIM R2023b utf8\nWoodenBox { rotation 1 0 0 0.3 }\n",
+            "WoodenBox.rotation 1 0 0 0.3 stands the box on an edge or a corner",
+        ),
         ("#VRML_SIM R2023b utf8\nRectangleArena { floorSize 1 }\n", "floorSize must be 2"),
+        (
+            '#VRML_SIM R2023b utf8\nWorldInfo { coordinateSystem "NUE" }\n',
+            "WorldInfo.coordinateSystem 'NUE': the emulator reads ENU",
+        ),
+        (
+            "#VRML_SIM R2023b utf8\nRectangleArena { translation 0.5 0 0 }\n",
+            "RectangleArena.translation 0.5 0 0: an arena off the origin",
+        ),
+        (
+            "#VRML_SIM R2023b utf8\nRectangleArena { rotation 0 0 1 0.3 }\n",
+            "RectangleArena.rotation 0 0 1 0.3: an arena turned",
+        ),
         ("#VRML_SIM R2023b utf8\nRectangleArena { floorSize 0 1 }\n", "must be positive"),
         ("#VRML_SIM R2023b utf8\nRectangleArena {\n", "ends inside a node"),
         ("#VRML_SIM R2023b utf8\nE-puck { camera_width 52.5 }\n", "whole pixels"),
@@ -205,3 +221,51 @@ def test_the_camera_sees_the_turned_box_where_the_rays_meet_it(world_file: Path)
     assert all(np.allclose(px, crate, atol=2) or np.allclose(px, crate * 0.8, atol=2)
                for px in centre)  # fmt: skip
     assert not np.any(np.all(np.abs(past.astype(np.int64) - crate) <= 2, axis=-1))
+
+
+#: Boxes as Webots' world converter writes them from a y-up world: lying on a face, the
+#: rotation swaps the box's y and z (its 0.2 m side now lies along the floor's y).
+ON_A_FACE = """#VRML_SIM R2023b utf8
+RectangleArena { floorSize 1 1 }
+DEF LYING WoodenBox {
+  translation 0.2 0 0.025
+  rotation 1 0 0 1.5708
+  size 0.1 0.05 0.2
+}
+DEF TURNED_AND_LYING WoodenBox {
+  translation -0.2 0.2 0.05
+  rotation 0.5773 0.5773 0.5773 2.0944
+  size 0.1 0.2 0.05
+}
+E-puck { }
+"""
+
+
+def test_boxes_lying_on_a_face_stand_on_the_floor_with_their_sides_swapped(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "converted.wbt"
+    path.write_text(ON_A_FACE)
+    blocks = {b.name: b for b in load_world(str(path)).blocks}
+    lying = blocks["LYING"]
+    # About x by 90 degrees: the box's z (0.2) now runs along the floor's y, its y (0.05)
+    # is its height; its x stays the floor's x.
+    assert (lying.half_size_m * 2, lying.half_y_m * 2, lying.height_m) == pytest.approx(
+        (0.1, 0.2, 0.05)
+    )
+    assert math.cos(lying.yaw_rad) == pytest.approx(1.0)
+    # 120 degrees about (1, 1, 1): x -> y, y -> z, z -> x. Its height is its y (0.2) and
+    # its x (0.1) runs along the floor's y: the footprint turned a quarter turn.
+    turned = blocks["TURNED_AND_LYING"]
+    assert (turned.half_size_m * 2, turned.half_y_m * 2, turned.height_m) == pytest.approx(
+        (0.1, 0.05, 0.2), abs=1e-3
+    )
+    assert turned.yaw_rad == pytest.approx(math.pi / 2, abs=1e-3)
+
+
+def test_a_box_standing_on_an_edge_is_refused_naming_its_rotation(tmp_path: Path) -> None:
+    path = tmp_path / "edge.wbt"
+    path.write_text(ON_A_FACE.replace("rotation 1 0 0 1.5708", "rotation 1 0 0 0.7854"))
+    refused = re.escape("WoodenBox LYING.rotation 1 0 0 0.7854 stands the box on an edge")
+    with pytest.raises(ValueError, match=refused):
+        load_world(str(path))

@@ -16,6 +16,7 @@ import ego
 from firmware_sim import Emulator
 from firmware_sim.floor import LineTrack
 from firmware_sim.worlds import BUILT_IN, load_world
+from tests.helpers import world_of
 
 CONTROLLERS = Path(__file__).parents[1] / "faces" / "controllers"
 
@@ -68,10 +69,10 @@ def test_a_robot_on_a_world_file(tmp_path: Path) -> None:
     path = tmp_path / "mine.toml"
     path.write_text("box = []\n[robot]\nx_m = 0.1\ny_m = 0.2\nheading_deg = 90\n")
     with ego.Robot("sim", world=str(path), seed=1) as robot:
-        pose = robot.emulator.world.snapshot()
+        pose = world_of(robot).snapshot()
         assert (pose.x_m, pose.y_m) == (0.1, 0.2)
         assert pose.theta_rad == pytest.approx(math.pi / 2)
-        assert robot.emulator.world.blocks == []
+        assert world_of(robot).blocks == []
 
 
 def test_a_world_is_refused_for_a_real_serial_port() -> None:

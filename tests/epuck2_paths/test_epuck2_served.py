@@ -17,7 +17,7 @@ import pytest
 from helpers import ego_command, spawn
 
 import ego
-from ego.serial.protocol import EPUCK2_USB, EPUCK2_WIFI
+from ego.serial.profiles import EPUCK2_USB, EPUCK2_WIFI
 from ego.servers.zenoh_node.node import RobotNode
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 from firmware_sim.epuck2 import Epuck2Emulator

@@ -45,5 +45,5 @@ def test_a_swarm_of_e_puck2s_reads_their_tof_and_gyro(tmp_path: Path) -> None:
     for name in ("epuck0", "epuck1"):
         line = next(x for x in done.stdout.splitlines() if x.startswith(f"[{name}] {name} tof"))
         tof = int(line.split()[3])
-        assert 19 <= tof <= 2000, line  # the PROTO's table: 0..2 m read as 19.8..2000
+        assert 0 <= tof <= 8191, line  # the robot's millimetres, unchanged (issue 32)
         assert line.endswith("turning True"), line  # counter-clockwise: the gyro's z > 0

@@ -11,11 +11,14 @@ import pytest
 from wifi_helpers import until
 
 import ego
-from ego.backends import open_port
 from ego.backends.epuck2.requests import WIFI_PROFILE
+from ego.core.registry import open_port
 from ego.errors import UnsupportedDeviceError
+from ego.seam.batch import Batch, Request
+from ego.seam.profile import Command, Firmware
 from ego.serial.asercom2 import Actuators, Sound, encode_actuators
-from ego.serial.protocol import PROFILES, Batch, Command, Firmware, Request, encode_batch
+from ego.serial.profiles import PROFILES
+from ego.serial.protocol import encode_batch
 from firmware_sim.epuck2 import Epuck2Emulator
 
 

@@ -12,12 +12,14 @@ from collections.abc import Iterator
 import pytest
 from wifi_helpers import until
 
-from ego.backends import open_port
 from ego.backends.epuck2.channel import Epuck2Channel
-from ego.core.channel import Channel, ChannelBase, TappedChannel
+from ego.core.registry import open_port
 from ego.core.safety import send_stop
 from ego.errors import LinkLostError, ShortReplyError
-from ego.serial.protocol import Batch, Command, Request, encode_batch
+from ego.seam.batch import Batch, Request
+from ego.seam.channel import Channel, ChannelBase, TappedChannel
+from ego.seam.profile import Command
+from ego.serial.protocol import encode_batch
 from firmware_sim.epuck2 import Epuck2Emulator
 
 

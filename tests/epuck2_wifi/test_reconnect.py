@@ -13,7 +13,7 @@ from wifi_helpers import until
 from wifi_relay import Relay
 
 import ego
-from ego.backends import open_port
+from ego.core.registry import open_port
 from ego.errors import LinkLostError, LinkTimeoutError, PortNotFoundError
 from firmware_sim.epuck2 import Epuck2Emulator
 
@@ -67,7 +67,9 @@ def test_a_robot_that_does_not_come_back_is_a_clear_link_lost_error(
     relay: Relay, relay_url: str, caplog: pytest.LogCaptureFixture
 ) -> None:
     from ego.backends.epuck2.requests import WIFI_PROFILE
-    from ego.serial.protocol import Command, Request, encode_batch
+    from ego.seam.batch import Request
+    from ego.seam.profile import Command
+    from ego.serial.protocol import encode_batch
 
     opened = open_port(relay_url, reconnect_s=0.3, timeout_s=0.3, stop_timeout_s=0.1)
     try:

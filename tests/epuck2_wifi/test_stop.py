@@ -42,9 +42,11 @@ def test_closing_a_robot_stops_it_whatever_the_radio_s_phase(
 
 def test_closing_the_channel_alone_sees_its_stop_answered(wifi: Epuck2Emulator, url: str) -> None:
     # Without the Robot's own stop batch: the channel's close sends the stop itself.
-    from ego.backends import open_port
     from ego.backends.epuck2.requests import WIFI_PROFILE
-    from ego.serial.protocol import Command, Request, encode_batch
+    from ego.core.registry import open_port
+    from ego.seam.batch import Request
+    from ego.seam.profile import Command
+    from ego.serial.protocol import encode_batch
 
     opened = open_port(url)
     opened.channel.exchange(encode_batch([Request(Command.SET_SPEED, (-300, 250))], WIFI_PROFILE))

@@ -25,6 +25,11 @@ class Relay:
         self.accepted = 0
         self.passing = True  # pass the robot's bytes on
         self.accepting = True
+        #: A radio that keeps dropping: cut each connection once the robot sent it this
+        #: many bytes (None: never); ``drops`` counts those cuts.
+        self.drop_after_bytes: int | None = None
+        self.drops = 0
+        self._sent_on: dict[socket.socket, int] = {}
         self._pairs: dict[socket.socket, socket.socket] = {}
         #: The relay's sockets to the robot (told apart without a syscall: cut() may close
         #: one under the pump).
@@ -88,14 +93,7 @@ class Relay:
             data = b""
         from_robot = sock in self._robot_side
         if not data:
-            with self._lock:
-                self._pairs.pop(sock, None)
-                self._pairs.pop(peer, None)
-                self._robot_side.difference_update((sock, peer))
-            for s in (sock, peer):
-                with contextlib.suppress(OSError):
-                    s.shutdown(socket.SHUT_RDWR)
-                s.close()
+            self._drop(sock, peer)
             return
         if from_robot:
             self.down_bytes += len(data)
@@ -103,3 +101,21 @@ class Relay:
                 return
         with contextlib.suppress(OSError):
             peer.sendall(data)
+        if from_robot and self.drop_after_bytes is not None:
+            sent = self._sent_on.get(sock, 0) + len(data)
+            self._sent_on[sock] = sent
+            if sent >= self.drop_after_bytes:
+                self.drops += 1
+                self._drop(sock, peer)
+
+    def _drop(self, sock: socket.socket, peer: socket.socket) -> None:
+        with self._lock:
+            self._pairs.pop(sock, None)
+            self._pairs.pop(peer, None)
+            self._robot_side.difference_update((sock, peer))
+            self._sent_on.pop(sock, None)
+            self._sent_on.pop(peer, None)
+        for s in (sock, peer):
+            with contextlib.suppress(OSError):
+                s.shutdown(socket.SHUT_RDWR)
+            s.close()

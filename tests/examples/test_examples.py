@@ -25,6 +25,7 @@ from ego.app.runner import run_controller
 from ego.faces import runtime
 from firmware_sim import Emulator, World
 from firmware_sim.floor import LineTrack
+from tests.helpers import world_of
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -92,7 +93,7 @@ def test_colour_following_ends_facing_the_red_box(capsys: pytest.CaptureFixture[
     out = capsys.readouterr().out.split()
     assert out[:2] == ["camera", "52x39"]
     assert out[-1] == "arrived"
-    world = robots[0].emulator.world
+    world = world_of(robots[0])
     pose, box = world.snapshot(), world.blocks[0]
     bearing = math.atan2(box.y_m - pose.y_m, box.x_m - pose.x_m)
     assert abs(math.remainder(bearing - pose.theta_rad, 2 * math.pi)) < math.radians(15)

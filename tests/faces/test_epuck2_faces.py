@@ -1,8 +1,8 @@
 """The e-puck2 through the three faces, on its emulator over a real pty: the Webots face
-serves what Webots' e-puck2 model has (tof with the PROTO's lookup table, gyro, RGB LEDs,
-the speaker, maxVelocity 7.536 rad/s against the firmware's 1100 steps/s), the C faces
-reach the same devices by their names, and a published-style Webots e-puck2 controller
-and the avoidance demo run unchanged under ``ego run --port /dev/pts/N``."""
+serves what Webots' e-puck2 model has (tof in the robot's mm with the PROTO's lookup table,
+gyro, RGB LEDs, the speaker, maxVelocity 7.536 rad/s against the firmware's 1100 steps/s),
+the C faces reach the same devices by their names, and a published-style Webots e-puck2
+controller and the avoidance demo run unchanged under ``ego run --port /dev/pts/N``."""
 
 from __future__ import annotations
 
@@ -19,7 +19,9 @@ import pytest
 from ego import webots as wb
 from ego.app.runner import run_controller
 from ego.controller import Robot as WebotsRobot
-from ego.controller.devices import DistanceSensor, Gyro, Speaker
+from ego.controller.distance_sensor import DistanceSensor
+from ego.controller.gyro import Gyro
+from ego.controller.speaker import Speaker
 from ego.errors import OutOfRangeError, UnsupportedDeviceError
 from ego.faces import default_robot, runtime
 from ego.faces.default_robot import FaceContext, activate
@@ -31,6 +33,14 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "src" / "ego" / "examples"
 TOF_TABLE = [0.0, 19.8, 0.0, 2.0, 2000.0, 0.0]
 E_PUCK2_MAX_VELOCITY = 7.536
 FIRMWARE_MAX_RAD_S = 1100 * 2 * math.pi / 1000
+
+
+#: Six sigmas of the emulated ToF's noise at the arena's distances (2 % + 3 mm).
+_TOF_NOISE_MM = 60
+
+
+def _tof_mm(emu: Epuck2Emulator) -> int:
+    return emu.robot.tof.distance_mm()
 
 
 def _stopped(emu: Epuck2Emulator) -> bool:
@@ -83,9 +93,10 @@ def test_tof_is_a_distance_sensor_with_the_protos_lookup_table(
     assert math.isnan(tof.getValue())
     tof.enable(32)
     controller.step(32)
-    mm = e_puck2.robot.tof.distance_mm()
-    expected = 19.8 + min(mm, 2000) / 1000 * (2000 - 19.8) / 2
-    assert tof.getValue() == pytest.approx(expected)
+    # The robot's millimetres unchanged, as Webots' e-puck2 remote control gives them
+    # (this world is noisy and the ToF reads anew every 33 ms: within its noise;
+    # test_epuck2_tof_value.py compares exactly, in a quiet world).
+    assert tof.getValue() == pytest.approx(_tof_mm(e_puck2), abs=_TOF_NOISE_MM)
     # The e-puck's own distance sensors keep theirs.
     ps0 = controller.getDevice("ps0")
     assert ps0.getAperture() == 0.1 and ps0.getType() == DistanceSensor.INFRA_RED
@@ -191,7 +202,8 @@ def test_the_webots_c_face_reaches_tof_gyro_and_rgb_leds(
             wb.wb_gyro_enable(gyro, 32)
             wb.wb_led_set(led3, 0x0000FF)
             wb.wb_robot_step(32)
-            assert 19.8 <= wb.wb_distance_sensor_get_value(tof) <= 2000
+            got = wb.wb_distance_sensor_get_value(tof)
+            assert got == pytest.approx(_tof_mm(e_puck2), abs=_TOF_NOISE_MM)
             assert len(wb.wb_gyro_get_values(gyro)) == 3
             assert e_puck2.robot.leds.rgb[1] == [0, 0, 100]
         finally:
@@ -210,7 +222,8 @@ def test_the_overo_face_reaches_tof_and_rgb_leds_by_their_tags(
             overo.overo_distance_sensors_enable(tag_of("tof"), 32)
             overo.overo_led_set(tag_of("led7"), 0xFF0000)
             overo.overo_scheduler_robot_step(32)
-            assert 19.8 <= overo.overo_distance_sensors_get_value(tag_of("tof")) <= 2000
+            got = overo.overo_distance_sensors_get_value(tag_of("tof"))
+            assert got == pytest.approx(_tof_mm(e_puck2), abs=_TOF_NOISE_MM)
             assert e_puck2.robot.leds.rgb[3] == [100, 0, 0]
         finally:
             overo.overo_serial_close()
@@ -223,7 +236,7 @@ def _check_tof_gyro(seen: dict[str, object], e_puck2: Epuck2Emulator | None = No
     tof = seen["tof"]
     gyro_z = seen["gyro_z"]
     assert isinstance(tof, list) and isinstance(gyro_z, list) and len(tof) > 20
-    assert all(19.8 <= v <= 2000 for v in tof)
+    assert all(0 <= v <= 8191 and v == int(v) for v in tof)  # the robot's mm, unchanged
     assert seen["lookup_table"] == TOF_TABLE and seen["aperture"] == 0.44
     assert seen["max_velocity"] == pytest.approx(E_PUCK2_MAX_VELOCITY)
     assert set(seen["colours"]) <= {0x00FF00, 0xFF0000}  # type: ignore[arg-type]

@@ -34,8 +34,8 @@ def check_getdevice(result: Result, duration_s: float) -> None:
     # from controller import Robot, Motor, DistanceSensor: ego's classes.
     assert result["classes"] == [
         "ego.controller.robot",
-        "ego.controller.devices",
-        "ego.controller.devices",
+        "ego.controller.motor",
+        "ego.controller.distance_sensor",
     ]
     assert result["types_match"]
     assert math.isnan(result["not_yet_sampled"])  # Webots gives NaN before the first sample

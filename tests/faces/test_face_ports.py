@@ -16,10 +16,10 @@ import pytest
 
 from ego import overo
 from ego import webots as wb
-from ego.backends import bind_options
 from ego.backends.serial_line import SerialOptions
 from ego.controller import Robot as WebotsRobot
 from ego.core.environment import Environment
+from ego.core.registry import bind_options
 from ego.core.robot import Robot
 from ego.faces import default_robot
 from ego.faces.default_robot import FaceContext, activate

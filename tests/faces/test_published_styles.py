@@ -16,6 +16,7 @@ from helpers import ego_command
 from ego.app.runner import run_controller
 from ego.faces import runtime
 from firmware_sim import Emulator
+from tests.helpers import world_of
 
 CONTROLLERS = Path(__file__).parent / "controllers"
 
@@ -115,7 +116,7 @@ def test_a_colour_follower_at_52x39_drives_up_to_the_red_box(
     out = capsys.readouterr().out.split()
     assert out[:3] == ["camera", "52", "39"]  # Webots' e-puck camera, unasked
     assert out[-1] == "arrived"
-    world = robots[0].emulator.world
+    world = world_of(robots[0])
     pose, box = world.snapshot(), world.blocks[0]
     bearing = math.atan2(box.y_m - pose.y_m, box.x_m - pose.x_m)
     assert abs(math.remainder(bearing - pose.theta_rad, 2 * math.pi)) < math.radians(15)

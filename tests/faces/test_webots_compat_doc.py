@@ -7,7 +7,7 @@ import re
 from pathlib import Path
 
 import ego.controller as controller
-from ego.controller import supervision
+from ego.controller import supervisor as supervision
 
 DOC = Path(__file__).parents[2] / "docs" / "webots-compat.md"
 #: The sections whose rows name methods of one class (what they are checked against).

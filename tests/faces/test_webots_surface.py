@@ -16,7 +16,7 @@ from helpers import ego_command, wait_until
 import ego.controller as controller
 import ego.errors
 from ego.controller import GPS, LED, Keyboard, Motor, Robot, Supervisor
-from ego.controller.inputs import decode_keys
+from ego.controller.keyboard import decode_keys
 from ego.errors import EgoError, UnknownDeviceError, UnsupportedDeviceError
 from ego.faces import runtime
 from firmware_sim import Emulator

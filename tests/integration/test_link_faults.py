@@ -31,8 +31,10 @@ from ego.errors import (
     RobotResetError,
     ShortReplyError,
 )
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware
 from ego.serial.link import Link
-from ego.serial.protocol import Command, Firmware, Request, encode_batch
+from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
 from firmware_sim import FAULT_KINDS, Emulator, FaultSpec
 

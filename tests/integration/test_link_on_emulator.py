@@ -9,8 +9,10 @@ import serial
 from fakes import FAST_LINK
 
 from ego.errors import ExtraBytesError, UnsupportedDeviceError
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware
 from ego.serial.link import Link
-from ego.serial.protocol import Command, Firmware, Request, encode_batch
+from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator
 

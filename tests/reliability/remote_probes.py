@@ -8,9 +8,11 @@ import time
 
 from ego.backends.remote.connection import Connection, error_from_reply
 from ego.net.auth import coerce_secret
+from ego.net.frames import MAX_DATAGRAM, MessageType, decode_frame, encode_frame
 from ego.net.messages import pack_step
-from ego.net.wire import MAX_DATAGRAM, MessageType, decode_frame, encode_frame, parse_url
-from ego.serial.protocol import Command, Request
+from ego.net.urls import parse_url
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 
 _STEP = pack_step((Request(Command.GET_SPEED),))
 

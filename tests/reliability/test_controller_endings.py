@@ -207,7 +207,9 @@ def test_ego_serve_stops_the_robot_on_every_terminating_signal(
     """The server on the robot is a controller too: its ssh session dropping must not leave
     the wheels turning for the PC that drove them."""
     from ego.backends.remote.channel import RemoteChannel
-    from ego.serial.protocol import Command, Request, encode_batch
+    from ego.seam.batch import Request
+    from ego.seam.profile import Command
+    from ego.serial.protocol import encode_batch
 
     args = [*ego_command(), "serve", "--port", emulator.path, "--listen", "tcp://127.0.0.1:0"]
     with spawn(args, tmp_path) as proc:

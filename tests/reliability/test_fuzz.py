@@ -39,9 +39,7 @@ from ego.errors import (
     ShortReplyError,
     UnknownSettingError,
 )
-from ego.net.messages import pack_step, unpack_step
-from ego.net.wire import (
-    ASCII_REPLY_LINES,
+from ego.net.frames import (
     HEADER,
     MAGIC,
     MAX_PAYLOAD,
@@ -53,30 +51,27 @@ from ego.net.wire import (
     MessageType,
     decode_frame,
     encode_frame,
+)
+from ego.net.messages import pack_step, unpack_step
+from ego.net.payloads import (
+    ASCII_REPLY_LINES,
     pack_ascii,
     pack_fetch,
     pack_json,
     pack_part,
-    parse_url,
     unpack_ascii,
     unpack_error,
     unpack_fetch,
     unpack_json,
     unpack_part,
 )
+from ego.net.urls import parse_url
+from ego.seam.batch import Batch, Request
+from ego.seam.profile import Command, Firmware, Profile
 from ego.serial.firmware import identify, line_payload, parse_selector
 from ego.serial.link import RESYNC, Link
-from ego.serial.protocol import (
-    GCTRONIC_BLUETOOTH,
-    PROFILES,
-    Batch,
-    Command,
-    Firmware,
-    Profile,
-    Request,
-    encode_batch,
-    parse_batch,
-)
+from ego.serial.profiles import GCTRONIC_BLUETOOTH, PROFILES
+from ego.serial.protocol import encode_batch, parse_batch
 from firmware_sim import Dspic, World
 
 #: Every fuzz test: the same examples on every run, a bounded count, and a deadline per

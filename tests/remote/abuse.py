@@ -22,8 +22,7 @@ from dataclasses import dataclass
 from remote_helpers import RawClient, wait_for
 
 from ego.errors import FrameError
-from ego.net.messages import pack_step
-from ego.net.wire import (
+from ego.net.frames import (
     HEADER,
     MAGIC,
     MAX_DATAGRAM,
@@ -31,10 +30,12 @@ from ego.net.wire import (
     MessageType,
     decode_frame,
     encode_frame,
-    pack_json,
-    parse_url,
 )
-from ego.serial.protocol import Command, Request
+from ego.net.messages import pack_step
+from ego.net.payloads import pack_json
+from ego.net.urls import parse_url
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.servers.socket.server import Server
 from firmware_sim import Emulator
 

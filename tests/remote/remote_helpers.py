@@ -18,8 +18,7 @@ from types import TracebackType
 from ego.backends.remote.channel import RemoteChannel
 from ego.camera.source import GrantedFormat, PixelFormat
 from ego.net.auth import client_proof, new_nonce
-from ego.net.handshake import session_key
-from ego.net.wire import (
+from ego.net.frames import (
     HEADER,
     MAC_SIZE,
     MAX_DATAGRAM,
@@ -29,10 +28,10 @@ from ego.net.wire import (
     MessageType,
     decode_frame,
     encode_frame,
-    pack_json,
-    parse_url,
-    unpack_json,
 )
+from ego.net.handshake import session_key
+from ego.net.payloads import pack_json, unpack_json
+from ego.net.urls import parse_url
 from ego.serial.link import Link
 from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator

@@ -15,7 +15,9 @@ from remote_helpers import ServeFactory
 
 from ego.backends.remote.channel import RemoteChannel
 from ego.errors import PortNotFoundError
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.seam.batch import Request
+from ego.seam.profile import Command
+from ego.serial.protocol import encode_batch
 
 SECRET = b"handshake retry secret 0123456789"
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ego.net.wire import FrameReader
+from ego.net.frames import FrameReader
 from ego.servers.sessions.actions import Peer, ServerStats
 from ego.servers.socket.peers import PREAUTH_WRITE_LIMIT, Peers
 

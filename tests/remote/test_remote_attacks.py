@@ -20,10 +20,13 @@ from remote_helpers import DatagramProxy, RawClient, ServeFactory, StreamRelay, 
 from benchmarks.floods import start_flood
 from ego.backends.remote.channel import RemoteChannel
 from ego.errors import LinkLostError, RobotResetError
+from ego.net.frames import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame
 from ego.net.messages import pack_step
-from ego.net.wire import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame, pack_json
+from ego.net.payloads import pack_json
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.serial.protocol import encode_batch
 
 SECRET = "s3cret-s3cret-s3cret"
 ONE_TRY = LinkSettings(retries=0, reconnect_timeout_s=0.0)

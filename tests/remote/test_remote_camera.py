@@ -10,7 +10,7 @@ from remote_helpers import ConnectFactory, FakeCamera, ServeFactory, wait_for
 from ego.backends.remote.channel import RemoteFrameSource
 from ego.camera import Camera
 from ego.errors import CameraError, RemoteError
-from ego.net.wire import MAX_PAYLOAD
+from ego.net.frames import MAX_PAYLOAD
 from firmware_sim.camera import SimulatedSource
 
 

@@ -13,7 +13,9 @@ from pathlib import Path
 
 from ego.app.serve import add_arguments
 from ego.backends.remote.channel import RemoteChannel
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.seam.batch import Request
+from ego.seam.profile import Command
+from ego.serial.protocol import encode_batch
 
 #: ``ego serve`` through this module alone, whatever the ``ego`` command wires.
 SERVE = (

@@ -8,8 +8,8 @@ import pytest
 from fakes import FAST_LINK
 from remote_helpers import ConnectFactory, ServeFactory, wait_for
 
-from ego.backends import open_port
 from ego.backends.remote.channel import RemoteChannel
+from ego.core.registry import open_port
 from ego.errors import (
     FrameError,
     LinkTimeoutError,
@@ -18,9 +18,12 @@ from ego.errors import (
     RobotResetError,
     UnsupportedDeviceError,
 )
-from ego.net.wire import MessageType
+from ego.net.frames import MessageType
+from ego.seam.batch import Batch, Request
+from ego.seam.profile import Command, Firmware
 from ego.serial.link import Link
-from ego.serial.protocol import PROFILES, Batch, Command, Firmware, Request, encode_batch
+from ego.serial.profiles import PROFILES
+from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
 from ego.servers.socket.server import Server, ServerThread
 from firmware_sim import Emulator, FaultTimings

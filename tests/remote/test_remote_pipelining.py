@@ -15,7 +15,7 @@ from remote_helpers import ServeFactory
 
 from ego.backends.remote.connection import error_from_reply
 from ego.errors import FrameError
-from ego.net.wire import MessageType
+from ego.net.frames import MessageType
 
 SECRET = "s3cret-s3cret-s3cret"
 #: Batches the emulator may see after the close: the step running then, and the stop.

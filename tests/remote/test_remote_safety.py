@@ -17,8 +17,7 @@ from remote_helpers import ConnectFactory, DatagramProxy, RawClient, ServeFactor
 
 from ego.backends.remote.channel import RemoteChannel
 from ego.errors import AuthenticationError, RobotBusyError, RobotResetError
-from ego.net.messages import pack_step
-from ego.net.wire import (
+from ego.net.frames import (
     HEADER,
     MAGIC,
     MAX_DATAGRAM,
@@ -26,12 +25,13 @@ from ego.net.wire import (
     MessageType,
     decode_frame,
     encode_frame,
-    pack_json,
-    unpack_error,
-    unpack_json,
 )
+from ego.net.messages import pack_step
+from ego.net.payloads import pack_json, unpack_error, unpack_json
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.serial.link import Link
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.serial.protocol import encode_batch
 from ego.servers.socket.server import Server
 
 DEADLINE_S = 0.3

@@ -12,8 +12,10 @@ from remote_helpers import ConnectFactory, DatagramProxy, FakeCamera, ServeFacto
 
 from ego.backends.remote.channel import RemoteChannel
 from ego.errors import LinkTimeoutError
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.serial.protocol import encode_batch
 
 #: The client link must not retry on its own here: a retry runs the batch again,
 #: legitimately, and the test counts batches run.

@@ -10,7 +10,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ego.backends.remote.channel import error_from_reply
-from ego.errors import ConfigSyntaxError, FrameError, InsecureSecretError, PortBusyError
+from ego.errors import (
+    ConfigSyntaxError,
+    FrameError,
+    InsecureSecretError,
+    PortBusyError,
+    VersionMismatchError,
+)
 from ego.net.auth import (
     check_proof,
     client_proof,
@@ -22,7 +28,7 @@ from ego.net.auth import (
     server_proof,
     write_secret,
 )
-from ego.net.wire import (
+from ego.net.frames import (
     HEADER,
     MAGIC,
     MAX_PAYLOAD,
@@ -30,18 +36,14 @@ from ego.net.wire import (
     PROTOCOL_VERSION,
     FrameReader,
     MessageType,
-    SequenceGuard,
-    Verdict,
-    VersionMismatchError,
     decode_frame,
     encode_frame,
+)
+from ego.net.payloads import (
     error_fields,
-    next_seq,
     pack_ascii,
     pack_error,
     pack_fetch,
-    parse_url,
-    seq_after,
     split_reply,
     unpack_ascii,
     unpack_error,
@@ -49,6 +51,8 @@ from ego.net.wire import (
     unpack_json,
     unpack_part,
 )
+from ego.net.sequence import SequenceGuard, Verdict, next_seq, seq_after
+from ego.net.urls import parse_url
 
 U32 = st.integers(0, 2**32 - 1)
 

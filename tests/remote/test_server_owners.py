@@ -12,10 +12,11 @@ from fakes import FAST_LINK
 from remote_helpers import RawClient, wait_for
 
 from ego.camera.source import GrantedFormat, PixelFormat
+from ego.net.frames import MessageType
 from ego.net.messages import CameraFrame, CameraOpen, Step, pack_request
-from ego.net.wire import MessageType
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.serial.link import Link
-from ego.serial.protocol import Command, Request
 from ego.serial.transport import SerialTransport
 from ego.servers.service import RobotService
 from ego.servers.socket.server import Server, ServerThread

@@ -12,9 +12,7 @@ from hypothesis import strategies as st
 
 from ego.errors import AuthenticationError
 from ego.net.auth import FailureThrottle
-from ego.net.handshake import ClientHandshake
-from ego.net.messages import Step, pack_step
-from ego.net.wire import (
+from ego.net.frames import (
     HEADER,
     MAGIC,
     PROTOCOL_VERSION,
@@ -23,11 +21,12 @@ from ego.net.wire import (
     MessageType,
     decode_frame,
     encode_frame,
-    pack_json,
-    unpack_error,
-    unpack_json,
 )
-from ego.serial.protocol import Command, Request
+from ego.net.handshake import ClientHandshake
+from ego.net.messages import Step, pack_step
+from ego.net.payloads import pack_json, unpack_error, unpack_json
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.servers.sessions.actions import Action, Authenticated, Hangup, Peer, Run, Send, StopRobot
 from ego.servers.sessions.session import Session
 

@@ -124,7 +124,7 @@ def bridged(distro: str = "jazzy", namespace: str = "/", deadline_s: float = 0.5
         node = Participant(session, "epuck_driver", namespace=namespace, distro=distro)
         stack.callback(node.close)
         bridge = Ros2Bridge(robot, node, deadline_s=deadline_s).attach()
-        stack.callback(bridge.detach)
+        stack.callback(bridge.close)
         out = Bridged(robot, bridge, node, NodeRunner(robot, 64, "test"), ros, distro,
                       start=(pose.x_m, pose.y_m, pose.theta_rad), endpoint=endpoint)  # fmt: skip
         robot.add_step_listener(out.record)

@@ -95,3 +95,35 @@ def test_tof_is_published_where_the_device_table_has_it() -> None:
     epuck1 = {f"ps{i}" for i in range(8)}
     assert "tof" not in {row.name for row in served(PUBLISHED, epuck1)}
     assert "tof" in {row.name for row in served(PUBLISHED, epuck1 | {"tof"})}
+
+
+def test_after_the_deadmans_stop_the_same_twist_drives_again() -> None:
+    """The deadman stops the wheels over the channel, outside the step: ego's view of the
+    motors must follow, or a Twist asking for the speeds of before would send nothing.
+    It stops the wheels only: an LED ROS 2 switched on stays on."""
+    from helpers import emulator_of
+
+    from tests.ros2_node.flood_support import TWIST, Teleop, start_driving
+
+    with bridged("jazzy", deadline_s=0.3) as b:
+        world = emulator_of(b.robot).world
+        teleop = Teleop(b.ros, key_of("/cmd_vel", TWIST, "jazzy"))
+        led = b.ros.declare_publisher(key_of("/led0", "std_msgs/msg/Bool", "jazzy"))
+        on = CdrWriter().write("bool", True).payload()
+
+        def lit() -> bool:
+            led.put(on, attachment=z_serialize((Int64(1), Int64(time.time_ns()), bytes(16))))
+            return bool(world.leds[0])
+
+        assert wait_until(lit, 5)
+        start_driving(teleop, b.robot)
+        speeds = b.robot.motors.speed
+        assert wait_until(lambda: world.speeds == speeds, 5)
+        assert wait_until(lambda: b.bridge.deadman.stops == 1, 5)  # silence: stopped
+        assert world.speeds == (0, 0)
+        assert wait_until(lambda: b.robot.motors.speed == (0, 0), 5)  # ego's view follows
+        assert world.leds[0] == 1
+        start_driving(teleop, b.robot)  # the same Twist as before
+        assert wait_until(lambda: world.speeds == speeds, 5), world.speeds
+        teleop.close()
+        led.undeclare()

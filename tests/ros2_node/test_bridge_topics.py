@@ -107,7 +107,7 @@ def _check_sensors(b: Bridged, last: dict[str, tuple[int, int, bytes, bytes]]) -
     for i in range(8):
         msg = decode.range_(last[f"ps{i}"][3], b.distro)
         truth = b.truths[msg["stamp"]]
-        _check_range(msg, f"ps{i}", truth.proximity[i], IR, (0.045, 0.025), b.distro)
+        _check_range(msg, f"ps{i}", truth.proximity[i], IR, (0.009, 0.025), b.distro)
         msg = decode.illuminance(last[f"ls{i}"][3], b.distro)
         assert (msg["frame_id"], msg["illuminance"]) == (f"ls{i}", b.truths[msg["stamp"]].light[i])
     for i in range(3):
@@ -123,7 +123,7 @@ def _check_sensors(b: Bridged, last: dict[str, tuple[int, int, bytes, bytes]]) -
     assert msg["frame_id"] == "laser_scanner" and msg["ranges"] == pytest.approx(want, abs=1e-6)
     assert (msg["angle_min"], msg["angle_max"], msg["angle_increment"]) == pytest.approx(
         (math.radians(-150), math.radians(150), math.radians(15)), abs=1e-6)  # fmt: skip
-    assert (msg["range_min"], msg["range_max"]) == pytest.approx((0.08, 1.035), abs=1e-6)
+    assert (msg["range_min"], msg["range_max"]) == pytest.approx((0.044, 1.035), abs=1e-6)
     msg = decode.imu(last["imu"][3], b.distro)
     assert msg["linear_acceleration"] == list(b.truths[msg["stamp"]].acceleration)
     assert msg["angular_velocity_covariance"][0] == -1  # not measured (REP-145)

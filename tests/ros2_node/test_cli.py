@@ -27,7 +27,7 @@ def test_ego_ros2_serves_the_robot_until_its_duration() -> None:
 
     try:
         proc = subprocess.Popen([*ego_command(), "ros2", "--port", "sim", "--router", endpoint,
-                                 "--namespace", "/robot", "--distro", "kilted",
+                                 "--namespace", "robot", "--distro", "kilted",  # relative: /robot
                                  "--duration", "6"], stderr=subprocess.PIPE, text=True)  # fmt: skip
         try:
             assert wait_until(lambda: nodes() == ["%robot/epuck_driver"], 20)

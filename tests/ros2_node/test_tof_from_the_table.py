@@ -65,7 +65,7 @@ def test_the_tof_topic_comes_with_the_tables_row() -> None:
     reading = sampler.read(5 * 10**9, wants_image=False, wants_jpeg=False)
     assert reading.tof_m == pytest.approx(0.120)
     message = Messages("jazzy").tof(reading)
-    assert (message.header.frame_id, message.min_range, message.max_range) == ("tof", 0.045, 1.0)
+    assert (message.header.frame_id, message.min_range, message.max_range) == ("tof", 0.005, 1.0)
     assert message.range == pytest.approx(0.120)
     reading.proximity = (100,) * 8
     scan = Messages("jazzy").scan(reading, 0.064)

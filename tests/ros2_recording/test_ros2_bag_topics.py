@@ -63,7 +63,7 @@ def test_rosbags_reads_every_topic_and_each_field_is_epuck_ros2s_conversion(
         assert t1 == 1_000_000_000 and first.header.frame_id == f"ps{i}"
         assert first.range == pytest.approx(ir_metres(PROXIMITY[i]), rel=1e-6, abs=1e-7)
         assert second.range == pytest.approx(ir_metres(PROXIMITY[i] + 10), rel=1e-6, abs=1e-7)
-        assert (first.min_range, first.max_range) == pytest.approx((0.045, 0.025))
+        assert (first.min_range, first.max_range) == pytest.approx((0.009, 0.025))
         assert first.field_of_view == pytest.approx(math.radians(15))
         assert first.radiation_type == 1  # INFRARED
         ((_, light),) = found[f"/ls{i}"]  # step 2 had the light off: no message

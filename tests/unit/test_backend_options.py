@@ -14,13 +14,13 @@ import pytest
 from helpers import emulator_of
 
 import ego
-from ego.backends import bind_options, open_port, option_names, takes_option
 from ego.backends.remote import RemoteOptions
 from ego.backends.serial_line import SerialOptions
 from ego.backends.zenoh_remote import ZenohOptions
 from ego.core.environment import Environment, read_environment
+from ego.core.registry import bind_options, open_port, option_names, takes_option
 from ego.errors import BackendOptionError, EgoError
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 from firmware_sim.ego_backend import SimOptions
 
 EMPTY = Environment()

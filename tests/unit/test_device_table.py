@@ -15,14 +15,14 @@ import ego
 from ego import overo
 from ego import webots as wb
 from ego.controller import Robot as WebotsRobot
-from ego.controller.devices import view_class
+from ego.controller.device import view_class
 from ego.devices import table
 from ego.devices.table import BATTERY, CAMERA, DEVICES, FAMILIES, names_of, spec, spec_of_tag
 from ego.errors import UnknownDeviceError, UnsupportedDeviceError
 from ego.faces import tags
 from ego.faces.default_robot import FaceContext, activate
 from ego.faces.runtime import RunOptions
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 from firmware_sim import Emulator
 
 #: The tags as ego 0.1 published them: a device's tag is its place here, from 1.

@@ -13,7 +13,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ego.serial.protocol import BANNER_MARKER, PROFILES, Firmware, Request, encode_batch
+from ego.seam.batch import Request
+from ego.seam.profile import Firmware
+from ego.serial.profiles import BANNER_MARKER, PROFILES
+from ego.serial.protocol import encode_batch
 from firmware_sim import BANNER, Dspic, World
 from firmware_sim.dspic import FIRMWARES, Emission
 

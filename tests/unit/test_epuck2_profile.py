@@ -9,26 +9,24 @@ import struct
 import pytest
 
 from ego.core.safety import stop_requests
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware
 from ego.serial.asercom2 import COMMAND_SIZES, BinaryCommand
 from ego.serial.firmware import identify
 from ego.serial.link import LinkSettings, reply_timeout_s
-from ego.serial.protocol import (
-    EPUCK2_BLUETOOTH,
-    EPUCK2_USB,
-    PROFILES,
-    Command,
-    Firmware,
-    Request,
-    encode_batch,
-)
+from ego.serial.profiles import EPUCK2_BLUETOOTH, EPUCK2_USB, PROFILES
+from ego.serial.protocol import encode_batch
 
 V2 = ["v,Version 2.0 January 2018 GCtronic", "HW version: FFF7"]
 PACKET = struct.Struct("<3h3f3h3fb8H8HH4H2hHB3BB3H3HB")
 
 
 def packet(**fields: object) -> bytes:
-    """A 103-byte -0x08 reply whose 49 values are their index, but for ``fields``."""
+    """A 103-byte -0x08 reply whose 49 values are their index, but for ``fields`` and
+    the SD byte (37) and selector (41), which hold what the firmware sends (1, 8): the
+    packet's decoder refuses others (docs/protocol.md)."""
     values: list[object] = [*range(48), 0]
+    values[37], values[41] = 1, 8
     for index, value in fields.items():
         values[int(index.removeprefix("v"))] = value
     return PACKET.pack(*values)

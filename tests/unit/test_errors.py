@@ -10,6 +10,7 @@ from ego.errors import (
     EgoError,
     ExtraBytesError,
     FirmwareMismatchError,
+    LineFloodedError,
     LinkError,
     LinkLostError,
     LinkTimeoutError,
@@ -37,6 +38,7 @@ from ego.errors import (
         (NotAnEpuckError, (LinkError,)),
         (ShortReplyError, (ProtocolError,)),
         (ExtraBytesError, (ProtocolError,)),
+        (LineFloodedError, (ExtraBytesError, ProtocolError)),
         (RobotResetError, (ProtocolError,)),
         (FirmwareMismatchError, (ProtocolError,)),
         (ProtocolError, (EgoError,)),
@@ -61,10 +63,14 @@ def test_unknown_device_message_is_not_quoted_like_a_key() -> None:
     assert str(err) == "no device 'ps12'; valid names: ps0..ps7"
 
 
-def test_every_exported_name_exists_and_is_an_ego_error_or_warning() -> None:
+def test_every_exported_name_exists_and_is_an_ego_error() -> None:
+    # The one exception: a controller ended as Webots ends it must get past the
+    # controller's own ``except Exception``, as nothing survives Webots' kill.
     for name in errors.__all__:
         obj = getattr(errors, name)
-        assert issubclass(obj, (errors.EgoError, errors.EgoWarning)), name
+        allowed = (SystemExit,) if name == "ControllerTerminated" else ()
+        assert issubclass(obj, (errors.EgoError, *allowed)), name
+    assert not issubclass(errors.ControllerTerminated, Exception)
 
 
 def _raised_names() -> set[str]:

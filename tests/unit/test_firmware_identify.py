@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from ego.errors import DeprecatedNameWarning, ProtocolError, UnsupportedDeviceError
+from ego.errors import ProtocolError, UnsupportedDeviceError
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware
 from ego.serial.firmware import (
     OVERO_SELECTOR,
     identify,
@@ -14,8 +16,7 @@ from ego.serial.firmware import (
     parse_hardware_version,
     parse_selector,
 )
-from ego.serial.protocol import Command, Firmware, Request, encode_batch
-from firmware_sim.dspic import firmware_name
+from ego.serial.protocol import encode_batch
 
 # docs/protocol.md, "V": Asercom.c sends "v,Version 1.2.2 August 2008 GCtronic" then
 # sprintf("HW version: %X", HWversion), a word read from the EEPROM (0xFFFF when never
@@ -136,16 +137,3 @@ def test_line_payload_strips_the_letter_and_the_line_end() -> None:
 )
 def test_gctronic_is_recognised_by_its_version_text(version: str, gctronic: bool) -> None:
     assert is_gctronic(version) is gctronic
-
-
-@pytest.mark.parametrize(("old", "new"), [("thesis", "webots"), ("gctronic-overo", "gctronic")])
-def test_old_profile_names_still_work_and_warn(old: str, new: str) -> None:
-    """The fidelity audit renamed the profiles after the firmwares they model."""
-    with pytest.warns(DeprecatedNameWarning, match=f"{old!r} is deprecated: it is {new!r}"):
-        assert Firmware.choose(old) is Firmware(new)
-
-
-@pytest.mark.parametrize(("old", "new"), [("thesis", "webots"), ("gctronic-overo", "gctronic")])
-def test_the_emulator_takes_the_old_names_too_with_a_warning(old: str, new: str) -> None:
-    with pytest.warns(FutureWarning, match=f"{old!r} is deprecated"):
-        assert firmware_name(old) == new

@@ -16,9 +16,9 @@ import pytest
 from numpy.typing import NDArray
 
 import ego
-from ego.backends import Opened
 from ego.backends.zenoh_remote import _Truth
 from ego.controller.radio import _true_pose
+from ego.core.backend import Opened
 from ego.core.ground_truth import Box, GroundTruth, Layout, TruePose, TrueWorld
 from ego.core.robot import Robot
 from ego.core.telemetry import describe_world, world_pose
@@ -67,13 +67,12 @@ def sim_robot() -> Iterator[ego.Robot]:
 
 def test_the_seams_are_typed_not_any() -> None:
     assert Opened.__annotations__["ground_truth"] == "GroundTruth | None"
-    for name in ("ground_truth", "emulator"):
-        assert getattr(Robot, name).fget.__annotations__["return"] == "GroundTruth | None"
+    assert Robot.ground_truth.fget.__annotations__["return"] == "GroundTruth | None"
 
 
 def test_the_sim_backend_hands_ego_types(sim_robot: ego.Robot) -> None:
     truth = sim_robot.ground_truth
-    assert truth is not None and sim_robot.emulator is truth
+    assert truth is not None
     pose = truth.pose()
     assert type(pose) is TruePose and (pose.x_m, pose.y_m) == pytest.approx((0.0, 0.0))
     world = truth.true_world

@@ -12,8 +12,11 @@ from typing import Any
 
 import pytest
 
+from ego.seam.batch import Request
+from ego.seam.profile import Firmware
 from ego.serial import Command, Link, SerialTransport
-from ego.serial.protocol import PROFILES, Firmware, Request, encode_batch
+from ego.serial.profiles import PROFILES
+from ego.serial.protocol import encode_batch
 from firmware_sim import Dspic, Emulator, World
 from firmware_sim.cli import add_arguments
 from firmware_sim.dspic import WORK_S

@@ -5,12 +5,12 @@ from __future__ import annotations
 import pytest
 
 import ego
-from ego.backends import open_port, scheme_of
 from ego.core.environment import read_environment
 from ego.core.ports import DEFAULT_PORT, resolve_port
+from ego.core.registry import open_port, scheme_of
 from ego.errors import NotAnEpuckError, PortNotFoundError
+from ego.seam.profile import Firmware
 from ego.serial.link import Link
-from ego.serial.protocol import Firmware
 from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator
 
@@ -74,7 +74,7 @@ def test_each_port_goes_to_the_backend_of_its_scheme(port: str, scheme: str) -> 
 
 
 def test_an_unknown_backend_says_what_is_missing() -> None:
-    from ego.backends import find_backend
+    from ego.core.registry import find_backend
 
     with pytest.raises(PortNotFoundError, match="no backend serves 'carrier-pigeon'"):
         find_backend("carrier-pigeon")

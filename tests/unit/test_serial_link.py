@@ -22,8 +22,10 @@ from ego.errors import (
     ProtocolError,
     RobotResetError,
 )
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware
 from ego.serial.link import Link, LinkSettings
-from ego.serial.protocol import Command, Firmware, Request, encode_batch
+from ego.serial.protocol import encode_batch
 from firmware_sim import BANNER
 
 SENSORS = [Request(Command((-ord(c)) & 0xFF)) for c in "aEMNOQu"]

@@ -14,19 +14,10 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from ego.errors import ExtraBytesError, ShortReplyError, UnsupportedDeviceError
-from ego.serial.protocol import (
-    GCTRONIC_BLUETOOTH,
-    PROFILES,
-    Command,
-    Firmware,
-    Profile,
-    Request,
-    command_byte,
-    encode_batch,
-    parse_batch,
-    reply_sizes,
-    wire_time_s,
-)
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Firmware, Profile
+from ego.serial.profiles import GCTRONIC_BLUETOOTH, PROFILES, command_byte, wire_time_s
+from ego.serial.protocol import encode_batch, parse_batch, reply_sizes
 
 THESIS = PROFILES[Firmware.WEBOTS]
 OVERO = PROFILES[Firmware.GCTRONIC]

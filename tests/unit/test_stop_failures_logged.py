@@ -7,10 +7,10 @@ import logging
 
 import pytest
 
-from ego.app.serve import ServedRobot
 from ego.app.swarm import Swarm
-from ego.backends import Opened
+from ego.core.backend import Opened
 from ego.errors import LinkTimeoutError
+from ego.servers.robot import ServedRobot
 
 
 class _Channel:

@@ -1,9 +1,10 @@
-"""The device table is the one place a device or a family is named: every family takes its
-names from it, and every consumer's list of families is the table's.
+"""The device table is the one place a device is named, and a family's class the one place
+the family is declared (``@TABLE.declare``): every family takes its names from the table,
+and every consumer's list of families is the table's.
 
-A copy of the table with one more row and family (the e-puck2's time-of-flight sensor,
-``sonar``) is handed to each consumer, never patched in: each picks it up with no edit of
-its own. The faces read the table's rows (test_device_table.py), the page its series
+A copy of the table with one more row, and a family declared against it (``sonar``), is
+handed to each consumer, never patched in: each picks it up with no edit of its own.
+The faces read the table's rows (test_device_table.py), the page its series
 (tests/dashboard/test_dashboard_table.py).
 """
 
@@ -19,27 +20,27 @@ from ego.core import telemetry
 from ego.core.telemetry import Sampler, describe_firmware
 from ego.devices.base import ArraySensor, Device
 from ego.devices.families import family_class, make_families
+from ego.devices.light import LightSensors
 from ego.devices.table import TABLE, FamilySpec, Series
 from ego.errors import UnknownDeviceError
 from ego.recording.schemas import SCHEMAS, sensors_schema
+from ego.seam.profile import Command, Firmware
 from ego.serial.firmware import FirmwareInfo
 from ego.serial.link import LinkStats
-from ego.serial.protocol import PROFILES, Command, Firmware
+from ego.serial.profiles import PROFILES
 from ego.servers.dashboard import control, served
 from ego.servers.dashboard.control import ControlDesk
 
 SRC = Path(__file__).resolve().parents[2] / "src" / "ego"
 #: The e-puck2's time-of-flight sensor: a Webots DistanceSensor, its range in mm.
 SONAR_ROW = ("sonar", "sonar", 0, "DistanceSensor", "mm", frozenset({"webots"}))
-SONAR = FamilySpec("sonar", f"{__name__}:Sonar", 99, Command.PROXIMITY,
-                 Series("sonar", "mm", ("sonar",)))  # fmt: skip
-WITH_SONAR = TABLE.extended(rows=[SONAR_ROW], families=[SONAR])
+WITH_SONAR = TABLE.extended(rows=[SONAR_ROW])
 
 
-class Sonar(ArraySensor, table=WITH_SONAR):
-    """A family written against the copy: its names are the copy's row."""
+@WITH_SONAR.declare("sonar", webots_rank=99, series=Series("sonar", "mm", ("sonar",)))
+class Sonar(ArraySensor):
+    """A family declared against the copy: its names are the copy's row."""
 
-    table_family = "sonar"
     family = "sonar"
     command = Command.PROXIMITY
 
@@ -103,9 +104,26 @@ def test_the_robots_families_are_the_tables_in_webots_order() -> None:
 
 
 def test_a_table_row_naming_a_wrong_class_is_refused() -> None:
-    wrong = FamilySpec("sonar", "ego.devices.light:LightSensors", 9)
+    wrong = FamilySpec("sonar", LightSensors, 9)
     with pytest.raises(UnknownDeviceError, match="serves the table's family 'light', not 'sonar'"):
         family_class(wrong)
+
+
+def test_a_family_is_declared_once() -> None:
+    copy = TABLE.extended(rows=[SONAR_ROW])
+    copy.declare("sonar", webots_rank=99)(Sonar)
+    with pytest.raises(ValueError, match="'sonar' is declared twice"):
+        copy.declare("sonar", webots_rank=100)(Sonar)
+
+
+def test_no_family_module_restates_its_family_or_table_row() -> None:
+    """A family module declares its family with the decorator only (no ``table_family``
+    assignment), and nothing else in ego writes a FamilySpec (the declaration does)."""
+    for path in sorted(SRC.rglob("*.py")):
+        text = path.read_text(encoding="utf-8")
+        assert "table_family =" not in text, path
+        if path.name != "table.py":
+            assert "FamilySpec(" not in text, path
 
 
 # -- the consumers ----------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""One integer check (ego.core.validate.check_int) and one rotation check, used everywhere."""
+"""One integer check (ego.seam.validate.check_int) and one rotation check, used everywhere."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ import pytest
 
 from ego.camera import convert, device, encode
 from ego.camera.convert import ROTATIONS, check_rotation
-from ego.core.validate import check_int
 from ego.devices import base
 from ego.errors import OutOfRangeError
+from ego.seam.validate import check_int
 
 
 def test_the_families_and_the_camera_share_the_one_check() -> None:

@@ -15,11 +15,14 @@ from helpers import wait_until
 from zenoh_support import client_session, free_endpoint
 
 from ego.backends.remote.connection import error_from_reply
+from ego.net.frames import Frame, MessageType, decode_frame
 from ego.net.handshake import ClientHandshake
 from ego.net.messages import Ping, Step, pack_request
-from ego.net.wire import Frame, MessageType, decode_frame, unpack_error
+from ego.net.payloads import unpack_error
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.serial.link import Link
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
 from ego.servers.sessions.actions import Action, Peer, Run, Send, StopRobot
 from ego.servers.sessions.control import ControlSession

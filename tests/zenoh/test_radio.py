@@ -67,6 +67,10 @@ def test_a_pose_that_is_not_finite_is_unknown_and_never_within_range(bad: list[f
         (b'{"from": "a", "pose": {"x": 1}}', "pose {'x': 1} is not"),
         (b'{"from": "a", "pose": [true, 0, 0]}', "pose [True, 0, 0] is not"),
         (b'{"from": "' + b"a" * 2000 + b'"}', "attachment of 2012 bytes"),
+        # Issue 32: 1e308 overflowed 1 / distance² (OverflowError in Zenoh's callback).
+        (b'{"from": "a", "pose": [1e308, 0, 0]}', "pose (1e+308, 0) is beyond 1e+06 m"),
+        (b'{"from": "a", "range": 0.5, "pose": [0, -1e308, 0]}', "pose (0, -1e+308) is beyond"),
+        (b'{"from": "a", "pose": [1000001, 0, 0]}', "pose (1e+06, 0) is beyond"),
     ],
 )
 def test_a_malformed_packet_is_refused_with_the_reason(meta: bytes, error: str) -> None:
@@ -151,6 +155,39 @@ def test_malformed_packets_are_dropped_counted_and_logged_once(
         lines = [r.getMessage() for r in caplog.records]
         assert len(lines) == 1 and "dropped a packet (malformed)" in lines[0], lines
         assert "Traceback" not in capfd.readouterr().err
+    finally:
+        there.close()
+        radio.close()
+
+
+def test_a_pose_of_1e308_is_dropped_counted_and_logged_once(
+    caplog: pytest.LogCaptureFixture, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """Issue 32: such a packet raised OverflowError in Zenoh's callback, a traceback on
+    every robot; now it is malformed, as a pose that is not a number is."""
+    endpoint = free_endpoint()
+    here = open_session(ZenohSettings(listen=[endpoint], connect=[]))
+    there = open_session(ZenohSettings(listen=[free_endpoint()], connect=[endpoint]))
+    radio = Radio(here, "b", lambda: [0.0, 0.0, 0.0], owns_session=True)
+    try:
+        radio.listen(1)
+        good = attachment("a", -1.0, [0.1, 0.0, 0.0])
+        assert wait_until(lambda: (there.put("ego/radio/1", b"hi", attachment=good),
+                                   radio.take())[1] != [], 5)  # fmt: skip  # connected
+        huge = [attachment("a", -1.0, [1e308, 0.0, 0.0]),
+                attachment("a", 2.0, [0.0, 1e308, 1.0]),
+                attachment("a", -1.0, [-1e308, -1e308, 0.0])]  # fmt: skip
+        with caplog.at_level("WARNING", logger="ego.zenoh_net.radio"):
+            for _ in range(50):
+                for meta in huge:
+                    there.put("ego/radio/1", b"x", attachment=meta)
+            there.put("ego/radio/1", b"last", attachment=good)
+            assert wait_until(lambda: radio.dropped.get("malformed") == 150, 5)
+            assert wait_until(lambda: b"last" in [p.data for p in radio.take()], 5)
+        lines = [r.getMessage() for r in caplog.records]
+        assert len(lines) == 1 and "beyond 1e+06 m" in lines[0], lines
+        err = capfd.readouterr().err
+        assert "Traceback" not in err and "OverflowError" not in err
     finally:
         there.close()
         radio.close()

@@ -16,11 +16,13 @@ from zenoh_support import client_session, served_node
 import ego
 from ego.backends.zenoh_remote import ZenohChannel
 from ego.controller.radio import RobotRadio
-from ego.core.channel import TappedChannel
 from ego.core.environment import read_environment
 from ego.errors import LinkLostError
 from ego.recording.writer import Recorder
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.seam.batch import Request
+from ego.seam.channel import TappedChannel
+from ego.seam.profile import Command
+from ego.serial.protocol import encode_batch
 from ego.servers.dashboard.served import WatchedChannel
 
 

@@ -18,8 +18,10 @@ import ego
 from benchmarks.zenoh_floods import flood_result, start_ascii_flood
 from ego.backends.remote.connection import error_from_reply
 from ego.errors import InsecureSecretError, RobotBusyError
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.serial.protocol import encode_batch
 from ego.zenoh_net.keys import check_name
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 from firmware_sim.world import stepping_rate
@@ -187,7 +189,7 @@ def test_ego_serve_zenoh_and_ego_run_port_zenoh(tmp_path: Path) -> None:
 
 
 def test_a_group_named_by_a_key_expression_steps_its_robots_in_lockstep() -> None:
-    from ego.core.group import open_group
+    from ego.app.group import open_group
 
     with served_node("lab/a") as a, served_node("lab/b") as b, served_node("other/c") as c:
         # Three nodes on three sessions; the group's robots reach them through a and b.

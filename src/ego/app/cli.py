@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import math
 import re
 import subprocess
 import sys
@@ -18,56 +17,23 @@ from ego.app.cli_options import (
     DEFAULT_DASHBOARD,
     CommandParser,
     add_dashboard_options,
+    camera_size,
+    deadline_ms,
+    demo_dashboard,
     error_line,
     firmware_parent,
-    has_module,
     missing_extra,
+    positive,
+    replay_speed,
     robot_parent,
     seed_parent,
     world_parent,
 )
-from ego.errors import ControllerError, EgoError
+from ego.app.doctor import add_doctor_command
+from ego.errors import ControllerError, ControllerTerminated, EgoError
 from ego.faces import runtime
 
 __all__ = ["build_parser", "main"]
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan  # argparse would only say "invalid _positive value"
-    if not value > 0 or math.isinf(value):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a positive number")
-    return value
-
-
-def _camera_size(text: str) -> tuple[int, int]:
-    width, sep, height = text.lower().partition("x")
-    if not (sep and width.isdigit() and height.isdigit()):
-        raise argparse.ArgumentTypeError(f"{text!r} is not WIDTHxHEIGHT, as 160x120")
-    return int(width), int(height)
-
-
-def _deadline_ms(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of ms") from None
-    if not 1 <= value <= 60000:
-        raise argparse.ArgumentTypeError(f"{value} ms is outside 1..60000")
-    return value
-
-
-def _speed(text: str) -> float:
-    from ego.backends.replay import SPEEDS
-
-    value = _positive(text)
-    if value not in SPEEDS:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not one of {', '.join(f'{s:g}' for s in SPEEDS)}"
-        )
-    return value
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -75,24 +41,14 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     from ego.core.scheduler import tune_for_stepping
 
     tune_for_stepping()  # the CLI owns the process: precise steps (see its docstring)
-    dashboard = None if args.no_dashboard else (args.dashboard or DEFAULT_DASHBOARD)
-    if args.dashboard is None and dashboard is not None and not has_module("aiohttp"):
-        # The dashboard is on by default, not asked for: a board without the dashboard
-        # extra runs the demo without it (asked for with --dashboard, it is an error).
-        print("ego demo: no dashboard (aiohttp is missing: pip install 'ego[dashboard]')",
-              file=sys.stderr)  # fmt: skip
-        dashboard = None
+    dashboard = demo_dashboard(args)
+    if args.pipuck:
+        from ego.app.demo import run_pipuck_demo
+
+        return run_pipuck_demo(args.duration, args.robot, args.seed, args.world, dashboard)
     run_demo(args.duration, args.firmware, args.seed, world=args.world, dashboard=dashboard,
              record=args.record, robot=args.robot)  # fmt: skip
     return 0
-
-
-def _cmd_doctor(args: argparse.Namespace) -> int:
-    from ego.app.doctor import run_doctor
-    from ego.core.environment import read_environment
-
-    port = args.port or read_environment().port or "/dev/ttyS0"
-    return run_doctor(port, probe=not args.no_probe)
 
 
 def _cmd_replay(args: argparse.Namespace) -> int:
@@ -184,9 +140,9 @@ def _secret(args: argparse.Namespace) -> bytes | None:
 def _cmd_run(args: argparse.Namespace) -> int:
     from ego.app.observers import observe_run
     from ego.app.runner import run_controller
-    from ego.backends import takes_option
     from ego.core.environment import read_environment
     from ego.core.ports import resolve_port
+    from ego.core.registry import takes_option
     from ego.core.scheduler import tune_for_stepping
     from ego.servers.supervisor import wants_supervision
 
@@ -242,14 +198,14 @@ def _run_supervised(args: argparse.Namespace, secret: bytes | None) -> int:
         return run_supervised(
             args.controller, passed, args.args, port=args.port,
             firmware=args.firmware or "auto", deadline_s=args.supervisor_deadline_ms / 1000,
-            secret=secret,
+            secret=secret, robot_kind=args.robot,
         )  # fmt: skip
     except KeyboardInterrupt:
         return 130  # the controller, which had the Ctrl-C too, said it stopped
 
 
 def _cmd_sim(args: argparse.Namespace) -> int:
-    from ego.backends import find_backend
+    from ego.core.registry import find_backend
 
     # The emulator's own command line, reached through its backend (ego.backends): the
     # library never imports the emulator.
@@ -321,10 +277,13 @@ def _add_demo(sub: Any) -> None:
         parents=[firmware_parent(emulated=True, default="webots"), seed_parent(1, ""),
                  world_parent("the emulator's world"), robot_parent("the emulated robot")],
     )  # fmt: skip
-    demo.add_argument("--duration", type=_positive, default=20.0, help="seconds (default 20)")
+    demo.add_argument("--duration", type=positive, default=20.0, help="seconds (default 20)")
     add_dashboard_options(demo, "the live dashboard, on unless --no-dashboard", secret=False,
                           off_loopback="loopback only: the demo takes no secret")  # fmt: skip
     demo.add_argument("--no-dashboard", action="store_true", help="no dashboard")
+    demo.add_argument("--pipuck", action="store_true",
+                      help="the robot on an emulated Pi-puck, driven over its I2C bus "
+                      "(ego run --port pipuck in a child process)")  # fmt: skip
     demo.add_argument("--record", default=None, metavar="FILE.mcap", help="record the run")
     demo.set_defaults(func=_cmd_demo)
 
@@ -334,16 +293,16 @@ def _add_run(sub: Any) -> None:
         "run", help="run a Webots controller file unchanged",
         parents=[firmware_parent(emulated=False, default=None),
                  seed_parent(None, " (port sim)"), world_parent("the emulator's world (port sim)"),
-                 robot_parent("the emulated robot (port sim)")],
+                 robot_parent("the robot (port sim or pipuck)")],
     )  # fmt: skip
     run.add_argument("--port", default=None, help="serial port, pyserial URL, 'sim', tcp://, "
-                     "udp://, unix://, zenoh://, epuck2://HOST (an e-puck2 over WiFi) "
-                     "(default: EGO_PORT or /dev/ttyS0)")  # fmt: skip
-    run.add_argument("--duration", type=_positive, default=None,
+                     "udp://, unix://, zenoh://, epuck2://HOST (an e-puck2 over WiFi), "
+                     "pipuck (on a Pi-puck's Pi) (default: EGO_PORT or /dev/ttyS0)")  # fmt: skip
+    run.add_argument("--duration", type=positive, default=None,
                      help="stop after this many seconds of controller time")  # fmt: skip
-    run.add_argument("--time-step", type=_positive, default=32.0,
+    run.add_argument("--time-step", type=positive, default=32.0,
                      help="what getBasicTimeStep() answers, ms (default 32)")  # fmt: skip
-    run.add_argument("--camera", type=_camera_size, default=None, metavar="WxH",
+    run.add_argument("--camera", type=camera_size, default=None, metavar="WxH",
                      help="the Webots face's camera size (default 52x39, Webots' "
                      "e-puck's)")  # fmt: skip
     run.add_argument("--strict", action="store_true", help="where Webots warns and carries "
@@ -361,7 +320,7 @@ def _add_run(sub: Any) -> None:
         "ends (SIGKILL, out of memory, a loop that stops stepping); default: on for the "
         "robot's own UART (/dev/ttyS*), off elsewhere",
     )  # fmt: skip
-    run.add_argument("--supervisor-deadline-ms", type=_deadline_ms, default=500, metavar="MS",
+    run.add_argument("--supervisor-deadline-ms", type=deadline_ms, default=500, metavar="MS",
                      help="a supervised controller that does not step for this long has its "
                      "robot stopped (1..60000, default 500)")  # fmt: skip
     add_dashboard_options(run, "a live dashboard of the robot", secret_help="the shared "
@@ -394,10 +353,10 @@ def _add_replay(sub: Any) -> None:
                         "saying at which step, where it asks what the run did not")  # fmt: skip
     add_dashboard_options(replay, "a dashboard of the replayed robot with --emulate (a "
                           "recording played back is always shown on one)")  # fmt: skip
-    replay.add_argument("--speed", type=_speed, default=1.0, metavar="X",
+    replay.add_argument("--speed", type=replay_speed, default=1.0, metavar="X",
                         help="times real time: 0.25, 0.5, 1, 2 or 4 (default 1); with "
                         "--emulate, the pace of the controller's steps")  # fmt: skip
-    replay.add_argument("--duration", type=_positive, default=None,
+    replay.add_argument("--duration", type=positive, default=None,
                         help="stop serving after this many seconds (default: Ctrl-C)")  # fmt: skip
     replay.set_defaults(func=_cmd_replay)
 
@@ -412,7 +371,7 @@ def _add_swarm(sub: Any) -> None:
                  robot_parent("the emulated robots")],
     )  # fmt: skip
     swarm.add_argument("--robots", type=int, default=4, help="how many (default 4)")
-    swarm.add_argument("--duration", type=_positive, default=None,
+    swarm.add_argument("--duration", type=positive, default=None,
                        help="each controller's duration, seconds of controller time")  # fmt: skip
     swarm.add_argument("--zenoh-endpoint", default="tcp/127.0.0.1:7447", metavar="ENDPOINT",
                        help="where the robots' Zenoh node listens (default loopback)")  # fmt: skip
@@ -465,7 +424,7 @@ def _add_ros2(sub: Any) -> None:
         "ros2", help="run a robot as a ROS 2 node over rmw_zenoh (docs/ros2.md)",
         parents=[firmware_parent(emulated=False, default=None), seed_parent(1, " (port sim)"),
                  world_parent("the emulator's world (port sim)"),
-                 robot_parent("the emulated robot (port sim)")],
+                 robot_parent("the robot (port sim or pipuck)")],
     )  # fmt: skip
     add_arguments(ros2)
     ros2.set_defaults(func=run)
@@ -479,16 +438,7 @@ def _add_tools(sub: Any) -> None:
     plot.add_argument("--out", default=".", metavar="DIR", help="where to write (default .)")
     plot.set_defaults(func=_cmd_plot)
 
-    doctor = sub.add_parser(
-        "doctor", help="on the robot: check Python, the packages, the port, I2C, the camera, "
-        "the firmware and memory; each line says ok or what to do",
-    )  # fmt: skip
-    doctor.add_argument("--port", default=None,
-                        help="the robot's port (default $EGO_PORT, else /dev/ttyS0)")  # fmt: skip
-    doctor.add_argument("--no-probe", action="store_true",
-                        help="do not open the port to ask which firmware answers")  # fmt: skip
-    doctor.set_defaults(func=_cmd_doctor)
-
+    add_doctor_command(sub)
     bench = sub.add_parser("bench", help="reproduce the thesis' tables (benchmarks/)")
     bench.add_argument(
         "--quick", action="store_true", help="few repetitions, small sizes: a smoke test"
@@ -523,6 +473,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     try:
         return int(args.func(args))
+    except ControllerTerminated as exc:
+        print(f"ego: {exc}", file=sys.stderr)  # the robot was stopped at the first -1
+        return int(exc.code)  # type: ignore[arg-type]  # always an int: TERMINATED_STATUS
     except ControllerError as exc:
         # The user's own file and line, always: ego's frames are left out (-vv: all).
         shown = "".join(traceback.format_exception(exc.__cause__)) if args.verbose > 1 else None

@@ -11,17 +11,23 @@ from __future__ import annotations
 
 import argparse
 import copy
+import math
 import sys
 from collections.abc import Sequence
 from typing import Any
 
-from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmware
+from ego.seam.profile import FIRMWARE_CHOICES, Firmware
 
 __all__ = [
     "DEFAULT_DASHBOARD",
+    "MAX_DEADLINE_MS",
     "CommandParser",
     "add_dashboard_options",
+    "camera_size",
+    "deadline_ms",
     "firmware_parent",
+    "positive",
+    "replay_speed",
     "robot_parent",
     "seed_parent",
     "world_parent",
@@ -147,18 +153,20 @@ def firmware_parent(*, emulated: bool, default: str | None) -> argparse.Argument
         else "the dsPIC's firmware (default: auto, asked with V and C at open)"
     )
     parent.add_argument(
-        "--firmware", choices=(*choices, *DEPRECATED_FIRMWARE_NAMES), default=default,
+        "--firmware", choices=choices, default=default,
         metavar="{" + ",".join(choices) + "}", help=help_text,
     )  # fmt: skip
     return parent
 
 
 def robot_parent(what: str) -> argparse.ArgumentParser:
-    """``--robot epuck|epuck2``: which robot the emulator models (port sim)."""
+    """``--robot epuck|epuck2``: which robot the emulator models (port sim), or which one
+    a Pi-puck carries (port pipuck)."""
     parent = argparse.ArgumentParser(add_help=False)
     parent.add_argument(
         "--robot", choices=("epuck", "epuck2"), default=None,
-        help=f"{what}: an e-puck (default) or a GCtronic e-puck2 on its USB link",
+        help=f"{what}: an e-puck or a GCtronic e-puck2 (default: an e-puck on the "
+        "emulator, detected on a Pi-puck)",
     )  # fmt: skip
     return parent
 
@@ -199,6 +207,54 @@ EXTRAS = {
 SECRET_REMEDY = "pass --secret-file FILE (ego secret makes one), or set EGO_SECRET_FILE"
 
 
+def positive(text: str) -> float:
+    """An argparse type: a finite number above 0 (seconds, a time step)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan  # argparse would only say "invalid positive value"
+    if not value > 0 or math.isinf(value):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a positive number")
+    return value
+
+
+def camera_size(text: str) -> tuple[int, int]:
+    """An argparse type: a camera size as WIDTHxHEIGHT."""
+    width, sep, height = text.lower().partition("x")
+    if not (sep and width.isdigit() and height.isdigit()):
+        raise argparse.ArgumentTypeError(f"{text!r} is not WIDTHxHEIGHT, as 160x120")
+    return int(width), int(height)
+
+
+def replay_speed(text: str) -> float:
+    """An argparse type: one of the speeds a replay plays at."""
+    from ego.backends.replay import SPEEDS
+
+    value = positive(text)
+    if value not in SPEEDS:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not one of {', '.join(f'{s:g}' for s in SPEEDS)}"
+        )
+    return value
+
+
+#: The longest deadline (or period) a command accepts: beyond a minute a deadman no
+#: longer protects anyone, and a longer step is a unit mistake.
+MAX_DEADLINE_MS = 60_000
+
+
+def deadline_ms(text: str) -> int:
+    """An argparse type for every ``--*-deadline-ms`` (and ``ego ros2 --period-ms``):
+    whole milliseconds within 1..MAX_DEADLINE_MS, refused with one message otherwise."""
+    stripped = text.strip()
+    value = int(stripped) if stripped.isdigit() and len(stripped) < 12 else -1
+    if not 1 <= value <= MAX_DEADLINE_MS:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a whole number of milliseconds within 1..{MAX_DEADLINE_MS}"
+        )
+    return value
+
+
 def error_line(exc: BaseException) -> str:
     """What the command line says of ``exc``: options where Python would name arguments."""
     from ego.errors import SecretRequiredError
@@ -225,3 +281,15 @@ def has_module(name: str) -> bool:
     import importlib.util
 
     return importlib.util.find_spec(name) is not None
+
+
+def demo_dashboard(args: argparse.Namespace) -> str | None:
+    """Where ``ego demo`` serves its dashboard, or None. It is on by default, not asked
+    for: without the dashboard extra the demo runs without it and says so in one line
+    (asked for with --dashboard, a missing aiohttp is an error naming the extra)."""
+    dashboard: str | None = None if args.no_dashboard else (args.dashboard or DEFAULT_DASHBOARD)
+    if args.dashboard is None and dashboard is not None and not has_module("aiohttp"):
+        print("ego demo: no dashboard (aiohttp is missing: pip install 'ego[dashboard]')",
+              file=sys.stderr)  # fmt: skip
+        dashboard = None
+    return dashboard

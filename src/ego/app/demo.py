@@ -7,17 +7,17 @@ import sys
 import time
 from dataclasses import dataclass, field
 from importlib import resources
-from typing import TextIO
+from typing import Any, TextIO
 
 from ego.app.observers import observe_run
 from ego.app.runner import run_controller
-from ego.controller.devices import WEBOTS_CAMERA_SIZE
+from ego.controller.camera import WEBOTS_CAMERA_SIZE
 from ego.core.ports import default_baud
 from ego.core.robot import Robot
 from ego.faces import runtime
-from ego.serial.protocol import Firmware
+from ego.seam.profile import Firmware
 
-__all__ = ["DemoReport", "run_demo"]
+__all__ = ["DemoReport", "run_demo", "run_pipuck_demo"]
 
 _BARS = " ▁▂▃▄▅▆▇█"
 #: How often the demo's camera takes a frame for the dashboard (ms).
@@ -141,3 +141,39 @@ def run_demo(
         f"{report.closest_approach_mm:.1f} mm; motors stopped, LEDs off\n"
     )
     return report
+
+
+def run_pipuck_demo(
+    duration_s: float = 20.0,
+    robot: str | None = None,
+    seed: int | None = 1,
+    world: str | None = None,
+    dashboard: str | None = None,
+    out: TextIO = sys.stdout,
+) -> int:
+    """The same controller on an emulated Pi-puck (``robot`` "epuck2" by default, or
+    "epuck"): a child ``ego run --port pipuck`` whose environment reaches the emulator's
+    I2C buses through its shim, as a real Pi's ``/dev/i2c-N``; its exit status."""
+    import subprocess
+
+    from ego.core.registry import find_backend
+
+    backend: Any = find_backend("sim")  # the emulator's bridge; ego never imports it
+    which = robot or "epuck2"
+    out.write(f"ego demo: a Webots obstacle-avoidance controller drives an emulated {which} "
+              f"on a Pi-puck, over its I2C bus, for {duration_s:g} s\n")  # fmt: skip
+    out.flush()
+    controller = resources.files("ego.examples") / "obstacle_avoidance.py"
+    command = [sys.executable, "-m", "ego", "run", "--port", "pipuck", "--robot", which,
+               "--duration", f"{duration_s:g}"]  # fmt: skip
+    if dashboard is not None:
+        command += ["--dashboard-address", dashboard]
+    with resources.as_file(controller) as path, backend.pipuck_environment(
+        robot, seed, world
+    ) as environment:
+        status = subprocess.call([*command, str(path)], env=environment)
+    if status == 0:
+        out.write("summary: the controller ran its time on the Pi-puck; motors stopped, "
+                  "LEDs off\n")  # fmt: skip
+    return int(status)
+

@@ -8,6 +8,7 @@ controller cannot run until it is fixed), each with what to do. The command's st
 
 from __future__ import annotations
 
+import argparse
 import grp
 import importlib.metadata
 import math
@@ -17,7 +18,7 @@ import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal, TextIO
+from typing import Any, Literal, TextIO
 
 Status = Literal["ok", "note", "fail"]
 
@@ -252,3 +253,23 @@ def run_doctor(port: str, probe: bool = True, out: TextIO | None = None) -> int:
     verdict = "a controller can run" if not failed else f"{len(failed)} to fix first"
     print(f"ego doctor: {verdict}", file=out, flush=True)
     return 1 if failed else 0
+
+
+def add_doctor_command(sub: Any) -> None:
+    """``ego doctor [--port P] [--no-probe]`` on the ego command's subparsers."""
+    doctor = sub.add_parser(
+        "doctor", help="on the robot: check Python, the packages, the port, I2C, the camera, "
+        "the firmware and memory; each line says ok or what to do",
+    )  # fmt: skip
+    doctor.add_argument("--port", default=None,
+                        help="the robot's port (default $EGO_PORT, else /dev/ttyS0)")  # fmt: skip
+    doctor.add_argument("--no-probe", action="store_true",
+                        help="do not open the port to ask which firmware answers")  # fmt: skip
+    doctor.set_defaults(func=_cmd_doctor)
+
+
+def _cmd_doctor(args: argparse.Namespace) -> int:
+    from ego.core.environment import read_environment
+
+    port = args.port or read_environment().port or "/dev/ttyS0"
+    return run_doctor(port, probe=not args.no_probe)

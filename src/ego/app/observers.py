@@ -38,7 +38,7 @@ def observe_run(
         stack.callback(recorder.close)
         options.on_robot.append(recorder.attach)
     if dashboard is not None:
-        from ego.controller.inputs import FaceKeys
+        from ego.controller.keyboard import FaceKeys
         from ego.faces.default_robot import current_context
         from ego.net.auth import load_secret
         from ego.servers.dashboard.live import RobotDashboard

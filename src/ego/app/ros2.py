@@ -16,6 +16,7 @@ import threading
 from contextlib import ExitStack
 from typing import Any
 
+from ego.app.cli_options import deadline_ms
 from ego.core.safety import TERMINATING_SIGNALS
 
 __all__ = ["add_arguments", "run", "wait_for_signal"]
@@ -24,11 +25,6 @@ __all__ = ["add_arguments", "run", "wait_for_signal"]
 DEFAULT_ROUTER = "tcp/127.0.0.1:7447"
 
 
-def _deadline_ms(text: str) -> int:
-    value = int(text) if text.strip().isdigit() and len(text.strip()) < 7 else -1
-    if not 1 <= value <= 60_000:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of ms in 1..60000")
-    return value
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -38,19 +34,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "else /dev/ttyS0)")  # fmt: skip
     parser.add_argument("--router", action="append", metavar="ENDPOINT",
                         help=f"the ROS machine's rmw_zenohd, repeatable (default "
-                        f"{DEFAULT_ROUTER}); off loopback a --zenoh-config with Zenoh's "
-                        "authentication is required")  # fmt: skip
-    parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration")
+                        f"{DEFAULT_ROUTER}); ego is a Zenoh client of it. Off loopback "
+                        "a --zenoh-config giving ego Zenoh credentials is required")  # fmt: skip
+    parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration "
+                        "(its transport.auth.usrpwd user and password: docs/ros2.md)")  # fmt: skip
+    parser.add_argument("--allow-unauthenticated-router", action="store_true",
+                        help="connect to a router off loopback without credentials: anyone "
+                        "who reaches that router can then drive the robot")  # fmt: skip
     parser.add_argument("--domain", type=int, default=0, help="ROS_DOMAIN_ID (default 0)")
-    parser.add_argument("--namespace", default="/", help="the node's namespace (default /)")
+    parser.add_argument("--namespace", default="/", help="the node's namespace (default /; "
+                        "a relative one goes under /, as in ROS)")  # fmt: skip
     parser.add_argument("--node-name", default="epuck_driver",
                         help="the node's name (default epuck_driver, epuck_ros2's)")  # fmt: skip
     parser.add_argument("--distro", default="jazzy", choices=("jazzy", "humble", "kilted"),
                         help="the ROS 2 distribution whose rmw_zenoh format to speak "
                         "(default jazzy)")  # fmt: skip
-    parser.add_argument("--period-ms", type=_deadline_ms, default=64,
+    parser.add_argument("--period-ms", type=deadline_ms, default=64,
                         help="step and publish period, ms (default 64, epuck_ros2's)")  # fmt: skip
-    parser.add_argument("--deadline-ms", type=_deadline_ms, default=500,
+    parser.add_argument("--deadline-ms", type=deadline_ms, default=500,
                         help="stop the wheels when cmd_vel is silent this long "
                         "(default 500)")  # fmt: skip
     parser.add_argument("--duration", type=float, default=None,
@@ -60,12 +61,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Bridge the robot until a signal (or ``--duration``) ends it."""
     from ego.core.environment import read_environment
-    from ego.ros2.names import check_namespace, check_node_name
+    from ego.ros2.extras import check_installed
+    from ego.ros2.names import check_node_name, node_namespace
     from ego.zenoh_net.sessions import ZenohSettings
 
     environment = read_environment()  # once, at the edge
-    check_namespace(args.namespace)
+    args.namespace = node_namespace(args.namespace)  # "epuck" is "/epuck", as in rcl
     check_node_name(args.node_name)
+    check_installed()
     settings = ZenohSettings.from_environment(
         environment, listen=None, connect=args.router or [DEFAULT_ROUTER],
         config_file=args.zenoh_config,
@@ -96,18 +99,23 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     """Open the session, the robot, the node and its bridge, and start stepping; each
     closed by ``stack`` in the reverse order (the runner joined first, the robot stopped
     before the tokens go)."""
+    from ego.core.registry import takes_option
     from ego.core.robot import Robot
     from ego.ros2.participant import Participant
-    from ego.serial.protocol import Firmware
+    from ego.seam.profile import Firmware
     from ego.servers.ros2_node.bridge import Ros2Bridge
+    from ego.servers.ros2_node.router import open_router_session
     from ego.servers.ros2_node.runner import NodeRunner
-    from ego.zenoh_net.sessions import open_session
 
-    session = open_session(settings)
+    allow = bool(getattr(args, "allow_unauthenticated_router", False))
+    session = open_router_session(settings.connect, settings.config_file,
+                                  allow_unauthenticated=allow)  # fmt: skip
     stack.callback(session.close)
     options: dict[str, Any] = {"firmware": Firmware.choose(args.firmware or "auto")}
     if (args.port or "") == "sim":
         options.update(seed=args.seed, world=args.world, robot=args.robot)
+    elif args.robot is not None and takes_option(args.port or "", "robot"):
+        options.update(robot=args.robot)  # a Pi-puck's
     robot = Robot(args.port, environment=environment, **options)
     stack.callback(robot.close)
     node = Participant(session, args.node_name, namespace=args.namespace,
@@ -115,7 +123,7 @@ def open_bridged(stack: ExitStack, args: argparse.Namespace, settings: Any,
     stack.callback(node.close)
     bridge = Ros2Bridge(robot, node, period_ms=args.period_ms,
                         deadline_s=args.deadline_ms / 1000).attach()  # fmt: skip
-    stack.callback(bridge.detach)
+    stack.callback(bridge.close)
     runner = NodeRunner(robot, args.period_ms, args.node_name).start()
     stack.callback(runner.close)
     return Bridged(robot, node, bridge, runner)

@@ -65,8 +65,9 @@ def _alias_controller_package() -> list[str]:
     """Make ``controller`` and its submodules name ego.controller's, as Webots ships them.
 
     ``controller.robot`` must be ``ego.controller.robot`` itself: loaded a second time
-    under another name, it would make a second ``Robot`` class. The submodules that only
-    re-export (``controller.distance_sensor``) may load under either name.
+    under another name, it would make a second ``Robot`` class, and so would every
+    module holding a class (``controller.distance_sensor``): the package imports them
+    all, so each is aliased here.
     """
     aliases = ["controller"]
     sys.modules["controller"] = ego.controller

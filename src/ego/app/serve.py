@@ -13,48 +13,30 @@ import argparse
 import asyncio
 import contextlib
 import logging
-import os
 import signal
 import sys
 import threading
-from collections.abc import Callable
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from ego.app.cli_options import add_dashboard_options, error_line
-from ego.backends import open_port, takes_option
-from ego.core.channel import Channel
-from ego.core.closing import close_each
+from ego.app.cli_options import add_dashboard_options, deadline_ms, error_line
+from ego.camera.v4l2 import DEFAULT_CAMERA_DEVICE
 from ego.core.environment import Environment, read_environment
-from ego.core.ports import DEFAULT_CAMERA_DEVICE
 from ego.core.safety import TERMINATING_SIGNALS
 from ego.errors import EgoError
 from ego.net.auth import load_secret
-from ego.serial.protocol import DEPRECATED_FIRMWARE_NAMES, FIRMWARE_CHOICES, Firmware
+from ego.seam.channel import Channel
+from ego.seam.profile import FIRMWARE_CHOICES
+from ego.servers.robot import ServedRobot, open_robot
 from ego.servers.socket.server import DEFAULT_DEADLINE_S, DEFAULT_LISTEN, Server, check_listen
 
 if TYPE_CHECKING:
-    from ego.camera.source import FrameSource
-    from ego.core.ground_truth import GroundTruth
+    pass
 
-__all__ = ["ServedRobot", "add_arguments", "open_robot", "run"]
+__all__ = ["add_arguments", "run"]
 
 log = logging.getLogger(__name__)
 
 
-#: The longest deadman ego serve accepts: beyond a minute it no longer protects anyone.
-MAX_DEADLINE_MS = 60_000
-
-
-def _deadline_ms(text: str) -> int:
-    """An argparse type: whole milliseconds within 1..MAX_DEADLINE_MS."""
-    value = int(text) if text.strip().isdigit() and len(text.strip()) < 12 else -1
-    if not 1 <= value <= MAX_DEADLINE_MS:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not a whole number of milliseconds within 1..{MAX_DEADLINE_MS} "
-            "(the deadman stops the motors when the client is silent this long)"
-        )
-    return value
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -62,8 +44,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--port",
         default=None,
-        help="serial port of the dsPIC, or 'sim' for the built-in emulator "
-        "(default: $EGO_PORT, else /dev/ttyS0)",
+        help="serial port of the dsPIC, 'sim' for the built-in emulator, or 'pipuck' on a "
+        "Pi-puck's Pi (default: $EGO_PORT, else /dev/ttyS0)",
+    )
+    parser.add_argument(
+        "--robot", choices=("epuck", "epuck2"), default=None,
+        help="which robot: the emulated one (port sim), or the one a Pi-puck carries "
+        "(port pipuck; default: detected)",
     )
     parser.add_argument(
         "--listen",
@@ -80,14 +67,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--firmware",
-        choices=(*FIRMWARE_CHOICES, *DEPRECATED_FIRMWARE_NAMES),
+        choices=FIRMWARE_CHOICES,
         metavar="{auto,gctronic,webots}",
         default="auto",
         help="dsPIC firmware (default: ask the robot); with --port sim, the one emulated",
     )
     parser.add_argument(
         "--deadline-ms",
-        type=_deadline_ms,
+        type=deadline_ms,
         default=round(DEFAULT_DEADLINE_S * 1000),
         help="stop the motors when the client is silent this long (default: %(default)s)",
     )
@@ -128,58 +115,6 @@ def _add_zenoh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--zenoh-config", metavar="FILE", help="a Zenoh JSON5 configuration")
 
 
-@dataclass
-class ServedRobot:
-    """What ``ego serve`` opened: the channel, the camera, and how to close them all."""
-
-    channel: Channel
-    camera: FrameSource | None = None
-    closers: list[Callable[[], None]] = field(default_factory=list)
-    #: What the simulator behind a simulated robot knows of it (its world), else None.
-    world: GroundTruth | None = None
-    #: The robot's name in a failure's log line: its port.
-    name: str = "robot"
-
-    def close(self) -> None:
-        close_each(self.name, self.closers, log)
-
-
-def open_robot(
-    port: str | None,
-    firmware: str = "auto",
-    camera: str | None = None,
-    secret: bytes | None = None,
-    environment: Environment | None = None,
-) -> ServedRobot:
-    """The robot on ``port`` (any backend's: "sim" starts an emulator) and its camera;
-    ``secret`` goes to a backend that takes one (a robot served elsewhere).
-    ``environment`` None: this process's (EGO_PORT, EGO_CAMERA...), read now."""
-    from ego.core.ports import resolve_port
-
-    environment = environment or read_environment()
-    resolved = resolve_port(port, environment.port)
-    # Only a device named on the command line goes to the backend (the emulator has no
-    # V4L2 devices, and says so when given one).
-    options: dict[str, Any] = {"camera_device": camera} if camera not in (None, "none") else {}
-    if secret is not None and takes_option(resolved, "secret"):
-        options["secret"] = secret
-    opened = open_port(
-        resolved, environment=environment, firmware=Firmware.choose(firmware), **options
-    )
-    robot = ServedRobot(
-        opened.channel, closers=[opened.close], world=opened.ground_truth, name=resolved
-    )
-    device = camera or environment.camera
-    # Serve the backend's camera: a simulated one always, a V4L2 device when named or
-    # present (a robot without its camera board serves none rather than fail).
-    wanted = opened.ground_truth is not None or device is not None
-    present = wanted or os.path.exists(DEFAULT_CAMERA_DEVICE)
-    if device != "none" and opened.camera is not None and present:
-        robot.camera = opened.camera()
-        robot.closers.insert(0, robot.camera.close)
-    return robot
-
-
 def run(args: argparse.Namespace) -> int:
     """Serve until a signal ends it (SIGINT, SIGTERM, SIGHUP...), then stop the robot."""
     if not logging.getLogger().handlers:
@@ -197,7 +132,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"ego serve: {exc}", file=sys.stderr)
         return 2
     try:
-        robot = open_robot(args.port, args.firmware, args.camera, secret, environment)
+        robot = open_robot(args.port, args.firmware, args.camera, secret, environment,
+                           args.robot)
     except EgoError as exc:
         print(f"ego serve: {error_line(exc)}", file=sys.stderr)
         return 1

@@ -26,9 +26,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import IO, Any
 
-from ego.backends import Opened, find_backend, open_port
+from ego.core.backend import Opened
 from ego.core.closing import close_each
-from ego.serial.protocol import Firmware
+from ego.core.registry import find_backend, open_port
+from ego.seam.profile import Firmware
 
 __all__ = ["MAX_ROBOTS", "Swarm", "robot_name", "robot_seed"]
 
@@ -218,13 +219,15 @@ def run_ros2(count: int, world: str | None, firmware: str, seed: int | None, rou
 
     from ego.app.ros2 import wait_for_signal
     from ego.core.environment import read_environment
+    from ego.servers.ros2_node.router import open_router_session
     from ego.servers.ros2_node.swarm import RosSwarm
-    from ego.zenoh_net.sessions import ZenohSettings, open_session
+    from ego.zenoh_net.sessions import ZenohSettings
 
     if not 1 <= count <= MAX_ROBOTS:
         raise ValueError(f"a swarm of {count} robots: 1..{MAX_ROBOTS} are served")
     settings = ZenohSettings.from_environment(read_environment(), listen=None, connect=router)
-    session: Any = open_session(settings)
+    # A client of the router, checked as ego ros2's (docs/ros2.md, "Who can drive").
+    session: Any = open_router_session(settings.connect, settings.config_file)
     try:
         seeds = [robot_seed(seed, index) for index in range(count)]
         with RosSwarm(count, session, world=world, firmware=firmware, seeds=seeds,

@@ -29,9 +29,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, ClassVar
 
-from ego.backends.base import BackendOptions, Opened
-from ego.core.channel import ChannelBase, FirmwareInfo
-from ego.core.profile import Firmware
+from ego.core.backend import BackendOptions, Opened
 from ego.core.safety import stop_requests
 from ego.core.scheduler import StepClock
 from ego.errors import (
@@ -42,8 +40,11 @@ from ego.errors import (
     UnsupportedDeviceError,
 )
 from ego.recording.reader import Recording
+from ego.seam.batch import Batch
+from ego.seam.channel import ChannelBase, FirmwareInfo
+from ego.seam.profile import Firmware
 from ego.serial.firmware import profile_for
-from ego.serial.protocol import Batch, parse_batch
+from ego.serial.protocol import parse_batch
 
 __all__ = ["SPEEDS", "ReplayBackend", "ReplayChannel", "ReplayDivergedError", "ReplayEndedError"]
 
@@ -174,7 +175,7 @@ def _reply_times_ns(recording: Recording) -> list[int]:
 class ReplayBackend:
     """``Robot("replay://run.mcap")``: the run recorded in that file, at ``?speed=X``.
 
-    It takes ``firmware`` alone (:class:`~ego.backends.base.BackendOptions`): checked
+    It takes ``firmware`` alone (:class:`~ego.core.backend.BackendOptions`): checked
     against the recorded robot's."""
 
     options: ClassVar[type[BackendOptions]] = BackendOptions

@@ -10,10 +10,11 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
-from ego.backends.base import BackendOptions, Opened, check
-from ego.core.ports import DEFAULT_CAMERA_DEVICE, default_baud
+from ego.camera.v4l2 import DEFAULT_CAMERA_DEVICE
+from ego.core.backend import BackendOptions, Opened, check
+from ego.core.ports import default_baud
+from ego.seam.profile import Firmware
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import Firmware
 from ego.serial.transport import check_baudrate
 
 if TYPE_CHECKING:

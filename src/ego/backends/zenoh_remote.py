@@ -19,12 +19,12 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, TypeVar
 
-from ego.backends.base import BackendOptions, Opened
 from ego.backends.remote.channel import info_from
 from ego.backends.remote.connection import error_from_reply
-from ego.core.channel import ChannelBase
+from ego.core.backend import BackendOptions, Opened
 from ego.core.ground_truth import TruePose
 from ego.errors import FirmwareMismatchError, LinkLostError
+from ego.seam.channel import ChannelBase
 from ego.zenoh_net.keys import check_name, robot_key
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 
@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     import zenoh
 
     from ego.core.environment import Environment
-    from ego.serial.protocol import Batch
+    from ego.seam.batch import Batch
 
 __all__ = ["SCHEME", "ZenohBackend", "ZenohChannel", "ZenohOptions"]
 

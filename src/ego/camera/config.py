@@ -42,7 +42,6 @@ from typing import Final, Protocol
 
 from ego.camera.convert import ROTATIONS
 from ego.camera.source import CONTROLS
-from ego.core.files import read_regular
 from ego.errors import (
     BadFileError,
     CameraConfigError,
@@ -50,6 +49,7 @@ from ego.errors import (
     SettingOutOfRangeError,
     UnknownSettingError,
 )
+from ego.seam.files import read_regular
 
 __all__ = [
     "MAX_CONFIG_BYTES",

@@ -47,8 +47,8 @@ from typing import Any, Final, Literal
 import numpy as np
 import numpy.typing as npt
 
-from ego.core.validate import ROTATIONS, check_rotation  # re-exported: the camera's checks
 from ego.errors import FrameSizeError, OutOfRangeError
+from ego.seam.validate import ROTATIONS, check_rotation
 
 try:
     import cv2

@@ -19,16 +19,16 @@ from ego.camera.convert import (
     check_rotation,
 )
 from ego.camera.frames import frame_to_rgb888
-from ego.camera.pixels import PixelReads
-from ego.camera.sampling import CameraSampling
+from ego.camera.pixels import BgraCopy, PixelReads
+from ego.camera.sampling import SamplingSchedule
 from ego.camera.source import (
     FieldOfViewControl,
     FrameSource,
     GrantedFormat,
     PixelFormat,
 )
-from ego.core.validate import check_int
 from ego.errors import CameraError, OutOfRangeError
+from ego.seam.validate import check_int
 
 __all__ = ["DEFAULT_FOV_RAD", "Camera"]
 
@@ -76,15 +76,14 @@ def sensor_size_for(width: int, height: int, rotation: int) -> tuple[int, int]:
     return (height, width) if rotation in (90, 270) else (width, height)
 
 
-class Camera(CameraControls, PixelReads, CameraSampling):
+class Camera(CameraControls, PixelReads):
     """The camera: a frame source, converted to RGB888 and rotated each time it is due.
 
     The image is delivered upright by default (``rotation=180`` undoes the upside-down
     mounting). Sizes are the image's (after rotation); the sensor takes 32x32..640x480.
-    Controls outside their documented range are refused (:class:`OutOfRangeError`);
-    inside it, the device may still clamp to its own range, and the property then
-    reports the value it took. Controls set before the source opens are applied when it
-    does; those never set keep the device's own defaults (and read ``None``).
+    Controls (:class:`~ego.camera.controls.CameraControls`) outside their documented range
+    are refused; inside it, the device may still clamp, and the property reports what it
+    took. Those set before the source opens are applied when it does.
 
     ``image`` is refreshed in place by each capture (no allocation per frame, as the
     thesis' pointer and Webots' getImage): copy it to keep a frame.
@@ -122,11 +121,9 @@ class Camera(CameraControls, PixelReads, CameraSampling):
         self._fov_rad = check_fov(fov_rad)
         self._granted: GrantedFormat | None = None
         self._controls: dict[str, int] = {}  # requested, or granted once applied
-        self._period_ms: int | None = None
-        self._next_due_ms: float | None = None
+        self._schedule = SamplingSchedule()
         self._rgb: Image | None = None
-        self._bgra: Image | None = None
-        self._bgra_frame = -1
+        self._bgra = BgraCopy()
         self._frames = 0
         self._closed = False
 
@@ -134,28 +131,66 @@ class Camera(CameraControls, PixelReads, CameraSampling):
 
     def _open_source(self) -> None:
         """(Re)open the source at the sensor size, then apply the controls set so far."""
-        self._check_open()
+        self.check_open()
         asked_w, asked_h = self._sensor
         granted = self._source.open(asked_w, asked_h, self._pixel_format)
         if (granted.width, granted.height) != (asked_w, asked_h):
-            log.info(
-                "%s: asked %dx%d, the source granted %dx%d",
-                self.name,
-                asked_w,
-                asked_h,
-                granted.width,
-                granted.height,
-            )
+            log.info("%s: asked %dx%d, the source granted %dx%d",
+                     self.name, asked_w, asked_h, granted.width, granted.height)  # fmt: skip
         self._granted = granted
         self._sensor = (granted.width, granted.height)
         self._rgb = None
         for control, value in list(self._controls.items()):
             self._controls[control] = self._source.set_control(control, value)
 
+    def enable(self, period_ms: int) -> None:
+        """Capture a frame every ``period_ms`` ms (> 0); opens the source on first use."""
+        period_ms = self._schedule.checked(period_ms)
+        if self._granted is None:
+            self._open_source()
+        self.check_open()
+        self._schedule.start(period_ms)
+
+    def disable(self) -> None:
+        """Stop sampling (the source stays open: enabling again is quick)."""
+        self._schedule.stop()
+
+    @property
+    def sampling_period(self) -> int | None:
+        """The sampling period in ms, or ``None`` when disabled."""
+        return self._schedule.period_ms
+
+    def is_due(self, now_ms: float) -> bool:
+        """Whether ``update(now_ms)`` would capture a frame."""
+        return not self._closed and self._schedule.is_due(now_ms)
+
+    def update(self, now_ms: float) -> bool:
+        """Capture and convert a frame if one is due at ``now_ms`` (the step clock's time);
+        True if it did (:class:`~ego.camera.sampling.SamplingSchedule`)."""
+        if not self.is_due(now_ms):
+            return False
+        self.capture()
+        self._schedule.taken(now_ms)
+        return True
+
     @property
     def source(self) -> FrameSource:
         """Where the frames come from."""
         return self._source
+
+    @property
+    def granted(self) -> GrantedFormat | None:
+        """What the source granted when it opened; None until it did."""
+        return self._granted
+
+    @property
+    def control_values(self) -> dict[str, int]:
+        """The controls set, by name: as asked until the source opens, as granted after."""
+        return self._controls
+
+    def check_open(self) -> None:
+        if self._closed:  # CameraError once closed
+            raise CameraError(f"{self.name} is closed")
 
     @property
     def pixel_format(self) -> PixelFormat:
@@ -164,7 +199,7 @@ class Camera(CameraControls, PixelReads, CameraSampling):
 
     def capture(self) -> Image:
         """Read one frame from the source now (schedule aside) and convert it."""
-        self._check_open()
+        self.check_open()
         if self._granted is None:
             self._open_source()
         granted = self._granted
@@ -190,11 +225,15 @@ class Camera(CameraControls, PixelReads, CameraSampling):
     def image(self) -> Image:
         """The last frame, RGB888 ``(height, width, 3)`` uint8, read-only, refreshed in place."""
         if self._rgb is None or self._frames == 0:
-            state = "is not enabled" if self._period_ms is None else "has no frame yet"
+            state = "is not enabled" if self.sampling_period is None else "has no frame yet"
             raise CameraError(f"{self.name} {state}: enable(period_ms) it, then step")
         view = self._rgb.view()
         view.flags.writeable = False
         return view
+
+    @property
+    def bgra_copy(self) -> BgraCopy:
+        return self._bgra  # the last frame's BGRA copy (image_bgra)
 
     @property
     def frame_count(self) -> int:
@@ -224,7 +263,7 @@ class Camera(CameraControls, PixelReads, CameraSampling):
         ``width``/``height``.
         """
         sensor = sensor_size_for(width, height, self._rotation)
-        self._check_open()
+        self.check_open()
         self._sensor = sensor
         if self._granted is not None:
             self._open_source()
@@ -232,11 +271,8 @@ class Camera(CameraControls, PixelReads, CameraSampling):
 
     @property
     def rotation(self) -> int:
-        """Degrees counter-clockwise applied to the sensor's frames: 0, 90, 180 (default), 270.
-
-        180 undoes the upside-down mounting; 0 shows the frame as the sensor delivers
-        it. 90 and 270 swap ``width`` and ``height`` (the sensor keeps its size).
-        """
+        """Degrees counter-clockwise applied to the sensor's frames: 0, 90, 180 (default:
+        undoes the upside-down mounting), 270; 90 and 270 swap ``width`` and ``height``."""
         return self._rotation
 
     @rotation.setter
@@ -266,7 +302,7 @@ class Camera(CameraControls, PixelReads, CameraSampling):
         if self._closed:
             return
         self._closed = True
-        self._period_ms = None
+        self._schedule.stop()
         self._source.close()
 
     def __enter__(self) -> Camera:
@@ -281,7 +317,8 @@ class Camera(CameraControls, PixelReads, CameraSampling):
         self.close()
 
     def __repr__(self) -> str:
-        period = "disabled" if self._period_ms is None else f"every {self._period_ms} ms"
+        period_ms = self.sampling_period
+        period = "disabled" if period_ms is None else f"every {period_ms} ms"
         state = "closed" if self._closed else period
         return (
             f"<Camera {self.name!r} {self.width}x{self.height} rotation {self._rotation} "

@@ -29,8 +29,8 @@ from typing import Final
 import numpy as np
 import numpy.typing as npt
 
-from ego.core.validate import check_int
 from ego.errors import ImageFormatError, OutOfRangeError
+from ego.seam.validate import check_int
 
 try:
     import cv2

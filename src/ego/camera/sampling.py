@@ -1,79 +1,52 @@
-"""The camera's sampling: enabled at a period, captured by the step when it is due."""
+"""The camera's sampling schedule: a period, and absolute deadlines a capture is due at."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
-from ego.core.validate import check_int
-from ego.devices.base import MAX_PERIOD_MS
 from ego.errors import OutOfRangeError
+from ego.seam.validate import MAX_PERIOD_MS, check_int
 
-if TYPE_CHECKING:
-    from ego.camera.source import GrantedFormat
-
-__all__ = ["CameraSampling"]
+__all__ = ["SamplingSchedule"]
 
 
-class CameraSampling:
-    """The part of :class:`~ego.camera.Camera` the step clock drives (the scheduler's
-    interface): a period, absolute deadlines, a capture when one is due."""
+class SamplingSchedule:
+    """When a camera's frames are due: every ``period_ms`` from the first update, on
+    absolute deadlines (no drift); after a stall longer than a period, the next one is a
+    period from now rather than a burst. Pure: the Camera captures when told it is due."""
 
-    _granted: GrantedFormat | None
-    _period_ms: int | None
-    _next_due_ms: float | None
-    _closed: bool
+    def __init__(self) -> None:
+        #: The sampling period in ms, or None when disabled.
+        self.period_ms: int | None = None
+        self._next_due_ms: float | None = None
 
-    def _open_source(self) -> None:
-        raise NotImplementedError
-
-    def _check_open(self) -> None:
-        raise NotImplementedError
-
-    def capture(self) -> object:
-        """Read one frame from the source now (the Camera's)."""
-        raise NotImplementedError
-
-    def enable(self, period_ms: int) -> None:
-        """Capture a frame every ``period_ms`` ms (> 0); opens the source on first use."""
+    @staticmethod
+    def checked(period_ms: int) -> int:
+        """``period_ms`` if it is a valid period (1..MAX_PERIOD_MS), else OutOfRangeError."""
         period_ms = check_int("period_ms", period_ms, integral=True)
         if not 0 < period_ms <= MAX_PERIOD_MS:
             # the same bound as every other sensor's: anything longer is a unit mistake
             raise OutOfRangeError(
                 f"sampling period {period_ms} ms must be positive, at most {MAX_PERIOD_MS} ms"
             )
-        if self._granted is None:
-            self._open_source()
-        self._check_open()
-        self._period_ms = period_ms
-        self._next_due_ms = None  # due at the next update
+        return period_ms
 
-    def disable(self) -> None:
-        """Stop sampling (the source stays open: enabling again is quick)."""
-        self._period_ms = None
+    def start(self, period_ms: int) -> None:
+        """Sample every ``period_ms`` (checked already), the first frame at the next update."""
+        self.period_ms = period_ms
         self._next_due_ms = None
 
-    @property
-    def sampling_period(self) -> int | None:
-        """The sampling period in ms, or ``None`` when disabled."""
-        return self._period_ms
+    def stop(self) -> None:
+        self.period_ms = None
+        self._next_due_ms = None
 
     def is_due(self, now_ms: float) -> bool:
-        """Whether ``update(now_ms)`` would capture a frame."""
-        if self._period_ms is None or self._closed:
+        """Whether a frame is due at ``now_ms``."""
+        if self.period_ms is None:
             return False
         return self._next_due_ms is None or now_ms >= self._next_due_ms
 
-    def update(self, now_ms: float) -> bool:
-        """Capture and convert a frame if one is due at ``now_ms``; True if it did.
-
-        Deadlines are absolute (``period_ms`` apart, no drift); after a stall longer
-        than a period the next one is a period from now rather than a burst.
-        """
-        if not self.is_due(now_ms):
-            return False
-        assert self._period_ms is not None
-        self.capture()
+    def taken(self, now_ms: float) -> None:
+        """A frame due at ``now_ms`` was captured: set the next deadline."""
+        assert self.period_ms is not None, "taken() while disabled"
         due = now_ms if self._next_due_ms is None else self._next_due_ms
-        due += self._period_ms
-        self._next_due_ms = due if due > now_ms else now_ms + self._period_ms
-        return True
+        due += self.period_ms
+        self._next_due_ms = due if due > now_ms else now_ms + self.period_ms

@@ -37,17 +37,20 @@ import time
 from typing import Final, Protocol
 
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
-from ego.core.ports import DEFAULT_CAMERA_DEVICE
 from ego.errors import CameraCaptureError, CameraError, CameraTimeoutError, UnsupportedControlError
 
 __all__ = [
     "CONTROL_IDS",
+    "DEFAULT_CAMERA_DEVICE",
     "FOURCC",
     "LinuxSyscalls",
     "V4L2Source",
     "V4L2Syscalls",
     "fourcc",
 ]
+
+#: The Overo's camera, unless EGO_CAMERA names another device (or "none").
+DEFAULT_CAMERA_DEVICE = "/dev/video0"
 
 log = logging.getLogger(__name__)
 

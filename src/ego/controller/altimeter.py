@@ -1,5 +1,12 @@
-"""Webots' ``controller.altimeter`` module, as Webots ships it (one per class)."""
+"""Webots' ``Altimeter``: the e-puck has none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import Altimeter
+from ego.controller.device import Device
 
-__all__ = ['Altimeter']
+__all__ = ["Altimeter"]
+
+
+class Altimeter(Device):
+    """Webots' Altimeter; the e-puck has none."""
+
+    _node_type = "ALTIMETER"

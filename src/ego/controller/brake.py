@@ -1,5 +1,12 @@
-"""Webots' ``controller.brake`` module, as Webots ships it (one per class)."""
+"""Webots' ``Brake``: the e-puck's wheels have none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import Brake
+from ego.controller.device import Device
 
-__all__ = ['Brake']
+__all__ = ["Brake"]
+
+
+class Brake(Device):
+    """Webots' Brake; the e-puck's wheels have none."""
+
+    _node_type = "BRAKE"

@@ -1,5 +1,12 @@
-"""Webots' ``controller.connector`` module, as Webots ships it (one per class)."""
+"""Webots' ``Connector``: the e-puck has none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import Connector
+from ego.controller.device import Device
 
-__all__ = ['Connector']
+__all__ = ["Connector"]
+
+
+class Connector(Device):
+    """Webots' Connector; the e-puck has none."""
+
+    _node_type = "CONNECTOR"

@@ -1,5 +1,12 @@
-"""Webots' ``controller.display`` module, as Webots ships it (one per class)."""
+"""Webots' ``Display``: the e-puck has none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import Display
+from ego.controller.device import Device
 
-__all__ = ['Display']
+__all__ = ["Display"]
+
+
+class Display(Device):
+    """Webots' Display; the e-puck has none."""
+
+    _node_type = "DISPLAY"

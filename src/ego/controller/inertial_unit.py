@@ -1,5 +1,12 @@
-"""Webots' ``controller.inertial_unit`` module, as Webots ships it (one per class)."""
+"""Webots' ``InertialUnit``: the e-puck has none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import InertialUnit
+from ego.controller.device import Device
 
-__all__ = ['InertialUnit']
+__all__ = ["InertialUnit"]
+
+
+class InertialUnit(Device):
+    """Webots' InertialUnit; the e-puck has none."""
+
+    _node_type = "INERTIAL_UNIT"

@@ -1,5 +1,12 @@
-"""Webots' ``controller.lidar`` module, as Webots ships it (one per class)."""
+"""Webots' ``Lidar``: the e-puck has none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import Lidar
+from ego.controller.device import Device
 
-__all__ = ['Lidar']
+__all__ = ["Lidar"]
+
+
+class Lidar(Device):
+    """Webots' Lidar; the e-puck has none."""
+
+    _node_type = "LIDAR"

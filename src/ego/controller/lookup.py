@@ -5,27 +5,22 @@ from __future__ import annotations
 import sys
 from typing import TYPE_CHECKING
 
-from ego.controller.devices import (
-    LED,
-    Accelerometer,
-    Camera,
-    Device,
-    DistanceSensor,
-    Gyro,
-    LightSensor,
-    Motor,
-    PositionSensor,
-    Speaker,
-    view_class,
-    webots_camera_size,
-)
-from ego.controller.radio import (
-    RADIO_DEVICES,
-    Emitter,
-    Receiver,
-    RobotRadio,
-    radio_available,
-)
+from ego.controller.accelerometer import Accelerometer
+from ego.controller.camera import Camera, webots_camera_size
+from ego.controller.compass import Compass
+from ego.controller.device import Device, view_class
+from ego.controller.distance_sensor import DistanceSensor
+from ego.controller.emitter import Emitter
+from ego.controller.gps import GPS
+from ego.controller.gyro import Gyro
+from ego.controller.led import LED
+from ego.controller.light_sensor import LightSensor
+from ego.controller.motor import Motor
+from ego.controller.position_sensor import PositionSensor
+from ego.controller.radio import RADIO_DEVICES, RobotRadio, radio_available
+from ego.controller.receiver import Receiver
+from ego.controller.speaker import Speaker
+from ego.controller.touch_sensor import TouchSensor
 from ego.errors import UnknownDeviceError
 
 if TYPE_CHECKING:
@@ -35,9 +30,15 @@ if TYPE_CHECKING:
 
 __all__ = ["DeviceLookup"]
 
+#: The ground-truth devices a world file may declare (on the emulator), and their classes.
+GROUND_TRUTH_CLASSES: dict[str, type[Device]] = {
+    "gps": GPS, "compass": Compass, "touch sensor": TouchSensor
+}  # fmt: skip
+
 
 class DeviceLookup:
-    """The part of :class:`ego.controller.Robot` that finds its devices by name."""
+    """The part of :class:`ego.controller.Robot` that finds its devices by name: the base
+    class of that Robot, whose constructor sets the attributes below."""
 
     _core: CoreRobot
     _options: RunOptions
@@ -47,13 +48,18 @@ class DeviceLookup:
     _radio: RobotRadio
 
     def getName(self) -> str:
-        raise NotImplementedError
+        """Webots' robot name: ``e-puck``, or a swarm robot's own (its Zenoh node's name,
+        as each robot of a Webots swarm has its own name field)."""
+        return str(getattr(self._core.channel, "robot", None) or "e-puck")
 
     def getBasicTimeStep(self) -> float:
-        raise NotImplementedError
+        return float(self._options.basic_time_step_ms)
 
     def _ground_truth(self, name: str) -> bool:
-        raise NotImplementedError
+        """Whether the emulator's world declares ``name`` (gps, compass, touch sensor)."""
+        truth = self._core.ground_truth
+        world = truth.true_world if truth is not None else None
+        return world is not None and name in world.declared_devices()
 
     def getDevice(self, name: str) -> Device | None:
         """The device called ``name`` (``ps0``, ``left wheel motor``, ``camera``...).
@@ -67,9 +73,7 @@ class DeviceLookup:
             if name in RADIO_DEVICES and radio_available(self._environment):
                 cls = Emitter if name == "emitter" else Receiver
             if cls is None and self._ground_truth(name):
-                from ego.controller.absent import ground_truth_class
-
-                cls = ground_truth_class(name)
+                cls = GROUND_TRUTH_CLASSES.get(name)
             if cls is None:
                 if not self._options.strict:
                     print(

@@ -1,5 +1,12 @@
-"""Webots' ``controller.pen`` module, as Webots ships it (one per class)."""
+"""Webots' ``Pen``: the e-puck has none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import Pen
+from ego.controller.device import Device
 
-__all__ = ['Pen']
+__all__ = ["Pen"]
+
+
+class Pen(Device):
+    """Webots' Pen; the e-puck has none."""
+
+    _node_type = "PEN"

@@ -25,21 +25,18 @@ are NaN.
 from __future__ import annotations
 
 import importlib.util
-import math
 import os
-from collections import deque
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from ego.controller.devices import Device
+from ego.controller.device import Device
 from ego.core.environment import Environment, read_environment
-from ego.devices.base import MAX_PERIOD_MS, check_int
-from ego.errors import DeviceError, OutOfRangeError
+from ego.errors import OutOfRangeError
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot as CoreRobot
-    from ego.zenoh_net.radio import Packet, Radio
+    from ego.zenoh_net.radio import Radio
 
-__all__ = ["RADIO_DEVICES", "Emitter", "Receiver", "RobotRadio", "radio_available"]
+__all__ = ["RADIO_DEVICES", "RadioDevice", "RobotRadio", "check_channel", "radio_available"]
 
 #: The names Webots' e-puck gives its radio devices.
 RADIO_DEVICES = ("emitter", "receiver")
@@ -93,13 +90,13 @@ def _true_pose(core: CoreRobot) -> list[float] | None:
     return None if pose is None else [pose.x_m, pose.y_m, pose.theta_rad]
 
 
-def _check_channel(channel: object) -> int:
+def check_channel(channel: object) -> int:
     if isinstance(channel, bool) or not isinstance(channel, int) or channel < -1:
         raise OutOfRangeError(f"radio channel {channel!r} must be -1 (broadcast) or 0 and up")
     return channel
 
 
-class _RadioDevice(Device):
+class RadioDevice(Device):
     """What the Emitter and the Receiver share: a channel, 1 by default."""
 
     CHANNEL_BROADCAST = -1
@@ -113,7 +110,8 @@ class _RadioDevice(Device):
         radio: RobotRadio | None = None,
     ) -> None:
         if isinstance(core, str):
-            return  # made by name (Device.__new__)
+            self._made_by_name(core)  # the robot's own, already set up
+            return
         super().__init__(core, name, strict=strict)
         self._channel = DEFAULT_CHANNEL
         #: The robot's radio, shared with its other radio device (None: one of its own).
@@ -121,134 +119,3 @@ class _RadioDevice(Device):
 
     def getChannel(self) -> int:
         return self._channel
-
-
-class Emitter(_RadioDevice):
-    """Webots' radio Emitter: ``send(data)`` puts a packet on its channel."""
-
-    _node_type = "EMITTER"
-    _range = -1.0
-
-    def send(self, message: bytes | str | Any) -> int:
-        """Send ``message`` (bytes, or text as UTF-8); 1, as Webots answers when sent."""
-        if isinstance(message, str):
-            data = message.encode("utf-8")
-        elif isinstance(message, bytes | bytearray | memoryview):
-            data = bytes(message)
-        else:
-            raise DeviceError(f"Emitter.send takes bytes or a str, not {type(message).__name__}")
-        self._radio.get().send(self._channel, data, self._range)
-        return 1
-
-    def setChannel(self, channel: int) -> None:
-        self._channel = _check_channel(channel)
-
-    def getRange(self) -> float:
-        return self._range
-
-    def setRange(self, range: float) -> None:
-        value = float(range)
-        if not (value == -1 or value >= 0) or math.isnan(value):
-            raise OutOfRangeError(f"emitter range {range!r} must be -1 (no limit) or >= 0")
-        self._range = value
-
-    def getBufferSize(self) -> int:
-        return -1  # Webots' "unlimited"
-
-    channel = property(_RadioDevice.getChannel, setChannel)
-    range = property(getRange, setRange)
-    buffer_size = property(getBufferSize)
-
-
-class Receiver(_RadioDevice):
-    """Webots' radio Receiver: a queue of packets, filled at each step while enabled."""
-
-    _node_type = "RECEIVER"
-
-    def __init__(
-        self,
-        core: CoreRobot | str,
-        name: str = "",
-        *,
-        strict: bool | None = None,
-        radio: RobotRadio | None = None,
-    ) -> None:
-        super().__init__(core, name, strict=strict, radio=radio)
-        self._period = 0
-        self._queue: deque[Packet] = deque()
-        self._queued_bytes = 0
-
-    def enable(self, samplingPeriod: int) -> None:
-        period = check_int("sampling period", samplingPeriod, 1, MAX_PERIOD_MS, " ms")
-        if not self._period:
-            self._radio.get().listen(self._channel)
-            self._core.add_step_listener(self._step)
-        self._period = period
-
-    def disable(self) -> None:
-        if self._period:
-            self._radio.get().stop_listening()
-            self._core.remove_step_hooks(self._step)
-        self._period = 0
-
-    def getSamplingPeriod(self) -> int:
-        return self._period
-
-    def _step(self, core: CoreRobot) -> None:
-        radio = self._radio.get()
-        packets = radio.take()
-        for index, packet in enumerate(packets):
-            if not radio.fits(len(self._queue), self._queued_bytes, len(packet.data)):
-                radio.dropped.add("full", "the receiver's queue is full: read it with "
-                                  "getData() and nextPacket()", len(packets) - index)  # fmt: skip
-                break
-            self._queue.append(packet)
-            self._queued_bytes += len(packet.data)
-
-    @property
-    def dropped_packets(self) -> int:
-        """Packets lost (ego's, not Webots'): the buffer full, or malformed; logged too."""
-        return self._radio.dropped_total
-
-    def getQueueLength(self) -> int:
-        return len(self._queue)
-
-    def nextPacket(self) -> None:
-        """Drop the head packet (Webots: an error when the queue is empty)."""
-        if not self._queue:
-            raise DeviceError("Receiver.nextPacket: the queue is empty")
-        self._queued_bytes -= len(self._queue.popleft().data)
-
-    def _head(self) -> Packet:
-        if not self._queue:
-            raise DeviceError("the receiver's queue is empty: check getQueueLength() first")
-        return self._queue[0]
-
-    def getBytes(self) -> bytes:
-        return self._head().data
-
-    getData = getBytes
-
-    def getString(self) -> str:
-        return self._head().data.decode("utf-8")
-
-    def getDataSize(self) -> int:
-        return len(self._head().data)
-
-    def getSignalStrength(self) -> float:
-        """1 / distance² from the emitter (Webots'); NaN where the poses are unknown."""
-        return self._head().signal_strength
-
-    def getEmitterDirection(self) -> list[float]:
-        """The unit vector towards the emitter in this robot's frame; NaNs if unknown."""
-        return list(self._head().direction)
-
-    def setChannel(self, channel: int) -> None:
-        self._channel = _check_channel(channel)
-        if self._period:
-            self._radio.get().listen(self._channel)
-
-    channel = property(_RadioDevice.getChannel, setChannel)
-    queue_length = property(getQueueLength)
-    sampling_period = property(getSamplingPeriod)
-    data = property(getData)

@@ -1,5 +1,12 @@
-"""Webots' ``controller.range_finder`` module, as Webots ships it (one per class)."""
+"""Webots' ``RangeFinder``: the e-puck has none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import RangeFinder
+from ego.controller.device import Device
 
-__all__ = ['RangeFinder']
+__all__ = ["RangeFinder"]
+
+
+class RangeFinder(Device):
+    """Webots' RangeFinder; the e-puck has none."""
+
+    _node_type = "RANGE_FINDER"

@@ -8,18 +8,18 @@ import sys
 import time
 from typing import ClassVar
 
-from ego.controller.devices import (
-    Device,
-    Motor,
-    encoder_steps,
-    whole_steps,
-)
-from ego.controller.inputs import Joystick, Keyboard, Mouse
+from ego.controller.device import Device
+from ego.controller.joystick import Joystick
+from ego.controller.keyboard import Keyboard
 from ego.controller.lookup import DeviceLookup
+from ego.controller.motor import Motor
+from ego.controller.mouse import Mouse
+from ego.controller.position_sensor import encoder_steps, whole_steps
 from ego.controller.radio import RobotRadio
+from ego.controller.step_overlap import StepOverlap
 from ego.core.robot import Robot as CoreRobot
 from ego.errors import EgoError, UnsupportedDeviceError
-from ego.faces.default_robot import current_context
+from ego.faces.default_robot import current_context, ended_reason
 from ego.faces.runtime import RunOptions
 
 __all__ = ["DifferentialWheels", "Robot"]
@@ -30,6 +30,7 @@ log = logging.getLogger(__name__)
 EPUCK_MODEL = "GCtronic e-puck"
 #: What Webots prints for a second ``Robot()`` in one controller process.
 ONE_ROBOT_ONLY = "Error: only one Robot instance can be created per controller process."
+
 
 class Robot(DeviceLookup):
     """The e-puck as a Webots controller sees it.
@@ -73,6 +74,8 @@ class Robot(DeviceLookup):
         self.joystick = Joystick(0)
         self._core = context.new_robot(options=options)
         self._environment = context.environment
+        #: The run's end: a controller going on after -1 is ended as Webots ends it.
+        self._termination = context.termination
         #: The robot's radio (its emitter's and receiver's), opened at first use.
         self._radio = RobotRadio(self._core, context.environment)
         #: The ego Robot underneath, for what Webots' API does not cover (a plain
@@ -80,42 +83,36 @@ class Robot(DeviceLookup):
         self.core = self._core
         self._devices: dict[str, Device] = {}
         self._motors: list[Motor] = []
-        # The keyboard's reader thread ends with the robot, however the run closes it.
+        # The keyboard's reader thread ends with the robot, however the run closes it;
+        # so does a step in flight between stepBegin and stepEnd.
         self._core.add_closer(self._stop_inputs)
+        self._overlap = StepOverlap(self.step)
+        self._core.add_closer(self._overlap.close)
         context.webots_robot = self
         for callback in options.on_robot:
             callback(self._core)
 
     def step(self, duration: int | None = None) -> int:
         """One time step of ``duration`` ms (the basic time step if None); -1 when the run
-        ends or the link is lost."""
+        ends or the link is lost. A controller that goes on stepping is ended about one
+        second of real time later, as Webots ends it (ego.faces.termination)."""
         if duration is None:
             duration = int(self.getBasicTimeStep())
+        if self._core.closed and self._termination.ended_at is not None:
+            return self._termination.ended("")  # the grace after the first -1 runs
         if self._options.time_is_up(self._core.time_s):
             self._core.close()
-            return -1
+            return self._termination.ended(self._options.time_up_reason())
         result = self._core.step(duration)
+        if result == -1:
+            return self._termination.ended(ended_reason(self._core))
         for motor in self._motors:
             motor.step_update()
         return result
 
-    def _ground_truth(self, name: str) -> bool:
-        """Whether the emulator's world declares ``name`` (gps, compass, touch sensor)."""
-        truth = self._core.ground_truth
-        world = truth.true_world if truth is not None else None
-        return world is not None and name in world.declared_devices()
-
-    def getBasicTimeStep(self) -> float:
-        return float(self._options.basic_time_step_ms)
-
     def getTime(self) -> float:
         """Controller time in seconds."""
         return self._core.time_s
-
-    def getName(self) -> str:
-        """Webots' robot name: ``e-puck``, or a swarm robot's own (its Zenoh node's name,
-        as each robot of a Webots swarm has its own name field)."""
-        return str(getattr(self._core.channel, "robot", None) or "e-puck")
 
     def getModel(self) -> str:
         """The model field of Webots' E-puck PROTO, which controllers branch on."""
@@ -128,7 +125,7 @@ class Robot(DeviceLookup):
         self._custom_data = str(data)
 
     def getKeyboard(self) -> Keyboard:
-        """The terminal's keyboard (see ego.controller.inputs)."""
+        """The terminal's keyboard (see ego.controller.keyboard)."""
         return self.keyboard
 
     def getMouse(self) -> Mouse:
@@ -147,11 +144,16 @@ class Robot(DeviceLookup):
     EVENT_JOYSTICK_POV = 32
 
     def stepBegin(self, duration: int | None = None) -> int:
-        """The whole step runs here (the dsPIC's batch cannot be split); stepEnd() returns."""
-        return self.step(duration)
+        """Start a step and return at once: the exchange with the robot runs while the
+        controller computes, until :meth:`stepEnd` (ego.controller.step_overlap)."""
+        if self._core.closed and self._termination.ended_at is not None:
+            return self._termination.ended("")
+        self._overlap.begin(duration)
+        return 0
 
     def stepEnd(self) -> int:
-        return 0
+        """Wait for the step :meth:`stepBegin` started; its result (-1: the run ended)."""
+        return self._overlap.end()
 
     def waitForUserInputEvent(self, event_type: int, timeout: int) -> int:
         """Wait up to ``timeout`` ms for a key (the only input a robot has); the event."""

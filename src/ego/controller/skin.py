@@ -1,5 +1,12 @@
-"""Webots' ``controller.skin`` module, as Webots ships it (one per class)."""
+"""Webots' ``Skin``: the e-puck has none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import Skin
+from ego.controller.device import Device
 
-__all__ = ['Skin']
+__all__ = ["Skin"]
+
+
+class Skin(Device):
+    """Webots' Skin; the e-puck has none."""
+
+    _node_type = "SKIN"

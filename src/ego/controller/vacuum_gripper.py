@@ -1,5 +1,12 @@
-"""Webots' ``controller.vacuum_gripper`` module, as Webots ships it (one per class)."""
+"""Webots' ``VacuumGripper``: the e-puck has none: ``getDevice`` never gives
+one (Webots' warning and None); the class exists so that a controller importing it runs."""
 
-from ego.controller import VacuumGripper
+from ego.controller.device import Device
 
-__all__ = ['VacuumGripper']
+__all__ = ["VacuumGripper"]
+
+
+class VacuumGripper(Device):
+    """Webots' VacuumGripper; the e-puck has none."""
+
+    _node_type = "VACUUM_GRIPPER"

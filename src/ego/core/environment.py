@@ -12,6 +12,7 @@ variable               what it sets
 =====================  ======================================================================
 ``EGO_PORT``           the port a Robot opens when none is named (else ``/dev/ttyS0``)
 ``EGO_CAMERA``         a serial robot's V4L2 camera device, or ``none`` (else ``/dev/video0``)
+``EGO_SYSFS``          where sysfs is mounted, for a Pi-puck's battery ADC (else ``/sys``)
 ``EGO_SECRET_FILE``    the file holding a served robot's shared secret (wins over EGO_SECRET)
 ``EGO_SECRET``         the shared secret itself
 ``EGO_RADIO``          ``none``: robots get no Webots radio (Emitter, Receiver)
@@ -36,6 +37,7 @@ __all__ = ["VARIABLES", "Environment", "read_environment"]
 VARIABLES = (
     "EGO_PORT",
     "EGO_CAMERA",
+    "EGO_SYSFS",
     "EGO_SECRET_FILE",
     "EGO_SECRET",
     "EGO_RADIO",
@@ -57,6 +59,8 @@ class Environment:
     port: str | None = None
     #: ``EGO_CAMERA``: a V4L2 device path, or "none".
     camera: str | None = None
+    #: ``EGO_SYSFS``: where sysfs is mounted (a Pi-puck's battery; an emulator's files).
+    sysfs: str | None = None
     #: ``EGO_SECRET_FILE``: a path to the shared secret of a served robot.
     secret_file: str | None = None
     #: ``EGO_SECRET``: the shared secret itself (EGO_SECRET_FILE wins when both are set).
@@ -86,6 +90,7 @@ def read_environment(environ: Mapping[str, str] | None = None) -> Environment:
     return Environment(
         port=env.get("EGO_PORT") or None,
         camera=env.get("EGO_CAMERA") or None,
+        sysfs=env.get("EGO_SYSFS") or None,
         secret_file=env.get("EGO_SECRET_FILE") or None,
         secret=env.get("EGO_SECRET"),
         radio=env.get("EGO_RADIO") != "none",

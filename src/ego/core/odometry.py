@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ego.serial.protocol import STEPS_PER_TURN
+from ego.serial.profiles import STEPS_PER_TURN
 
 __all__ = ["AXLE_M", "WHEEL_RADIUS_M", "Odometry", "Pose2D"]
 

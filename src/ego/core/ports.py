@@ -5,11 +5,11 @@ from __future__ import annotations
 import os
 
 from ego.errors import PortNotFoundError
-from ego.serial.protocol import DEFAULT_BAUD, PROFILES, Firmware
+from ego.seam.profile import DEFAULT_BAUD, Firmware
+from ego.serial.profiles import PROFILES
 
 __all__ = [
     "BLUETOOTH_PORT_PREFIX",
-    "DEFAULT_CAMERA_DEVICE",
     "DEFAULT_PORT",
     "ROBOT_UART_PREFIXES",
     "call_baud",
@@ -20,8 +20,6 @@ __all__ = [
 
 #: The Overo's UART to the dsPIC.
 DEFAULT_PORT = "/dev/ttyS0"
-#: The Overo's camera, unless EGO_CAMERA names another device (or "none").
-DEFAULT_CAMERA_DEVICE = "/dev/video0"
 
 
 def resolve_port(port: str | os.PathLike[str] | None, fallback: str | None = None) -> str:

@@ -1,48 +1,53 @@
-"""The Robot's camera: opened at first use, from the backend's source or a given one."""
+"""A Robot's camera: opened at first use, from the backend's source or a given one."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from ego.errors import CameraError
 
 if TYPE_CHECKING:
-    from ego.backends import Opened
     from ego.camera import Camera, FrameSource
     from ego.core.robot_stop import Parts
 
-__all__ = ["CameraWiring"]
+__all__ = ["CameraSlot"]
 
 
-class CameraWiring:
-    """The part of :class:`~ego.core.robot.Robot` that opens its camera."""
+class CameraSlot:
+    """Where a robot's camera comes from, and the camera once something asked for it.
 
-    port: str
-    _opened: Opened
-    _parts: Parts
-    _camera: Camera | None
-    _camera_source: FrameSource | None
-    #: Devices the step clock schedules on this side of the link (the camera, once
-    #: opened): each is updated with the step's time.
-    _local_devices: list[Camera]
+    Opened, the camera is handed to the robot's ``parts`` (closed with the robot) and to
+    its step's ``local_devices`` (captured when due)."""
+
+    def __init__(
+        self,
+        port: str,
+        parts: Parts,
+        local_devices: list[Camera],
+        given: FrameSource | None,
+        backend_source: Callable[[], FrameSource] | None,
+    ) -> None:
+        self._port = port
+        self._parts = parts
+        self._local_devices = local_devices
+        self._given = given
+        self._backend_source = backend_source
+        #: The camera if something opened it, else None (looking does not open it).
+        self.opened: Camera | None = None
 
     @property
     def camera(self) -> Camera:
         """The camera, opened at first use (the robot's V4L2 device, the emulator's, or remote)."""
-        if self._camera is None:
+        if self.opened is None:
             from ego.camera import Camera
 
-            self._camera = Camera(source=self._camera_source or self._default_camera_source())
-            self._parts.camera = self._camera
-            self._local_devices.append(self._camera)
-        return self._camera
+            self.opened = Camera(source=self._given or self._default_source())
+            self._parts.camera = self.opened
+            self._local_devices.append(self.opened)
+        return self.opened
 
-    @property
-    def open_camera(self) -> Camera | None:
-        """The camera if something opened it, else None (looking does not open it)."""
-        return self._camera
-
-    def _default_camera_source(self) -> FrameSource:
-        if self._opened.camera is None:
-            raise CameraError(f"this robot has no camera ({self.port}; EGO_CAMERA=none?)")
-        return self._opened.camera()
+    def _default_source(self) -> FrameSource:
+        if self._backend_source is None:
+            raise CameraError(f"this robot has no camera ({self._port}; EGO_CAMERA=none?)")
+        return self._backend_source()

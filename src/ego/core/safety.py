@@ -32,10 +32,12 @@ import weakref
 from types import FrameType
 from typing import TYPE_CHECKING, Protocol
 
-from ego.serial.protocol import Command, Request, encode_batch
+from ego.seam.batch import Request
+from ego.seam.profile import Command
+from ego.serial.protocol import encode_batch
 
 if TYPE_CHECKING:
-    from ego.core.channel import Channel
+    from ego.seam.channel import Channel
 
 __all__ = [
     "OPEN_ROBOTS",

@@ -28,9 +28,9 @@ from ego.devices.table import TABLE, DeviceTable
 from ego.errors import EgoError
 
 if TYPE_CHECKING:
-    from ego.core.channel import FirmwareInfo, LinkStats
     from ego.core.ground_truth import GroundTruth
     from ego.core.robot import Robot
+    from ego.seam.channel import FirmwareInfo, LinkStats
 
 __all__ = [
     "SENSOR_FAMILIES",

@@ -21,10 +21,11 @@ import logging
 import time
 from collections.abc import Callable, Sequence
 
-from ego.core.channel import Channel
 from ego.devices.base import PHASE, Device
 from ego.errors import ProtocolError, RobotResetError, UnsupportedDeviceError
-from ego.serial.protocol import Request, encode_batch
+from ego.seam.batch import Request
+from ego.seam.channel import Channel
+from ego.serial.protocol import encode_batch
 
 __all__ = ["MAX_ATTEMPTS_PER_STEP", "run_step"]
 

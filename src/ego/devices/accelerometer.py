@@ -20,7 +20,9 @@ from collections.abc import Iterable, Sequence
 from typing import ClassVar, NamedTuple
 
 from ego.devices.base import Sensor, Verdict, out_of_range
-from ego.serial.protocol import Command, Profile, Request
+from ego.devices.table import TABLE, Series
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = [
     "ACC_COUNTS_PER_G",
@@ -74,6 +76,11 @@ class Spherical(NamedTuple):
     inclination_deg: float
 
 
+@TABLE.declare(
+    "accelerometer",
+    webots_rank=3,
+    series=Series("accelerometer", "m/s²", ("x", "y", "z")),
+)
 class Accelerometer(Sensor):
     """Raw 12-bit counts (0 g near 2000, about 800 counts a g) and Webots' m/s^2.
 
@@ -82,7 +89,6 @@ class Accelerometer(Sensor):
     """
 
     family = "accelerometer"
-    table_family = "accelerometer"
     command = Command.ACCELEROMETER_RAW
     _commands: ClassVar[dict[AccelerometerMode, Command]] = {
         AccelerometerMode.RAW: Command.ACCELEROMETER_RAW,

@@ -30,18 +30,18 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
-from ego.core.validate import check_int  # re-exported: the families' integer check
 from ego.devices.table import TABLE, DeviceTable
 from ego.errors import DeviceError, UnknownDeviceError, UnsupportedDeviceError
 from ego.i2c.side import NO_I2C, OveroI2C
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.seam.validate import MAX_PERIOD_MS, check_int
 
 if TYPE_CHECKING:
     from ego.i2c.chips import Chip
 
 __all__ = [
     "FINE",
-    "MAX_PERIOD_MS",
     "PHASE",
     "ActingFamily",
     "Actuator",
@@ -55,8 +55,6 @@ __all__ = [
     "out_of_range",
 ]
 
-#: Longest sampling period accepted (a day); anything longer is surely a unit mistake.
-MAX_PERIOD_MS = 86_400_000
 
 
 def out_of_range(what: str, values: Sequence[float], low: float, high: float) -> str | None:
@@ -110,7 +108,8 @@ class Device:
     """
 
     #: The family the device table calls this one (its rows' ``family``, the Robot
-    #: attribute: "proximity"); its :attr:`names` are the table's, never written here.
+    #: attribute: "proximity"), set by its declaration (``@TABLE.declare``); its
+    #: :attr:`names` are the table's, never written here.
     table_family: ClassVar[str] = ""
     #: The Webots names of the devices in this family (``ps0``..``ps7``), from the table.
     names: ClassVar[tuple[str, ...]] = ()
@@ -119,21 +118,6 @@ class Device:
     #: Whether Webots knows its members as devices (``getDevice``); the battery is not
     #: one (Webots reads it through the robot: ``batterySensorGetValue``).
     webots_device: ClassVar[bool] = True
-    #: What Webots' model says of this family's devices where its kind's default (the
-    #: e-puck's) does not hold, for the Webots face to read: the PROTO's lookupTable
-    #: (input, value, noise per row, flattened), a distance sensor's aperture (rad) and
-    #: type ("generic", "infra-red"...); None: the kind's default.
-    webots_lookup: ClassVar[tuple[float, ...] | None] = None
-    webots_aperture_rad: ClassVar[float | None] = None
-    webots_sensor_type: ClassVar[str | None] = None
-
-    def __init_subclass__(cls, table: DeviceTable = TABLE, **kwargs: object) -> None:
-        """A family class takes its names from ``table`` (the device table; a test's copy
-        is given as ``class Tof(ArraySensor, table=copy)``)."""
-        super().__init_subclass__(**kwargs)
-        if cls.table_family:
-            cls.names = table.names_of(cls.table_family)
-
     def __init__(self, profile: Profile) -> None:
         self._profile = profile
 
@@ -149,11 +133,6 @@ class Device:
     def set_profile(self, profile: Profile) -> None:
         """The firmware changed (re-detected after a restart)."""
         self._profile = profile
-
-    def webots_value(self, reading: float) -> float:
-        """A member's reading as Webots' model reports it (through its lookup table
-        where the family's unit is not the model's); the reading itself by default."""
-        return reading
 
     @property
     def member_names(self) -> tuple[str, ...]:

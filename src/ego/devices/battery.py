@@ -13,12 +13,15 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 
 from ego.devices.base import Sensor, Verdict, out_of_range
+from ego.devices.table import TABLE
 from ego.errors import UnsupportedDeviceError
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = ["Battery"]
 
 
+@TABLE.declare("battery", webots_rank=8)
 class Battery(Sensor):
     """Battery state: a raw ADC count (rev 1.3) or a low-battery flag (older robots).
 
@@ -28,7 +31,6 @@ class Battery(Sensor):
     """
 
     family = "battery"
-    table_family = "battery"
     command = Command.BATTERY
     webots_device = False
 

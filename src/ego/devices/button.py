@@ -10,11 +10,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ego.devices.base import ArraySensor, Verdict, out_of_range
-from ego.serial.protocol import Command, Request
+from ego.devices.table import TABLE, Series
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 
 __all__ = ["Button"]
 
 
+@TABLE.declare("button", webots_rank=13, series=Series("button", "pressed", ("button",)))
 class Button(ArraySensor):
     """Whether the button is pressed.
 
@@ -24,7 +27,6 @@ class Button(ArraySensor):
     """
 
     family = "button"
-    table_family = "button"
     command = Command.BUTTON
     webots_device = False  # Webots' e-puck2 model has no device for it
 

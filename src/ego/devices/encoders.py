@@ -5,8 +5,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict, check_int
-from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
+from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict
+from ego.devices.table import STEP_RAD, TABLE, Series
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.seam.validate import check_int
+from ego.serial.profiles import MAX_SPEED_STEPS, STEPS_PER_TURN
 
 __all__ = ["Encoders", "wrap_int16"]
 
@@ -30,11 +34,11 @@ def _jump(raw: Sequence[int], last: Sequence[int], elapsed_s: float) -> str | No
     return None
 
 
+@TABLE.part_of("encoders")
 class CounterReset(Device):
     """The actuator side of the encoders: ``P`` overwrites the dsPIC's step counters."""
 
     family = "encoders"
-    table_family = "encoders"
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)
@@ -48,11 +52,11 @@ class CounterReset(Device):
             self.pending = None
 
 
+@TABLE.part_of("encoders")
 class StepCounters(Sensor):
     """The sensor side of the encoders: ``Q``, kept as totals beyond the firmware's int16."""
 
     family = "encoders"
-    table_family = "encoders"
     command = Command.GET_STEPS
 
     def __init__(self, profile: Profile, reset: CounterReset) -> None:
@@ -124,6 +128,11 @@ def _set_back(raw: Sequence[int]) -> Request:
     return Request(Command.SET_STEPS, (raw[0], raw[1]))
 
 
+@TABLE.declare(
+    "encoders",
+    webots_rank=2,
+    series=Series("encoders", "steps", ("left", "right"), ("rad", STEP_RAD)),
+)
 class Encoders(ActingFamily):
     """Steps counted by each stepper motor since start or since set, unwrapped.
 
@@ -135,7 +144,6 @@ class Encoders(ActingFamily):
     """
 
     family = "encoders"
-    table_family = "encoders"
 
     def __init__(self, profile: Profile) -> None:
         self.reset_part = CounterReset(profile)

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import importlib
 from typing import TypeVar
 
 from ego.devices.base import Device
 from ego.devices.table import TABLE, DeviceTable, FamilySpec
 from ego.errors import UnknownDeviceError
-from ego.serial.protocol import Profile
+from ego.seam.profile import Profile
 
 __all__ = ["family_class", "make_families", "pick"]
 
@@ -16,14 +15,13 @@ _D = TypeVar("_D", bound=Device)
 
 
 def family_class(spec: FamilySpec) -> type[Device]:
-    """The class the table names for the family ``spec`` (``module:Class``)."""
-    module, _, name = spec.cls.partition(":")
-    found = getattr(importlib.import_module(module), name, None)
+    """The class that declared the family ``spec``, checked to be a device family of it."""
+    found = spec.cls
     if not (isinstance(found, type) and issubclass(found, Device)):
-        raise UnknownDeviceError(f"the device table's family {spec.name!r} names {spec.cls!r}, "
-                                 "which is no device family class")  # fmt: skip
+        raise UnknownDeviceError(f"the device table's family {spec.name!r} is served by "
+                                 f"{found!r}, which is no device family class")  # fmt: skip
     if found.table_family != spec.name:
-        raise UnknownDeviceError(f"{spec.cls} serves the table's family "
+        raise UnknownDeviceError(f"{found.__name__} serves the table's family "
                                  f"{found.table_family!r}, not {spec.name!r}")  # fmt: skip
     return found
 

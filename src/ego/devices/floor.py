@@ -5,11 +5,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ego.devices.base import FINE, ArraySensor, Verdict
-from ego.serial.protocol import Command, Request
+from ego.devices.table import RAW, TABLE, Series
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 
 __all__ = ["FloorSensors"]
 
 
+@TABLE.declare("floor", webots_rank=5, series=Series("floor", RAW, ("gs0", "gs1", "gs2")))
 class FloorSensors(ArraySensor):
     """IR reflection of the floor, 0..4095: high on white, low on black.
 
@@ -27,7 +30,6 @@ class FloorSensors(ArraySensor):
     """
 
     family = "floor sensors"
-    table_family = "floor"
     command = Command.FLOOR
     #: What an unacknowledged I2C read gives.
     NO_MODULE = 0xFFFF

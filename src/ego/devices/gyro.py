@@ -13,7 +13,9 @@ import math
 from collections.abc import Sequence
 
 from ego.devices.base import Sensor, Verdict, out_of_range
-from ego.serial.protocol import Command, Profile, Request
+from ego.devices.table import RAW, TABLE, Series
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = ["GYRO_COUNTS_PER_DEG_S", "Gyro"]
 
@@ -21,6 +23,11 @@ __all__ = ["GYRO_COUNTS_PER_DEG_S", "Gyro"]
 GYRO_COUNTS_PER_DEG_S = 131.072
 
 
+@TABLE.declare(
+    "gyro",
+    webots_rank=10,
+    series=Series("gyro", "deg/s", ("x", "y", "z"), (RAW, 131.072)),
+)
 class Gyro(Sensor):
     """Turning rates about x, y, z, raw counts (131.072 per deg/s); z is counter-clockwise.
 
@@ -30,10 +37,8 @@ class Gyro(Sensor):
     """
 
     family = "gyro"
-    table_family = "gyro"
     command = Command.GYRO_RAW
     #: Webots' e-puck gyro (E-puck.proto): rad/s in, counts out, 1:1 with the firmware's.
-    webots_lookup = (-13.315805, -100000.0, 0.003, 13.315805, 100000.0, 0.003)
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)

@@ -5,10 +5,13 @@ from __future__ import annotations
 
 import enum
 
-from ego.devices.base import Actuator, check_int
+from ego.devices.base import Actuator
 from ego.devices.rgb_leds import MAX_COLOUR, colour_request
+from ego.devices.table import TABLE
 from ego.errors import UnsupportedDeviceError
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.seam.validate import check_int
 
 __all__ = ["LedValue", "Leds"]
 
@@ -19,6 +22,7 @@ class LedValue(enum.IntEnum):
     TOGGLE = 2
 
 
+@TABLE.declare("leds", webots_rank=1)
 class Leds(Actuator):
     """Ten LEDs set to 0 (off), 1 (on) or 2 (toggle); a command goes out only on change.
 
@@ -35,7 +39,6 @@ class Leds(Actuator):
     """
 
     family = "LEDs"
-    table_family = "leds"
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)

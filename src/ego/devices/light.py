@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 from ego.devices.base import ArraySensor
-from ego.serial.protocol import Command
+from ego.devices.table import RAW, TABLE, Series
+from ego.seam.profile import Command
 
 __all__ = ["LightSensors"]
 
 
+@TABLE.declare(
+    "light",
+    webots_rank=6,
+    series=Series("light", f"{RAW}, lower is brighter", tuple(f"ls{i}" for i in range(8))),
+)
 class LightSensors(ArraySensor):
     """Ambient light, 0..4095, **brighter is lower** (docs/protocol.md).
 
@@ -19,5 +25,4 @@ class LightSensors(ArraySensor):
     """
 
     family = "light sensors"
-    table_family = "light"
     command = Command.LIGHT

@@ -13,7 +13,9 @@ from collections.abc import Iterable, Sequence
 
 from ego.devices.base import Verdict
 from ego.devices.packet import PacketSensor
-from ego.serial.protocol import Command, Profile, Request
+from ego.devices.table import TABLE, Series
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
 
 __all__ = ["Magnetometer"]
 
@@ -21,6 +23,7 @@ __all__ = ["Magnetometer"]
 MAX_FIELD_UT = 4912.0
 
 
+@TABLE.declare("magnetometer", webots_rank=11, series=Series("magnetometer", "µT", ("x", "y", "z")))
 class Magnetometer(PacketSensor):
     """The magnetic field, x, y, z in µT.
 
@@ -30,7 +33,6 @@ class Magnetometer(PacketSensor):
     """
 
     family = "magnetometer"
-    table_family = "magnetometer"
     fields = slice(9, 12)
 
     def __init__(self, profile: Profile) -> None:

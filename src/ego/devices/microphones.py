@@ -5,9 +5,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from ego.devices.base import MAX_PERIOD_MS, ArraySensor, Verdict, check_int, out_of_range
+from ego.devices.base import ArraySensor, Verdict, out_of_range
+from ego.devices.table import TABLE, Series
 from ego.errors import DeviceError
-from ego.serial.protocol import Command, Profile, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.seam.validate import MAX_PERIOD_MS, check_int
 
 if TYPE_CHECKING:  # numpy is imported when a buffer first arrives (import ego stays light)
     import numpy as np
@@ -19,6 +22,11 @@ MIC_RATE_HZ = 16384
 MIC_SAMPLES = 100
 
 
+@TABLE.declare(
+    "microphones",
+    webots_rank=7,
+    series=Series("microphones", "amplitude, ADC counts", ("mic0", "mic1", "mic2", "mic3")),
+)
 class Microphones(ArraySensor):
     """Amplitude (max - min of the last 100 samples, 0..4095) of mic0..mic2, and their samples.
 
@@ -35,7 +43,6 @@ class Microphones(ArraySensor):
     """
 
     family = "microphones"
-    table_family = "microphones"
     command = Command.MIC_AMPLITUDE
 
     def __init__(self, profile: Profile) -> None:

@@ -5,8 +5,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict, check_int
-from ego.serial.protocol import MAX_SPEED_STEPS, STEPS_PER_TURN, Command, Profile, Request
+from ego.devices.base import FINE, ActingFamily, Device, Sensor, Verdict
+from ego.devices.table import TABLE
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile
+from ego.seam.validate import check_int
+from ego.serial.profiles import MAX_SPEED_STEPS, STEPS_PER_TURN
 
 __all__ = ["MAX_SPEED_RAD_S", "Motors", "rad_s_to_steps", "real_speed_steps", "steps_to_rad_s"]
 
@@ -36,6 +40,7 @@ def real_speed_steps(speed_steps: int) -> float:
     return math.copysign(STEP_TIMER_HZ / (STEP_TIMER_HZ // abs(v)), v)
 
 
+@TABLE.part_of("motors")
 class WheelSpeeds(Device):
     """The actuator side of the motors: ``D`` when the speeds changed, confirmed by an ``E``.
 
@@ -46,12 +51,14 @@ class WheelSpeeds(Device):
     """
 
     family = "motors"
-    table_family = "motors"
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)
         self.speed = (0, 0)
         self.pending: Request | None = None
+        #: The speeds the batch in flight asks for: the controller may set others while
+        #: it runs (Webots' stepBegin..stepEnd), which go in the next batch.
+        self.asked = (0, 0)
         #: The read-back the confirming E also refreshes.
         self.echo: Sensor | None = None
 
@@ -61,7 +68,11 @@ class WheelSpeeds(Device):
             self.pending = Request(Command.SET_SPEED, self.speed)
 
     def plan(self, now_ms: int) -> list[Request]:
-        return [self.pending, Request(Command.GET_SPEED)] if self.pending is not None else []
+        if self.pending is None:
+            return []
+        left, right = self.pending.arguments
+        self.asked = (left, right)
+        return [self.pending, Request(Command.GET_SPEED)]
 
     def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:
         """E echoes the speeds the dsPIC holds: they must be the ones ego asked for.
@@ -72,10 +83,10 @@ class WheelSpeeds(Device):
         if request.command is not Command.GET_SPEED:
             return FINE
         held = (int(values[0]), int(values[1]))
-        if held == self.speed:
+        if held == self.asked:
             return FINE
         return Verdict(
-            f"the dsPIC holds speeds {held}, ego asked for {self.speed}",
+            f"the dsPIC holds speeds {held}, ego asked for {self.asked}",
             correction=Request(Command.SET_SPEED, self.speed),
         )
 
@@ -95,12 +106,12 @@ class WheelSpeeds(Device):
             self.pending = Request(Command.SET_SPEED, self.speed)
 
 
+@TABLE.part_of("motors")
 class SpeedReadback(Sensor):
     """The sensor side of the motors: the speeds the firmware holds (``E``: commanded, not
     measured), sampled at its period when enabled."""
 
     family = "motors"
-    table_family = "motors"
     command = Command.GET_SPEED
 
     def __init__(self, profile: Profile, wheels: WheelSpeeds) -> None:
@@ -116,6 +127,7 @@ class SpeedReadback(Sensor):
         self.held = (int(values[0]), int(values[1]))
 
 
+@TABLE.declare("motors", webots_rank=0)
 class Motors(ActingFamily):
     """Wheel speeds in steps/s within +-1000 (one turn a second); refused beyond, not clamped.
 
@@ -134,7 +146,6 @@ class Motors(ActingFamily):
     """
 
     family = "motors"
-    table_family = "motors"
 
     def __init__(self, profile: Profile) -> None:
         self.wheels = WheelSpeeds(profile)

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from typing import ClassVar
 
 from ego.devices.base import Sensor
-from ego.serial.protocol import Command, Profile
+from ego.seam.profile import Command, Profile
 
 __all__ = ["PacketSensor"]
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from ego.devices.motors import rad_s_to_steps
-from ego.serial.protocol import STEPS_PER_TURN
+from ego.serial.profiles import STEPS_PER_TURN
 
 __all__ = ["GAIN_PER_S", "TOLERANCE_RAD", "position_speed", "position_speed_rad_s"]
 

@@ -6,12 +6,18 @@ from collections.abc import Callable
 from typing import ClassVar
 
 from ego.devices.base import ArraySensor
+from ego.devices.table import RAW, TABLE, Series
 from ego.errors import EgoError
-from ego.serial.protocol import Command, Profile
+from ego.seam.profile import Command, Profile
 
 __all__ = ["ProximitySensors"]
 
 
+@TABLE.declare(
+    "proximity",
+    webots_rank=4,
+    series=Series("proximity", RAW, (*(f"ps{i}" for i in range(8)), "IR8", "IR9")),
+)
 class ProximitySensors(ArraySensor):
     """IR proximity, 0..~4095, higher is closer; parsed signed (it can dip below 0).
 
@@ -21,7 +27,6 @@ class ProximitySensors(ArraySensor):
     """
 
     family = "proximity sensors"
-    table_family = "proximity"
     command = Command.PROXIMITY
     #: Calibrated IR can dip below 0 (docs/protocol.md: parse signed); far below is corruption.
     value_range: ClassVar[tuple[int, int]] = (-1024, 4095)

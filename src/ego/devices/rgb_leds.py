@@ -12,8 +12,9 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from ego.seam.batch import Request
+from ego.seam.profile import Command
 from ego.serial.asercom2 import rgb_percent
-from ego.serial.protocol import Command, Request
 
 __all__ = ["MAX_COLOUR", "colour_request", "rgb_percent"]
 

@@ -10,11 +10,13 @@ from collections.abc import Sequence
 
 from ego.devices.base import Verdict, out_of_range
 from ego.devices.packet import PacketSensor
-from ego.serial.protocol import Request
+from ego.devices.table import TABLE, Series
+from ego.seam.batch import Request
 
 __all__ = ["Selector"]
 
 
+@TABLE.declare("selector", webots_rank=14, series=Series("selector", "position", ("selector",)))
 class Selector(PacketSensor):
     """The selector's position, 0..15.
 
@@ -24,7 +26,6 @@ class Selector(PacketSensor):
     """
 
     family = "selector"
-    table_family = "selector"
     fields = slice(41, 42)
 
     def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:

@@ -13,8 +13,9 @@ import enum
 from collections.abc import Callable
 
 from ego.devices.base import Device
+from ego.devices.table import TABLE
 from ego.errors import EgoError, OutOfRangeError, UnsupportedDeviceError
-from ego.serial.protocol import Profile
+from ego.seam.profile import Profile
 
 __all__ = ["Melody", "Speaker"]
 
@@ -33,6 +34,7 @@ class Melody(enum.IntEnum):
 _STOP = 0
 
 
+@TABLE.declare("sound", webots_rank=15)
 class Speaker(Device):
     """The speaker: ``play(Melody.MARIO)``, ``stop()``; each call is one ASCII ``T``.
 
@@ -41,7 +43,6 @@ class Speaker(Device):
     """
 
     family = "speaker"
-    table_family = "sound"
 
     def __init__(self, profile: Profile) -> None:
         super().__init__(profile)

@@ -6,7 +6,7 @@ never renumbered), which family of :class:`ego.Robot` serves it (the attribute:
 ``robot.proximity``...) and at which index, its Webots node type, the units the Webots
 face reports it in, and the firmwares that serve it.
 
-``firmwares`` holds the names of :class:`ego.serial.protocol.Firmware` whose profile (as
+``firmwares`` holds the names of :class:`ego.seam.profile.Firmware` whose profile (as
 ``PROFILES`` gives it, the stock firmware in Overo mode for ``gctronic``) serves the
 device, over the line or, for what that firmware leaves on the Overo's own I2C bus
 (``Profile.i2c``: gs0..gs2, a rev 1.3's accelerometer), over that bus: the families
@@ -18,32 +18,41 @@ selector (over Bluetooth) also serves led8, led9.
 The battery has a row but no tag: Webots reads it through the robot
 (``batterySensorGetValue``), not as a device.
 
-Beside the devices, the table holds one :class:`FamilySpec` a family: the class that
-serves it (``robot.<name>``, made by ``ego.Robot`` from here), where Webots lists it, the
-wire command that reads it, and how a telemetry sample, the dashboard and a recording's
-plot show it (:class:`Series`). Every consumer derives from the table: a family's
-``names`` (:class:`ego.devices.base.Device`), the sample's keys (ego.core.telemetry), the
-families the dashboard may switch and plots (served to the page), the recording's schema
-and plots. Adding a sensor is a row here, its family's module and the emulator's model.
-A :class:`DeviceTable` is a value: :meth:`DeviceTable.extended` gives a copy with more
-rows (tests hand it to the consumers, which take a ``table``).
+Beside the devices, the table holds one :class:`FamilySpec` a family, which the family's
+class declares, once, where it is written (:meth:`DeviceTable.declare`)::
+
+    @TABLE.declare("tof", webots_rank=9, series=Series("ToF distance", "mm", ("tof",)))
+    class TofSensor(ArraySensor): ...
+
+The declaration says which rows the class serves (``robot.tof``: its ``names`` are the
+rows', never written in the class), where Webots lists it, and how a telemetry sample,
+the dashboard and a recording's plot show it (:class:`Series`). Every consumer derives
+from it: the Robot's families and typed attributes, the sample's keys
+(ego.core.telemetry), the families the dashboard may switch and plots, the recording's
+schema. ``ego.devices`` imports every family module, so that importing any of ego's
+devices declares them all, in the order a sample lists them. Adding a sensor is a row
+here, its family's module and the emulator's model. :meth:`DeviceTable.extended` gives a
+copy with more rows (tests declare a family against it and hand it to the consumers,
+which take a ``table``).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 from ego.errors import UnknownDeviceError
-from ego.serial.protocol import Command, Firmware
+from ego.seam.profile import Firmware
 
 __all__ = [
     "BATTERY",
     "CAMERA",
     "DEVICES",
     "FAMILIES",
+    "RAW",
+    "STEP_RAD",
     "TABLE",
     "DeviceSpec",
     "DeviceTable",
@@ -61,7 +70,14 @@ _WEBOTS = frozenset({Firmware.WEBOTS.value})
 #: The e-puck2's asercom v2 (USB, Bluetooth) serves the e-puck1's sensors and its own.
 _EPUCK2 = frozenset({Firmware.EPUCK2.value})
 _ALL = _BOTH | _EPUCK2
-_RAW = "raw counts"
+#: Through a Pi-puck (ego.backends.pipuck): the e-puck2's I2C packet, York's e-puck1 map;
+#: what both serve beside the microcontroller (IMU, ToF, ground module, camera, battery).
+_I2C2 = frozenset({Firmware.EPUCK2_I2C.value})
+_YORK = frozenset({Firmware.YORK.value})
+_PIPUCK = _I2C2 | _YORK
+#: The unit of a raw ADC or sensor count.
+RAW = "raw counts"
+_RAW = RAW
 
 #: The family of the camera, which is no dsPIC family (``robot.camera``).
 CAMERA = "camera"
@@ -102,41 +118,43 @@ _Row = tuple[str, str, int, str, str, frozenset[str]]
 _ROWS: tuple[_Row, ...] = (
     # ps8 and ps9 are the Overo board's long-range IR8 and IR9 (docs/protocol.md).
     *(
-        (f"ps{i}", "proximity", i, "DistanceSensor", _RAW, _ALL if i < 8 else _GCTRONIC)
+        (f"ps{i}", "proximity", i, "DistanceSensor", _RAW, _ALL | _PIPUCK if i < 8 else _GCTRONIC)
         for i in range(10)
     ),
     # The ground module: Webots' firmware reads it with M; the stock firmware in Overo mode
     # answers M with nothing and leaves it to the Overo, which reads it over its own I2C
     # bus (/dev/i2c-3, ego.i2c; docs/protocol.md, "The Overo's own I2C bus").
-    *((f"gs{i}", "floor", i, "DistanceSensor", _RAW, _ALL) for i in range(3)),
-    *((f"ls{i}", "light", i, "LightSensor", _RAW, _ALL) for i in range(8)),
-    ("accelerometer", "accelerometer", 0, "Accelerometer", "m/s²", _ALL),
-    ("left wheel motor", "motors", 0, "Motor", "rad/s", _ALL),
-    ("right wheel motor", "motors", 1, "Motor", "rad/s", _ALL),
-    ("left wheel sensor", "encoders", 0, "PositionSensor", "rad", _ALL),
-    ("right wheel sensor", "encoders", 1, "PositionSensor", "rad", _ALL),
+    *((f"gs{i}", "floor", i, "DistanceSensor", _RAW, _ALL | _PIPUCK) for i in range(3)),
+    *((f"ls{i}", "light", i, "LightSensor", _RAW, _ALL | _PIPUCK) for i in range(8)),
+    ("accelerometer", "accelerometer", 0, "Accelerometer", "m/s²", _ALL | _PIPUCK),
+    ("left wheel motor", "motors", 0, "Motor", "rad/s", _ALL | _PIPUCK),
+    ("right wheel motor", "motors", 1, "Motor", "rad/s", _ALL | _PIPUCK),
+    ("left wheel sensor", "encoders", 0, "PositionSensor", "rad", _ALL | _PIPUCK),
+    ("right wheel sensor", "encoders", 1, "PositionSensor", "rad", _ALL | _PIPUCK),
     # In Overo mode L 8 and L 9 (body, front) are ignored. On the e-puck2 led1, led3,
     # led5, led7 are RGB (Webots' e-puck2: LED.set(0xRRGGBB); Profile.rgb_leds).
-    *((f"led{i}", "leds", i, "LED", "on/off", _ALL if i < 8 else _WEBOTS | _EPUCK2)
-      for i in range(10)),
-    *((f"mic{i}", "microphones", i, "Microphone", _RAW, _ALL) for i in range(3)),
+    # The e-puck2's I2C packet has no body or front LED; York's map has both.
+    *((f"led{i}", "leds", i, "LED", "on/off",
+       _ALL | _PIPUCK if i < 8 else _WEBOTS | _EPUCK2 | _YORK) for i in range(10)),
+    *((f"mic{i}", "microphones", i, "Microphone", _RAW, _ALL | _I2C2) for i in range(3)),
     # The Overo's own camera (V4L2), whichever firmware the dsPIC runs.
-    ("camera", CAMERA, 0, "Camera", "pixels", _BOTH),
+    # The Pi-puck's: a USB video device behind its FT903.
+    ("camera", CAMERA, 0, "Camera", "pixels", _BOTH | _PIPUCK),
     # The e-puck2's (issue 25), appended so the e-puck1's tags stay.
     # Webots' E-puck.proto (version "2"): a DistanceSensor "tof" whose lookup table maps
     # 0..2 m to 19.8..2000 (ego.devices.tof), the "gyro" (raw counts, its LUT is 1:1).
-    ("tof", "tof", 0, "DistanceSensor", "mm", _EPUCK2),
-    ("gyro", "gyro", 0, "Gyro", _RAW, _EPUCK2),
+    ("tof", "tof", 0, "DistanceSensor", "mm", _EPUCK2 | _PIPUCK),
+    ("gyro", "gyro", 0, "Gyro", _RAW, _EPUCK2 | _PIPUCK),
     # The fourth microphone (front; mic0..mic3 are right, left, back, front on it).
-    ("mic3", "microphones", 3, "Microphone", _RAW, _EPUCK2),
-    ("speaker", "sound", 0, "Speaker", "sound", _EPUCK2),
+    ("mic3", "microphones", 3, "Microphone", _RAW, _EPUCK2 | _I2C2),
+    ("speaker", "sound", 0, "Speaker", "sound", _EPUCK2 | _I2C2),
 )
 #: The devices Webots has no device for (no tag): read through their family only.
 _UNTAGGED: tuple[_Row, ...] = (
     ("magnetometer", "magnetometer", 0, "Magnetometer", "µT", _EPUCK2),
     ("temperature", "temperature", 0, "TemperatureSensor", "°C", _EPUCK2),
-    ("button", "button", 0, "Button", "pressed", _EPUCK2),
-    ("selector", "selector", 0, "Selector", "position", _EPUCK2),
+    ("button", "button", 0, "Button", "pressed", _EPUCK2 | _I2C2),
+    ("selector", "selector", 0, "Selector", "position", _EPUCK2 | _I2C2),
 )
 
 
@@ -162,58 +180,23 @@ class Series:
 
 @dataclass(frozen=True, slots=True)
 class FamilySpec:
-    """One family of :class:`ego.Robot`, as the table knows it."""
+    """One family of :class:`ego.Robot`, as its class declares it (:meth:`DeviceTable.declare`)."""
 
     #: The attribute of ``ego.Robot`` (``robot.proximity``), its rows' ``family`` and its
     #: key in a telemetry sample.
     name: str
-    #: The class that serves it, ``module:Class`` (ego.devices.families imports it).
-    cls: str
+    #: The class that serves it (an :class:`ego.devices.base.Device`).
+    cls: type
     #: Its place in Webots' list of the robot's devices (``getDeviceByIndex``).
     webots_rank: int
-    #: The wire command whose reply is its reading (None: not read, an actuator).
-    command: Command | None = None
     #: How a sample shows it; None: not among a sample's readings (the motors, LEDs and
     #: battery have keys of their own).
     series: Series | None = None
 
 
-_STEP_RAD = 2 * math.pi / 1000  # 1000 steps a wheel turn (ego.serial.protocol.STEPS_PER_TURN)
-_SIDES = ("left", "right")
-
-#: The families, in the order a sample, the dashboard and the plots list them.
-_FAMILY_ROWS: tuple[FamilySpec, ...] = (
-    FamilySpec("proximity", "ego.devices.proximity:ProximitySensors", 4, Command.PROXIMITY,
-               Series("proximity", _RAW, (*(f"ps{i}" for i in range(8)), "IR8", "IR9"))),
-    FamilySpec("light", "ego.devices.light:LightSensors", 6, Command.LIGHT,
-               Series("light", f"{_RAW}, lower is brighter", tuple(f"ls{i}" for i in range(8)))),
-    FamilySpec("floor", "ego.devices.floor:FloorSensors", 5, Command.FLOOR,
-               Series("floor", _RAW, ("gs0", "gs1", "gs2"))),
-    FamilySpec("accelerometer", "ego.devices.accelerometer:Accelerometer", 3,
-               Command.ACCELEROMETER_RAW, Series("accelerometer", "m/s²", ("x", "y", "z"))),
-    FamilySpec("encoders", "ego.devices.encoders:Encoders", 2, Command.GET_STEPS,
-               Series("encoders", "steps", _SIDES, ("rad", _STEP_RAD))),
-    FamilySpec("microphones", "ego.devices.microphones:Microphones", 7, Command.MIC_AMPLITUDE,
-               Series("microphones", "amplitude, ADC counts", ("mic0", "mic1", "mic2", "mic3"))),
-    FamilySpec("motors", "ego.devices.motors:Motors", 0),
-    FamilySpec("leds", "ego.devices.leds:Leds", 1),
-    FamilySpec("battery", "ego.devices.battery:Battery", 8, Command.BATTERY),
-    # The e-puck2's (issue 25):
-    FamilySpec("tof", "ego.devices.tof:TofSensor", 9, Command.TOF,
-               Series("ToF distance", "mm", ("tof",))),
-    FamilySpec("gyro", "ego.devices.gyro:Gyro", 10, Command.GYRO_RAW,
-               Series("gyro", "deg/s", ("x", "y", "z"), (_RAW, 131.072))),
-    FamilySpec("magnetometer", "ego.devices.magnetometer:Magnetometer", 11, Command.ALL_SENSORS,
-               Series("magnetometer", "µT", ("x", "y", "z"))),
-    FamilySpec("temperature", "ego.devices.temperature:Temperature", 12, Command.ALL_SENSORS,
-               Series("temperature", "°C", ("temperature",))),
-    FamilySpec("button", "ego.devices.button:Button", 13, Command.BUTTON,
-               Series("button", "pressed", ("button",))),
-    FamilySpec("selector", "ego.devices.selector:Selector", 14, Command.ALL_SENSORS,
-               Series("selector", "position", ("selector",))),
-    FamilySpec("sound", "ego.devices.sound:Speaker", 15),
-)  # fmt: skip
-
+#: One wheel step in rad: 1000 steps a wheel turn (ego.serial.profiles.STEPS_PER_TURN).
+STEP_RAD = 2 * math.pi / 1000
+_C = TypeVar("_C", bound=type)
 
 class DeviceTable:
     """The devices and families of a robot: rows looked up by name, tag and family."""
@@ -222,7 +205,7 @@ class DeviceTable:
         self,
         rows: Iterable[_Row],
         battery: DeviceSpec,
-        families: Iterable[FamilySpec],
+        families: Iterable[FamilySpec] = (),
         untagged: Iterable[_Row] = (),
     ) -> None:
         #: Every device with a tag, in tag order (``devices[tag - 1].tag == tag``).
@@ -232,8 +215,7 @@ class DeviceTable:
         )
         #: The battery: a raw count or a low flag (``robot.battery``); no Webots device.
         self.battery = battery
-        #: The families of ``ego.Robot``, in the order a sample lists them.
-        self.families: tuple[FamilySpec, ...] = tuple(families)
+        self._families: list[FamilySpec] = list(families)
         untagged = tuple(untagged)
         #: The devices Webots has no device for (no tag), the battery aside.
         self.untagged: tuple[DeviceSpec, ...] = tuple(
@@ -253,6 +235,39 @@ class DeviceTable:
         return DeviceTable(
             (*self._rows, *rows), self.battery, (*self.families, *families), self._untagged
         )
+
+    @property
+    def families(self) -> tuple[FamilySpec, ...]:
+        """The families of ``ego.Robot``, in the order a sample lists them (declared)."""
+        return tuple(self._families)
+
+    def declare(
+        self, name: str, *, webots_rank: int, series: Series | None = None
+    ) -> Callable[[_C], _C]:
+        """Declare the decorated class as the family ``name`` of this table: the one
+        declaration of a family. The class takes the rows' names (``names``) and its
+        ``table_family``; the table lists it (``families``) for every consumer."""
+
+        def declared(cls: _C) -> _C:
+            if any(f.name == name for f in self._families):
+                raise ValueError(f"the device family {name!r} is declared twice")
+            self.part_of(name)(cls)
+            self._families.append(FamilySpec(name, cls, webots_rank, series))
+            return cls
+
+        return declared
+
+    def part_of(self, name: str) -> Callable[[_C], _C]:
+        """Make the decorated class a part of the family ``name`` (the motors' speeds and
+        their read-back...): it takes the family's names, and is no family itself."""
+        names = self.names_of(name)
+
+        def part(cls: _C) -> _C:
+            setattr(cls, "table_family", name)  # noqa: B010 (any class: typed as _C)
+            setattr(cls, "names", names)  # noqa: B010
+            return cls
+
+        return part
 
     @property
     def family_names(self) -> tuple[str, ...]:
@@ -317,12 +332,12 @@ class DeviceTable:
         return [f.series.describe(f.name) for f in self.sampled if f.series is not None]
 
 
-#: The e-puck's table.
+#: The e-puck's table (its families are declared by their classes: ego.devices).
 TABLE = DeviceTable(
     _ROWS,
-    DeviceSpec("battery", None, "battery", 0, "BatterySensor", _RAW, _GCTRONIC | _EPUCK2),
-    _FAMILY_ROWS,
-    _UNTAGGED,
+    DeviceSpec("battery", None, "battery", 0, "BatterySensor", _RAW,
+               _GCTRONIC | _EPUCK2 | _PIPUCK),
+    untagged=_UNTAGGED,
 )
 #: Every device with a tag, in tag order (``DEVICES[tag - 1].tag == tag``).
 DEVICES: tuple[DeviceSpec, ...] = TABLE.devices

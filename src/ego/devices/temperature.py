@@ -10,11 +10,13 @@ from collections.abc import Sequence
 
 from ego.devices.base import Verdict, out_of_range
 from ego.devices.packet import PacketSensor
-from ego.serial.protocol import Request
+from ego.devices.table import TABLE, Series
+from ego.seam.batch import Request
 
 __all__ = ["Temperature"]
 
 
+@TABLE.declare("temperature", webots_rank=12, series=Series("temperature", "°C", ("temperature",)))
 class Temperature(PacketSensor):
     """The robot's temperature in °C (whole degrees).
 
@@ -24,7 +26,6 @@ class Temperature(PacketSensor):
     """
 
     family = "temperature sensor"
-    table_family = "temperature"
     fields = slice(12, 13)
 
     def validate(self, request: Request, values: Sequence[float], now_s: float) -> Verdict:

@@ -3,8 +3,14 @@
 The VL53L0X in the e-puck2's front measures up to about 2 m and the firmware answers its
 last range in millimetres (MAIN:src/epuck1x/Asercom2.c:612-621, ``VL53L0X_get_dist_mm``).
 Webots' e-puck2 (E-puck.proto, version "2") has it as a DistanceSensor ``tof`` (aperture
-0.44 rad) whose lookup table maps 0..2 m to 19.8..2000: :func:`webots_value` turns the
-robot's millimetres into that.
+0.44 rad) whose lookup table maps 0..2 m to 19.8..2000. That table models the sensor in
+simulation: a real robot's reading is already what the table stands for. Webots' own
+e-puck2 remote control hands the robot's millimetres to ``getValue`` unchanged
+(cyberbotics/webots@d33882c:projects/robots/gctronic/e-puck/plugins/remote_controls/
+e-puck_wifi/Wrapper.cpp, ``robotStep``: bytes 69-70 of the sensor packet go to
+``wbr_distance_sensor_set_value`` as they are), as it does ps0..ps7; so does ego (issue 32).
+The PROTO's table is what the Webots face's ``getLookupTable`` answers
+(ego.faces.webots_model), never applied to the robot's millimetres.
 """
 
 from __future__ import annotations
@@ -12,22 +18,13 @@ from __future__ import annotations
 from typing import ClassVar
 
 from ego.devices.base import ArraySensor
-from ego.serial.protocol import Command
+from ego.devices.table import TABLE, Series
+from ego.seam.profile import Command
 
-__all__ = ["TOF_APERTURE_RAD", "TOF_LOOKUP", "TofSensor", "webots_value"]
-
-#: Webots' E-puck.proto (version "2"), ``tof``: lookupTable [0 19.8 0, 2 2000 0] (m -> value).
-TOF_LOOKUP: tuple[tuple[float, float], tuple[float, float]] = ((0.0, 19.8), (2.0, 2000.0))
-TOF_APERTURE_RAD = 0.44
+__all__ = ["TofSensor"]
 
 
-def webots_value(distance_mm: float) -> float:
-    """What Webots' ``tof`` reads at ``distance_mm``: the lookup table, held at its ends."""
-    (d0, v0), (d1, v1) = TOF_LOOKUP
-    distance_m = min(max(distance_mm / 1000.0, d0), d1)
-    return v0 + (distance_m - d0) * (v1 - v0) / (d1 - d0)
-
-
+@TABLE.declare("tof", webots_rank=9, series=Series("ToF distance", "mm", ("tof",)))
 class TofSensor(ArraySensor):
     """The distance to what is in front, in mm (about 0..2000; 8190 when nothing is in range).
 
@@ -37,17 +34,9 @@ class TofSensor(ArraySensor):
     """
 
     family = "ToF distance sensor"
-    table_family = "tof"
     command = Command.TOF
     #: The VL53L0X answers 8190 (8191 at most) when nothing reflects (its no-target value).
     value_range: ClassVar[tuple[int, int]] = (0, 8191)
-    webots_lookup = (*TOF_LOOKUP[0], 0.0, *TOF_LOOKUP[1], 0.0)
-    webots_aperture_rad = TOF_APERTURE_RAD
-    webots_sensor_type = "generic"
-
-    def webots_value(self, reading: float) -> float:
-        """The millimetres as Webots' ``tof`` reports them (its lookup table)."""
-        return webots_value(reading)
 
     @property
     def member_names(self) -> tuple[str, ...]:

@@ -28,7 +28,8 @@ from ego.core.robot import Robot
 from ego.core.safety import RobotKeeper
 from ego.errors import EgoError
 from ego.faces.runtime import RunOptions
-from ego.serial.protocol import Firmware
+from ego.faces.termination import Termination
+from ego.seam.profile import Firmware
 
 __all__ = [
     "FaceContext",
@@ -68,6 +69,9 @@ class FaceContext:
         #: The Webots Python face's Robot of this run: Webots allows one a process, and
         #: R2023b's constructors by name (``Motor("left wheel motor")``) find it here.
         self.webots_robot: object | None = None
+        #: When this run's step first returned -1: a controller going on past the grace
+        #: after it is ended, as Webots ends it (ego.faces.termination).
+        self.termination = Termination()
 
     def new_robot(
         self,
@@ -113,11 +117,14 @@ class FaceContext:
         Both C-style faces step through here, so that a time limit ends an E-GO controller's
         ``overo_scheduler_robot_step`` loop as it ends a Webots one's ``wb_robot_step`` loop.
         """
+        if self._robot is None and self.termination.ended_at is not None:
+            return self.termination.ended("")  # closed at the first -1: the grace runs
         robot = self.get()
         if self.options.time_is_up(robot.time_s):
             self.close()
-            return -1
-        return robot.step(ms)
+            return self.termination.ended(self.options.time_up_reason())
+        result = robot.step(ms)
+        return self.termination.ended(ended_reason(robot)) if result == -1 else result
 
     def is_open(self) -> bool:
         return self._robot is not None
@@ -129,6 +136,11 @@ class FaceContext:
 
     def __repr__(self) -> str:
         return f"<FaceContext robot={self._robot!r} options={self.options!r}>"
+
+
+def ended_reason(robot: Robot) -> str:
+    """Why ``robot``'s step returned -1 (its own answer, not the run's duration)."""
+    return "the robot was closed" if robot.closed else "the link to the robot was lost"
 
 
 #: The face context of the running controller, per ``contextvars`` context.

@@ -66,3 +66,9 @@ class RunOptions:
         """
         return self.duration_s is not None and time_s >= self.duration_s - 1e-9
 
+    def time_up_reason(self) -> str:
+        """Why a step returned -1 once :meth:`time_is_up`, in words."""
+        if self.duration_s is None:
+            return "the run's time was up"
+        return f"the run's --duration of {self.duration_s:g} s was up"
+

@@ -17,7 +17,7 @@ One exchange (docs/architecture.md, "Remote"):
 
 Both sides then derive the session key with HKDF-SHA256 (RFC 5869): the secret as input
 keying material, both nonces as salt, the session id in the info. Each frame of the
-session is sealed with it (:class:`ego.net.wire.FrameKey`).
+session is sealed with it (:class:`ego.net.frames.FrameKey`).
 """
 
 from __future__ import annotations
@@ -29,7 +29,8 @@ from dataclasses import dataclass, field
 
 from ego.errors import AuthenticationError, FrameError, SecretRequiredError
 from ego.net.auth import NONCE_SIZE, check_proof, client_proof, new_nonce, server_proof
-from ego.net.wire import FrameKey, pack_json, unpack_json
+from ego.net.frames import FrameKey
+from ego.net.payloads import pack_json, unpack_json
 
 __all__ = [
     "COOKIE_LIFETIME_S",

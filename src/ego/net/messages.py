@@ -15,11 +15,9 @@ import struct
 from dataclasses import dataclass
 from typing import Any
 
-from ego.core.validate import ROTATIONS
 from ego.errors import FrameError
-from ego.net.wire import (
-    Frame,
-    MessageType,
+from ego.net.frames import Frame, MessageType
+from ego.net.payloads import (
     pack_ascii,
     pack_fetch,
     pack_json,
@@ -27,7 +25,9 @@ from ego.net.wire import (
     unpack_fetch,
     unpack_json,
 )
-from ego.serial.protocol import Command, Request
+from ego.seam.batch import Request
+from ego.seam.profile import Command
+from ego.seam.validate import ROTATIONS
 
 __all__ = [
     "Ascii",

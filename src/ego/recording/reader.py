@@ -20,10 +20,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ego.core.files import open_regular
 from ego.errors import BadFileError, RecordingError
 from ego.recording.records import RawMessage, RawRecording, read_records
 from ego.recording.schemas import CHANNELS
+from ego.seam.files import open_regular
 
 __all__ = ["MAX_RECORDING_BYTES", "Exchange", "Frame", "Recording", "RecordingError"]
 

@@ -26,8 +26,8 @@ from mcap.exceptions import McapError
 from mcap.records import Channel, Chunk, Message, Metadata, Schema
 from mcap.stream_reader import StreamReader
 
-from ego.core.files import BoundedReader, describe_bytes
 from ego.errors import RecordingError
+from ego.seam.files import BoundedReader, describe_bytes
 
 __all__ = ["EXPANSION", "MAX_CHUNK_BYTES", "MAX_MESSAGE_BYTES", "RawMessage", "read_records"]
 

@@ -21,10 +21,11 @@ and always ``/odom`` and ``/tf`` (ego's odometry) and, with the proximity sensor
 A row of another kind (LEDs, microphones) has no epuck_ros2 topic.
 
 The conversions follow epuck_ros2's driver as read at
-``cyberbotics/epuck_ros2@4ac67cf2bf1eb25fb73006b8a0628fd6898d239e:epuck_ros2_driver/src/driver.cpp``:
+``cyberbotics/epuck_ros2@91ff8a1fcc31db716e0add0a02e830dd910de669:epuck_ros2_driver/src/driver.cpp``:
 ``INFRARED_TABLE``/``GROUND_TABLE`` and ``interpolateTable`` (raw counts to metres), the
-Range limits and fields of view (its IR ``min_range`` 0.045 and ``max_range`` 0.025 are
-kept as it writes them, swapped), ``publishDistanceData`` for ``/scan`` (21 rays, -150°
+Range limits and fields of view (IR ``min_range`` 0.009 below ``max_range`` 0.025, ToF
+0.005..1.0: an unmerged branch, 4ac67cf, had 0.045 above the IR maximum, which ROS tools
+refuse), ``publishDistanceData`` for ``/scan`` (21 rays, -150°
 to 150° by 15°, each IR distance over 0.025 m out of range, 0.035 m added), the raw light
 count as the illuminance, and the frames ``odom`` → ``base_link``. A topic whose family
 has no reading in a step (off, or not served) is not written that step: nothing made up.
@@ -40,7 +41,7 @@ from typing import Any
 from ego.core.odometry import AXLE_M, WHEEL_RADIUS_M
 from ego.devices.table import TABLE, DeviceSpec, DeviceTable
 from ego.ros2.epuck_driver import GROUND_TABLE, INFRARED_TABLE, interpolate_table
-from ego.serial.protocol import STEPS_PER_TURN
+from ego.serial.profiles import STEPS_PER_TURN
 
 __all__ = [
     "GROUND_TABLE",
@@ -71,11 +72,11 @@ class RangeModel:
 
 #: By family (raw counts need the family's table), then by the row's units.
 _RANGE_BY_FAMILY = {
-    "proximity": RangeModel(lambda v: interpolate_table(v, INFRARED_TABLE), 0.045, 0.025, 15),
+    "proximity": RangeModel(lambda v: interpolate_table(v, INFRARED_TABLE), 0.009, 0.025, 15),
     "floor": RangeModel(lambda v: interpolate_table(v, GROUND_TABLE), 0.0, 0.016, 15),
 }
 _RANGE_BY_UNITS = {
-    "mm": RangeModel(lambda v: v / 1000.0, 0.045, 1.0, 25),  # driver.cpp TOF_*, 25° fov
+    "mm": RangeModel(lambda v: v / 1000.0, 0.005, 1.0, 25),  # driver.cpp TOF_*, 25° fov
     "m": RangeModel(lambda v: v, 0.0, math.inf, 25),
 }
 #: Angular rate units a Gyro row may have, to rad/s (a raw gyro has no known scale).
@@ -279,7 +280,7 @@ def _scan_topic(table: DeviceTable) -> Ros2Topic:
             "sensor_msgs/msg/LaserScan", header=step.header("laser_scanner"),
             angle_min=math.radians(-150), angle_max=math.radians(150),
             angle_increment=math.radians(15), time_increment=0.0, scan_time=step_s,
-            range_min=0.045 + _SENSOR_FROM_CENTER_M, range_max=1.0 + _SENSOR_FROM_CENTER_M,
+            range_min=0.009 + _SENSOR_FROM_CENTER_M, range_max=1.0 + _SENSOR_FROM_CENTER_M,
             ranges=ranges, intensities=np.zeros(0, dtype=np.float32),
         )  # fmt: skip
 

@@ -30,17 +30,17 @@ from mcap.writer import Writer
 
 from ego._version import __version__
 from ego.camera.encode import encode_jpeg
-from ego.core.channel import TappedChannel, as_channel_base
 from ego.core.telemetry import Telemetry, describe_robot, describe_world
 from ego.errors import EgoError
 from ego.recording.ros2_bag import FORMAT, Ros2Bag
 from ego.recording.schemas import CHANNELS, log_message, pose_message, schema_bytes, stamp
+from ego.seam.channel import TappedChannel, as_channel_base
 
 if TYPE_CHECKING:
     import numpy as np
 
     from ego.core.robot import Robot
-    from ego.serial.protocol import Batch
+    from ego.seam.batch import Batch
 
 __all__ = ["JPEG_QUALITY", "Recorder"]
 

@@ -24,6 +24,7 @@ __all__ = [
     "check_node_name",
     "check_topic",
     "dds_type_name",
+    "node_namespace",
     "resolve_topic",
     "ros_type_name",
 ]
@@ -67,6 +68,15 @@ def check_namespace(namespace: str) -> str:
     if namespace != "/":
         check_topic(namespace)
     return namespace
+
+
+def node_namespace(namespace: str) -> str:
+    """A node's namespace as ROS makes it: a relative one (``epuck``) under the root
+    (``/epuck``) and an empty one the root, as ``rcl_node_init`` does
+    (``rcl/src/rcl/node.c``); then checked as :func:`check_namespace` does (FrameError)."""
+    if isinstance(namespace, str) and not namespace.startswith("/"):
+        namespace = "/" + namespace
+    return check_namespace(namespace)
 
 
 def check_node_name(name: str) -> str:

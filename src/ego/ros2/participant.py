@@ -7,8 +7,14 @@ is open; :meth:`Participant.close` undeclares every one of them. A :class:`Publi
 puts each message on its topic's exact key with the 33-byte attachment (its own
 sequence number from 1, the time, and the GID rmw_zenoh derives from its token); a
 :class:`Subscription` takes samples on the exact key, drops those without an attachment
-(as rmw_zenoh's subscription does) and hands the decoded message on. The callbacks run
-on Zenoh's own threads, which the session owns.
+(as rmw_zenoh's subscription does) and hands the decoded message on.
+
+Zenoh's threads never run Python for a subscription: its samples wait in a bounded ring
+inside Zenoh (the newest kept, :func:`ring_capacity`), and a thread of the
+subscription's own decodes them and calls the callback. So a flood on one topic neither
+holds Zenoh's network threads on Python's GIL (where it would delay every other topic,
+another robot's cmd_vel included) nor queues without end. What it drops is counted by
+reason (:attr:`Subscription.refused`) and logged once, then summarised every 10 s.
 
 Usage::
 
@@ -36,10 +42,11 @@ from ego.ros2.gid import entity_gid
 from ego.ros2.keys import topic_key
 from ego.ros2.liveliness import NodeInfo, TopicInfo, node_token, publisher_token, subscription_token
 from ego.ros2.messages import decode_message, encode_message, message_class, type_hash
-from ego.ros2.names import resolve_topic
+from ego.ros2.names import node_namespace, resolve_topic
 from ego.ros2.qos import QoS
+from ego.zenoh_net.tally import Tally
 
-__all__ = ["Participant", "Publisher", "Subscription"]
+__all__ = ["Participant", "Publisher", "Subscription", "ring_capacity"]
 
 log = logging.getLogger(__name__)
 
@@ -53,6 +60,18 @@ _IDS_LOCK = threading.Lock()
 def _next_id() -> int:
     with _IDS_LOCK:
         return next(_IDS)
+
+
+#: The fewest samples a subscription's ring keeps (a depth-1 topic too: one slow decode
+#: must not lose the Twist behind a burst of malformed ones), and the most.
+MIN_RING, MAX_RING = 64, 1024
+#: A subscription's thread offers the GIL after this many samples in a row.
+YIELD_EVERY = 16
+
+
+def ring_capacity(qos: QoS) -> int:
+    """How many samples a subscription of ``qos`` keeps waiting for its thread."""
+    return max(MIN_RING, min(MAX_RING, int(qos.depth or 0)))
 
 
 @cache
@@ -100,12 +119,15 @@ class Publisher:
 
 
 class Subscription:
-    """One topic's subscription: decoded messages to ``callback(message, attachment)``."""
+    """One topic's subscription: decoded messages to ``callback(message, attachment)``, on
+    a thread of its own (see the module's doc)."""
 
     def __init__(
         self, node: Participant, topic: str, type_name: str, qos: QoS,
         callback: Callable[[Any, Attachment], None],
     ) -> None:  # fmt: skip
+        import zenoh
+
         self.topic, self.type_name, self.distro = topic, type_name, node.distro
         type_hash_ = _hash(type_name, node.distro)
         self.key = topic_key(node.info.domain_id, topic, type_name, type_hash_, node.distro)
@@ -113,27 +135,65 @@ class Subscription:
             node.info, _next_id(), TopicInfo(topic, type_name, type_hash_, qos), node.distro
         )
         self.callback = callback
-        #: Samples dropped: no attachment (as rmw_zenoh drops them), or not decodable.
-        self.dropped = 0
-        self._subscriber = node.session.declare_subscriber(self.key, self._on_sample)
-        self._token = node.session.liveliness().declare_token(self.token_key)
+        #: Samples dropped, by reason: "no attachment" (as rmw_zenoh drops them),
+        #: "malformed" (not decodable), "callback" (the callback raised).
+        self.refused = Tally(log, f"{topic}: sample dropped")
+        self._subscriber = node.session.declare_subscriber(
+            self.key, zenoh.handlers.RingChannel(ring_capacity(qos))
+        )
+        # The handler, not the subscriber: its recv() ends when the subscriber goes.
+        self._samples = self._subscriber.handler
+        self._thread = threading.Thread(target=self._run, name=f"ego-ros2-sub {topic}")
+        self._thread.start()
+        try:
+            self._token = node.session.liveliness().declare_token(self.token_key)
+        except BaseException:
+            self._end()
+            raise
 
-    def _on_sample(self, sample: Any) -> None:
+    @property
+    def dropped(self) -> int:
+        """How many samples were dropped, for any reason."""
+        return self.refused.total
+
+    def _run(self) -> None:
+        for taken in itertools.count(1):
+            try:
+                sample = self._samples.recv()
+            except Exception as exc:  # zenoh.ZError: the subscriber is undeclared
+                log.debug("%s: no more samples (%s)", self.topic, exc)
+                return
+            self._take(sample)
+            if taken % YIELD_EVERY == 0:
+                # Under a flood this thread always has work: offer the GIL now and then,
+                # so that the steps and the deadman never wait a switch interval for it.
+                time.sleep(0)
+
+    def _take(self, sample: Any) -> None:
         if sample.attachment is None:  # rmw_subscription_data.cpp:221-228
-            self.dropped += 1
+            self.refused.add("no attachment", "rmw_zenoh drops a sample without one")
             return
         try:
             attachment = decode_attachment(sample.attachment.to_bytes(), self.distro)
             message = decode_message(sample.payload.to_bytes(), self.type_name, self.distro)
         except FrameError as exc:
-            self.dropped += 1
-            log.warning("%s: sample dropped: %s", self.topic, exc)
+            self.refused.add("malformed", str(exc))
             return
-        self.callback(message, attachment)
+        try:
+            self.callback(message, attachment)
+        except Exception as exc:  # a bug in the callback: counted, the topic stays served
+            self.refused.add("callback", f"{type(exc).__name__}: {exc}")
+
+    def _end(self) -> None:
+        self._subscriber.undeclare()
+        if self._thread is not threading.current_thread():
+            self._thread.join(5)
+            if self._thread.is_alive():
+                log.error("%s: still alive 5 s after close", self._thread.name)
 
     def close(self) -> None:
         self._token.undeclare()
-        self._subscriber.undeclare()
+        self._end()
 
 
 class Participant:
@@ -147,7 +207,7 @@ class Participant:
         distro_format(distro)  # an unknown name says so, listing the known ones
         self.distro = Distro(distro)
         zid = str(session.info.zid())
-        self.info = NodeInfo(domain_id, zid, _next_id(), name, namespace)
+        self.info = NodeInfo(domain_id, zid, _next_id(), name, node_namespace(namespace))
         node_key = node_token(self.info, self.distro)  # checks every field first
         self._entities: list[Publisher | Subscription] = []
         self._token = session.liveliness().declare_token(node_key)

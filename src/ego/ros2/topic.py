@@ -114,13 +114,20 @@ class Topic:
         for callback in callbacks:
             callback(message)
 
+    @property
+    def dropped(self) -> int:
+        """Samples this topic dropped (no attachment, not decodable, a callback raised);
+        each reason is logged once, then summarised every 10 s."""
+        return self._subscription.dropped
+
     def latest(self) -> Any:
         """The last message that came (a rosbags dataclass), or None."""
         with self._lock:
             return self._latest
 
     def on_message(self, callback: Callable[[Any], None]) -> None:
-        """Call ``callback(message)`` for every message that comes (on Zenoh's thread)."""
+        """Call ``callback(message)`` for every message that comes (on the subscription's
+        own thread, never Zenoh's: a slow callback delays only this topic)."""
         with self._lock:
             self._callbacks.append(callback)
 

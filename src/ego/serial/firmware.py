@@ -19,10 +19,11 @@ from __future__ import annotations
 
 import re
 
-from ego.core.channel import FirmwareInfo
-from ego.core.profile import Command, Firmware, Profile
 from ego.errors import ProtocolError
-from ego.serial.protocol import (
+from ego.seam.channel import FirmwareInfo
+from ego.seam.profile import Command, Firmware, Profile
+from ego.serial.pipuck import PIPUCK_PROFILES
+from ego.serial.profiles import (
     EPUCK2_BLUETOOTH,
     EPUCK2_USB,
     EPUCK2_WIFI,
@@ -91,6 +92,8 @@ def profile_for(firmware: Firmware, selector: int | None, rev13: bool | None) ->
         return gctronic_profile(selector, rev13)
     if firmware is Firmware.EPUCK2:
         return epuck2_profile(selector)
+    if firmware in PIPUCK_PROFILES:  # a robot through a Pi-puck (ego.backends.pipuck)
+        return PIPUCK_PROFILES[firmware]
     return PROFILES[firmware]
 
 

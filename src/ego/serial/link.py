@@ -19,10 +19,9 @@ import logging
 import time
 from dataclasses import dataclass
 
-from ego.core.channel import ChannelBase, FirmwareInfo, LinkStats, reconnect_within
-from ego.core.profile import DEFAULT_BAUD, Firmware, Profile
 from ego.errors import (
     ExtraBytesError,
+    LineFloodedError,
     LinkLostError,
     LinkTimeoutError,
     PortNotFoundError,
@@ -30,8 +29,11 @@ from ego.errors import (
     RobotResetError,
     ShortReplyError,
 )
+from ego.seam.batch import Batch
+from ego.seam.channel import ChannelBase, FirmwareInfo, LinkStats, reconnect_within
+from ego.seam.profile import DEFAULT_BAUD, Firmware, Profile
 from ego.serial.probe import probe_firmware
-from ego.serial.protocol import BANNER_MARKER, PROFILES, Batch, wire_time_s
+from ego.serial.profiles import BANNER_MARKER, PROFILES, wire_time_s
 from ego.serial.transport import Transport
 
 __all__ = ["Link", "LinkSettings", "LinkStats", "drain_line", "read_lines", "reply_timeout_s"]
@@ -74,8 +76,10 @@ class LinkSettings:
     trailing_guard_s: float | None = None
     #: Resynchronising drains until the line has been quiet this long ...
     resync_quiet_s: float = 0.1
-    #: ... but never longer than this.
+    #: ... but never longer than this, nor more bytes than ``resync_max_bytes``: a line
+    #: still sending then is flooded (LineFloodedError, at once, no retry).
     resync_max_s: float = 1.0
+    resync_max_bytes: int = 1 << 16
     #: How long a resynchronisation waits for the answer to its own ``V`` (which proves
     #: that every late byte before it is in) before it settles for a quiet line.
     resync_marker_s: float = 0.25
@@ -107,19 +111,30 @@ def read_lines(transport: Transport, lines: int, timeout_s: float) -> list[str]:
 
 def drain_line(transport: Transport, settings: LinkSettings, until: bytes = b"") -> bytes:
     """Read until ``until`` has arrived (if given, within ``settings.resync_marker_s``),
-    then until the line is quiet (``resync_quiet_s``), all within ``resync_max_s``."""
+    then until the line is quiet (``resync_quiet_s``), all within ``resync_max_s`` and
+    ``resync_max_bytes``. A line still sending when either runs out never stops (a
+    flood): LineFloodedError, and what it sent is dropped (issue 32)."""
     start = time.monotonic()
     deadline = start + settings.resync_max_s
     marker_deadline = start + min(settings.resync_marker_s, settings.resync_max_s)
+    limit = settings.resync_max_bytes
     drained = bytearray()
-    while until and until not in drained:
+    while until and until not in drained and len(drained) < limit:
         remaining = marker_deadline - time.monotonic()
         byte = transport.read(1, remaining) if remaining > 0 else b""
         if not byte:
             break
         drained += byte + transport.pending()
-    remaining = max(0.0, deadline - time.monotonic())
-    return bytes(drained) + transport.drain(settings.resync_quiet_s, remaining)
+    if len(drained) < limit:
+        remaining = max(0.0, deadline - time.monotonic())
+        drained += transport.drain(settings.resync_quiet_s, remaining, limit - len(drained))
+    if len(drained) >= limit or time.monotonic() >= deadline:
+        raise LineFloodedError(
+            f"{transport.name}: the line never went quiet ({len(drained)} bytes in "
+            f"{time.monotonic() - start:.2f} s; at most {limit} bytes or "
+            f"{settings.resync_max_s:g} s): something on it never stops sending"
+        )
+    return bytes(drained)
 
 
 def reply_timeout_s(
@@ -175,7 +190,8 @@ class Link(ChannelBase):
 
     def _identify(self, first: bool = False) -> FirmwareInfo:
         """Drain the welcome banner, then ask the firmware (unless told it): ``probe.py``."""
-        self.transport.drain(self.settings.resync_quiet_s, self.settings.resync_max_s)
+        bounds = self.settings
+        self.transport.drain(bounds.resync_quiet_s, bounds.resync_max_s, bounds.resync_max_bytes)
         self._tail = b""
         if self._forced is not None:
             return FirmwareInfo(PROFILES[self._forced], detected=False)
@@ -268,6 +284,9 @@ class Link(ChannelBase):
             try:
                 try:
                     return self._attempt(batch)
+                except LineFloodedError:
+                    self.stats.faults["LineFloodedError"] += 1
+                    raise  # a flood does not end for a retry: fail the step now
                 except (ShortReplyError, ExtraBytesError, LinkTimeoutError) as exc:
                     last = exc
                     self.stats.faults[type(exc).__name__] += 1

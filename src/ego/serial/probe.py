@@ -11,11 +11,13 @@ from __future__ import annotations
 import logging
 from typing import Protocol
 
-from ego.core.channel import FirmwareInfo
-from ego.core.profile import Command, Firmware
 from ego.errors import LinkTimeoutError, NotAnEpuckError, ProtocolError
+from ego.seam.batch import Batch, Request
+from ego.seam.channel import FirmwareInfo
+from ego.seam.profile import Command, Firmware
 from ego.serial.firmware import identify, is_gctronic, line_payload, parse_selector
-from ego.serial.protocol import PROFILES, Batch, Request, encode_batch
+from ego.serial.profiles import PROFILES
+from ego.serial.protocol import encode_batch
 from ego.serial.transport import Transport
 
 __all__ = ["Probed", "probe_firmware"]

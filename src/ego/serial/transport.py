@@ -28,8 +28,8 @@ from ego.errors import (
     PortBusyError,
     PortNotFoundError,
 )
+from ego.seam.profile import DEFAULT_BAUD
 from ego.serial.port_holder import find_port_holder
-from ego.serial.protocol import DEFAULT_BAUD
 
 __all__ = ["MAX_BAUD", "MIN_BAUD", "SerialTransport", "Transport", "check_baudrate"]
 
@@ -145,18 +145,20 @@ class Transport(abc.ABC):
         """A byte that arrives within ``guard_s`` (one that should not be there), or b""."""
         return self.read(1, guard_s)
 
-    def drain(self, quiet_s: float, max_s: float) -> bytes:
-        """Read and return whatever arrives until the line has been quiet for ``quiet_s``."""
+    def drain(self, quiet_s: float, max_s: float, max_bytes: int = 1 << 16) -> bytes:
+        """Read and return whatever arrives until the line has been quiet for ``quiet_s``,
+        for ``max_s`` at most and ``max_bytes`` at most (a line that never stops)."""
         deadline = time.monotonic() + max_s
         drained = bytearray()
-        while True:
+        while len(drained) < max_bytes:
             remaining = deadline - time.monotonic()
             if remaining <= 0:
-                return bytes(drained)
-            chunk = self.read(4096, min(quiet_s, remaining))
+                break
+            chunk = self.read(min(4096, max_bytes - len(drained)), min(quiet_s, remaining))
             if not chunk:
-                return bytes(drained)
+                break
             drained += chunk
+        return bytes(drained)
 
     def __enter__(self) -> Transport:
         return self

@@ -14,7 +14,6 @@ import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from ego.core.channel import Channel, FirmwareInfo, as_channel_base
 from ego.core.safety import send_stop
 from ego.errors import CameraError, ProtocolError, UnsupportedDeviceError
 from ego.net.messages import (
@@ -27,8 +26,10 @@ from ego.net.messages import (
     RobotCall,
     Step,
 )
-from ego.net.wire import pack_json
-from ego.serial.protocol import Batch, encode_batch
+from ego.net.payloads import pack_json
+from ego.seam.batch import Batch
+from ego.seam.channel import Channel, FirmwareInfo, as_channel_base
+from ego.serial.protocol import encode_batch
 
 if TYPE_CHECKING:
     from ego.camera.source import FrameSource, GrantedFormat, PixelFormat

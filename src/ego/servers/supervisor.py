@@ -29,9 +29,9 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
-from ego.app.serve import open_robot
 from ego.core.safety import SignalExit, install_signal_handlers, send_stop
 from ego.errors import EgoError
+from ego.servers.robot import open_robot
 from ego.servers.socket.server import Server, ServerThread
 
 __all__ = ["DEFAULT_DEADLINE_S", "run_supervised", "wants_supervision"]
@@ -46,10 +46,19 @@ GRACE_S = 5.0
 
 def wants_supervision(port: str | None) -> bool:
     """Whether ``ego run`` supervises by default: on the robot's own UART (the Overo's
-    /dev/ttyS*, /dev/ttyO*), where nothing else could stop a killed controller's robot."""
+    /dev/ttyS*, /dev/ttyO*), or a port whose backend says ego runs on the robot (its
+    ``on_robot``: a Pi-puck's), where nothing else could stop a killed controller's robot."""
     from ego.core.ports import is_robot_uart, resolve_port
+    from ego.core.registry import find_backend, scheme_of
 
-    return is_robot_uart(resolve_port(port))
+    resolved = resolve_port(port)
+    if is_robot_uart(resolved):
+        return True
+    try:
+        backend = find_backend(scheme_of(resolved))
+    except EgoError:
+        return False  # the run itself says the port is unknown, in its words
+    return bool(getattr(backend, "on_robot", False))
 
 
 def run_supervised(
@@ -61,19 +70,21 @@ def run_supervised(
     firmware: str = "auto",
     deadline_s: float = DEFAULT_DEADLINE_S,
     secret: bytes | None = None,
+    robot_kind: str | None = None,
 ) -> int:
     """Run ``controller`` under supervision (see the module); its exit status.
 
     ``run_arguments`` are passed to the child's ``ego run`` (``--duration``...), never a
     ``--port``: the child's port is the supervisor's socket. ``secret`` (``--secret-file``)
-    goes to the robot's port if it takes one, and guards the socket: the child, given the
+    goes to the robot's port if it takes one (and ``robot_kind``, ``--robot``, as its
+    ``robot`` option), and guards the socket: the child, given the
     same ``--secret-file`` for its dashboard, proves it knows it there.
     """
     if not 0 < deadline_s <= 60:
         raise ValueError(f"supervisor deadline {deadline_s} s is outside 0..60 s")
     install_signal_handlers()
     folder = Path(tempfile.mkdtemp(prefix="ego-supervisor-"))  # mode 700
-    robot = open_robot(port, firmware, secret=secret)
+    robot = open_robot(port, firmware, secret=secret, robot_kind=robot_kind)
     try:
         url = f"unix://{folder / 'robot.sock'}"
         server = Server(robot.channel, listen=url, secret=secret, deadline_s=deadline_s,

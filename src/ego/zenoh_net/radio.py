@@ -12,11 +12,12 @@ emitter with a limited range is then dropped. A packet with no attachment (``z_p
 from Zenoh's tools) comes from an unknown sender, ``""``.
 
 A packet whose attachment is malformed (not JSON, no sender, a range or a pose that is
-not a number) is dropped, counted and logged (one line, then a summary every 10 s),
-never raised in Zenoh's thread. The receiving buffer is bounded, as Webots' Receiver's
-``bufferSize``: at most :data:`BUFFER_PACKETS` packets and :data:`BUFFER_BYTES` bytes of
-data wait; packets arriving while it is full are dropped and counted (Webots: "data may
-be lost").
+not a number, a pose farther than :data:`MAX_POSE_M` from the origin on an axis: 1e308
+overflowed the signal strength, issue 32) is dropped, counted and logged (one line, then
+a summary every 10 s), never raised in Zenoh's thread. The receiving buffer is bounded,
+as Webots' Receiver's ``bufferSize``: at most :data:`BUFFER_PACKETS` packets and
+:data:`BUFFER_BYTES` bytes of data wait; packets arriving while it is full are dropped and
+counted (Webots: "data may be lost").
 
 Sans-I/O where it can be: :class:`Packet` and :func:`received` take bytes and poses and
 return what the receiver sees; :class:`Radio` only puts and subscribes.
@@ -56,6 +57,9 @@ BUFFER_BYTES = 1 << 20
 #: The longest attachment (sender, range, pose) read; the longest sender name.
 MAX_ATTACHMENT_BYTES = 1024
 MAX_SENDER_CHARS = 256
+#: The farthest a finite pose's x or y may be, in metres (a robot's world is metres
+#: across; 1000 km keeps 1 / distance² and the direction well within a float).
+MAX_POSE_M = 1e6
 _NAN3 = (math.nan, math.nan, math.nan)
 
 Pose = list[float] | tuple[float, float, float]
@@ -92,7 +96,12 @@ def _pose(value: object, whose: str) -> tuple[float, float, float] | None:
         raise FrameError(f"radio packet from {whose!r}: pose {str(value)[:60]} is not "
                          "[x_m, y_m, theta_rad]")  # fmt: skip
     x, y, theta = (float(v) for v in value)
-    return (x, y, theta) if all(map(math.isfinite, (x, y, theta))) else None
+    if not all(map(math.isfinite, (x, y, theta))):
+        return None
+    if abs(x) > MAX_POSE_M or abs(y) > MAX_POSE_M:
+        raise FrameError(f"radio packet from {whose!r}: pose ({x:g}, {y:g}) is beyond "
+                         f"{MAX_POSE_M:g} m of the origin")  # fmt: skip
+    return (x, y, theta)
 
 
 def _header(meta: bytes | None) -> tuple[str, float, Any]:

@@ -22,11 +22,11 @@ from dataclasses import dataclass, field
 from typing import ClassVar
 from urllib.parse import urlsplit
 
-from ego.backends.base import BackendOptions, Opened, check
 from ego.backends.epuck2.camera import WifiCamera
 from ego.backends.epuck2.channel import Epuck2Channel, WifiSettings
 from ego.backends.epuck2.requests import WIFI_PROFILE
 from ego.backends.epuck2.wifi_packets import DEFAULT_PORT
+from ego.core.backend import BackendOptions, Opened, check
 from ego.errors import BackendOptionError, PortNotFoundError
 
 __all__ = ["Epuck2Backend", "Epuck2Options", "parse_port", "probe", "resolve"]

@@ -1,4 +1,4 @@
-"""The e-puck2 over WiFi as a :class:`~ego.core.channel.Channel`: batches in, the radio's
+"""The e-puck2 over WiFi as a :class:`~ego.seam.channel.Channel`: batches in, the radio's
 commands out, answers from its newest sensor packet.
 
 What the radio's firmware asks of a client (docs/protocol.md, "e-puck2"), and where it
@@ -18,7 +18,10 @@ is met here:
 * after a drop the robot keeps its last speeds until a new command comes, so the
   channel reconnects within ``reconnect_s`` with the controller's current command as
   the first one (the stop, when closing), or raises LinkLostError naming the robot and
-  why.
+  why; a link that keeps dropping (more than ``DropPolicy.max_drops`` drops within its
+  ``window_s``) raises LinkLostError too, its reconnects backed off and its warnings
+  summarised meanwhile (:mod:`ego.backends.epuck2.drops`), and the close still tries
+  once to send the stop.
 
 Batches are translated by :mod:`ego.backends.epuck2.requests`; the ASCII commands
 (``V``, ``K``...) do not exist over WiFi and raise UnsupportedDeviceError naming the
@@ -30,18 +33,19 @@ from __future__ import annotations
 import copy
 import logging
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from ego.backends.epuck2.connection import Heard, WifiConnection, connect
+from ego.backends.epuck2.drops import DropPolicy, DropTally
 from ego.backends.epuck2.requests import WIFI_PROFILE, answer, translate
 from ego.backends.epuck2.wifi_packets import Request, encode_command
-from ego.core.channel import ChannelBase, FirmwareInfo, reconnect_within
 from ego.errors import LinkError, LinkLostError, LinkTimeoutError, UnsupportedDeviceError
+from ego.seam.channel import ChannelBase, FirmwareInfo, reconnect_within
 from ego.serial.asercom2 import ActuatorEncoder, Actuators, encode_actuators
 
 if TYPE_CHECKING:
-    from ego.serial.protocol import Batch
+    from ego.seam.batch import Batch
 
 __all__ = ["IMAGE_IDLE_S", "Epuck2Channel", "WifiSettings"]
 
@@ -63,6 +67,8 @@ class WifiSettings:
     reconnect_s: float = 5.0
     #: For the stop's answer at close.
     stop_timeout_s: float = 1.0
+    #: How many drops the link may have before its reconnects do not hold.
+    drops: DropPolicy = field(default_factory=DropPolicy)
 
 
 class Epuck2Channel(ChannelBase):
@@ -80,6 +86,9 @@ class Epuck2Channel(ChannelBase):
         self._image_until = 0.0  # images are asked until then (monotonic)
         self._camera_open = False
         self._gone: LinkLostError | None = None
+        self._drops = DropTally(self.settings.drops)
+        #: The link was given up for dropping too often: the robot may still be reachable.
+        self._flapping = False
         self._answered: dict[str, tuple[WifiConnection, int]] = {}
         self._conn = self._open(self._command(), "opening")
         packet = self._conn.heard.sensors
@@ -100,7 +109,8 @@ class Epuck2Channel(ChannelBase):
     def _exchange(self, batch: Batch) -> bytes:
         before = copy.copy(self._encoder)
         try:
-            getters = translate(batch.requests, self._encoder, self._name)
+            # What the batch put on the wire, as its decode reads it (issue 32, item 4).
+            getters = translate(batch.wire, self._encoder, self._name)
         except BaseException:
             self._encoder = before  # a refused batch changes nothing
             raise
@@ -129,7 +139,9 @@ class Epuck2Channel(ChannelBase):
     def _close(self) -> None:
         stop = encode_command(Request(0), encode_actuators(Actuators()))
         try:
-            if self._conn.heard.lost is not None:
+            if self._conn.heard.lost is not None and self._flapping:
+                self._conn = self._open(stop, "stopping")  # one try, the tally aside
+            elif self._conn.heard.lost is not None:
                 self._recover(self._conn.heard.lost, stop)
             before = self._conn.heard.empties
             self._conn.send(stop)
@@ -230,13 +242,20 @@ class Epuck2Channel(ChannelBase):
         """Reconnect within ``reconnect_s``, ``first`` as the first command; else
         LinkLostError naming the robot and ``why``."""
         self._conn.close()
-        log.warning("%s: connection lost (%s); reconnecting", self._name, why)
+        if self._gone is not None:
+            raise self._gone
+        verdict = self._drops.dropped(time.monotonic(), why)
+        if verdict.give_up:
+            self._flapping = True
+            self._gone = LinkLostError(f"{self._name}: {self._drops.give_up_message(why)}")
+            raise self._gone  # the owner learns it once, and logs it
+        if verdict.warning is not None:
+            log.warning("%s: %s", self._name, verdict.warning)
+        time.sleep(verdict.backoff_s)  # the robot keeps its last command meanwhile
 
         def attempt() -> None:
             self._conn = self._open(first, "reconnecting")
 
-        if self._gone is not None:
-            raise self._gone
         try:
             reconnect_within(self._name, self.settings.reconnect_s, attempt, (LinkError,),
                              LinkLostError(f"{self._name}: connection lost: {why}"))  # fmt: skip

@@ -2,7 +2,7 @@
 
 Over WiFi the robot takes only the 19-byte ``-0x09`` payload (in a 21-byte command) and
 answers only with the 104-byte sensor packet (``ego.backends.epuck2.wifi_packets``). A
-Robot speaks batches of :class:`~ego.serial.protocol.Request`, so a batch is translated:
+Robot speaks batches of :class:`~ego.seam.batch.Request`, so a batch is translated:
 
 * setters (speeds, LEDs, RGB LEDs, the whole ``-0x09`` payload, the step counters)
   fold into the :class:`~ego.serial.asercom2.ActuatorEncoder` whose payload the next
@@ -20,7 +20,7 @@ magnetometer, proximity-mode and ToF switches ``-0x0F``..``-0x11`` (the radio's
 firmware sets them at start, MAIN:src/main.c:852), and every ASCII command.
 
 [Provisional] The e-puck2 profile proper (``Firmware "epuck2"``) is being written in
-``ego.core.profile``/``ego.serial.protocol``; until it lands this profile is built on the
+``ego.seam.profile``/``ego.serial.protocol``; until it lands this profile is built on the
 stock firmware's, with this table's wire formats.
 """
 
@@ -33,6 +33,8 @@ from types import MappingProxyType
 from typing import Final
 
 from ego.errors import OutOfRangeError, UnsupportedDeviceError
+from ego.seam.batch import Request
+from ego.seam.profile import Command, Profile, WireFormat
 from ego.serial.asercom2 import (
     ActuatorEncoder,
     Actuators,
@@ -41,7 +43,7 @@ from ego.serial.asercom2 import (
     Settings,
     Sound,
 )
-from ego.serial.protocol import EPUCK2_WIFI, Command, Profile, Request, WireFormat
+from ego.serial.profiles import EPUCK2_WIFI
 
 __all__ = [
     "ANSWERS",
@@ -58,7 +60,7 @@ def _fmt(arguments: str = "", reply: str = "") -> WireFormat:
 
 
 #: The commands the WiFi robot serves, in the e-puck2 profile's wire formats
-#: (:data:`ego.serial.protocol.EPUCK2_WIFI`).
+#: (:data:`ego.serial.profiles.EPUCK2_WIFI`).
 WIFI_COMMANDS: Final[Mapping[Command, WireFormat]] = EPUCK2_WIFI.commands
 
 _USB_SENSORS: Final = WIFI_COMMANDS[Command.ALL_SENSORS].reply

@@ -6,8 +6,8 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
-from ego.backends.base import BackendOptions, Opened, check
 from ego.backends.serial_line import check_i2c_bus, robot_i2c
+from ego.core.backend import BackendOptions, Opened, check
 from ego.errors import FirmwareMismatchError
 from ego.serial.link import LinkSettings
 

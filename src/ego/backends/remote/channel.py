@@ -1,4 +1,4 @@
-"""The PC side: a robot behind ``ego serve`` as a :class:`~ego.core.channel.Channel`, and
+"""The PC side: a robot behind ``ego serve`` as a :class:`~ego.seam.channel.Channel`, and
 its camera.
 
 :class:`RemoteChannel` carries a Robot's batches to the server as lists of requests; the
@@ -32,8 +32,6 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from ego.backends.remote.connection import Connection, RemoteStats, error_from_reply
-from ego.core.channel import ChannelBase, FirmwareInfo, reconnect_within
-from ego.core.profile import Firmware
 from ego.errors import (
     CameraCaptureError,
     CameraError,
@@ -48,6 +46,7 @@ from ego.errors import (
     RobotResetError,
 )
 from ego.net.auth import coerce_secret
+from ego.net.frames import MessageType
 from ego.net.messages import (
     Ascii,
     CameraClose,
@@ -59,10 +58,13 @@ from ego.net.messages import (
     Step,
     pack_request,
 )
-from ego.net.wire import ASCII_REPLY_LINES, MessageType, parse_url, unpack_json
+from ego.net.payloads import ASCII_REPLY_LINES, unpack_json
+from ego.net.urls import parse_url
+from ego.seam.batch import Batch
+from ego.seam.channel import ChannelBase, FirmwareInfo, reconnect_within
+from ego.seam.profile import Firmware
 from ego.serial.firmware import profile_for
 from ego.serial.link import LinkSettings
-from ego.serial.protocol import Batch
 
 if TYPE_CHECKING:
     from ego.camera.source import GrantedFormat, PixelFormat
@@ -369,7 +371,7 @@ class RemoteFrameSource:
         and rotated (degrees counter-clockwise; 180 undoes the camera's mounting) on the
         robot."""
         from ego.camera.encode import check_quality
-        from ego.core.validate import ROTATIONS
+        from ego.seam.validate import ROTATIONS
 
         if kind not in ("jpeg", "png"):
             raise ImageFormatError(f"image kind {kind!r} is not jpeg or png")

@@ -27,8 +27,7 @@ from ego.errors import (
     PortNotFoundError,
     RemoteError,
 )
-from ego.net.handshake import ClientHandshake
-from ego.net.wire import (
+from ego.net.frames import (
     MAX_DATAGRAM,
     Frame,
     FrameKey,
@@ -36,12 +35,10 @@ from ego.net.wire import (
     MessageType,
     decode_frame,
     encode_frame,
-    next_seq,
-    pack_fetch,
-    unpack_error,
-    unpack_json,
-    unpack_part,
 )
+from ego.net.handshake import ClientHandshake
+from ego.net.payloads import pack_fetch, unpack_error, unpack_json, unpack_part
+from ego.net.sequence import next_seq
 
 __all__ = ["Connection", "RemoteStats", "error_from_reply"]
 

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from ego.devices.base import Sampled
 from ego.devices.table import TABLE, DeviceTable
-from ego.serial.protocol import MAX_SPEED_STEPS
+from ego.serial.profiles import MAX_SPEED_STEPS
 
 if TYPE_CHECKING:
     from ego.camera import Camera

@@ -16,8 +16,6 @@ import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from ego.core.channel import Channel, ChannelWrapper
-from ego.core.profile import Command
 from ego.core.safety import send_stop
 from ego.core.telemetry import Sampler, describe_firmware, describe_world, world_pose
 from ego.devices.accelerometer import Accelerometer
@@ -26,7 +24,10 @@ from ego.devices.encoders import Encoders
 from ego.devices.families import make_families
 from ego.devices.table import TABLE
 from ego.errors import UnsupportedDeviceError
-from ego.serial.protocol import Batch, Request, encode_batch
+from ego.seam.batch import Batch, Request
+from ego.seam.channel import Channel, ChannelWrapper
+from ego.seam.profile import Command
+from ego.serial.protocol import encode_batch
 from ego.servers.dashboard.control import ControlDesk, Reply
 from ego.servers.dashboard.server import DashboardServer
 
@@ -58,7 +59,7 @@ class WatchedChannel(ChannelWrapper):
     """A channel whose batches a dashboard reads, and whose wheels it may hold stopped.
 
     Its exchanges, the page's stop and its resume hold the channel's one lock (the
-    :class:`~ego.core.channel.ChannelBase`'s), so a stop never lands inside a batch.
+    :class:`~ego.seam.channel.ChannelBase`'s), so a stop never lands inside a batch.
     """
 
     def __init__(

@@ -5,7 +5,10 @@ The bridge hooks into a :class:`~ego.core.robot.Robot`'s own step (a guard appli
 commands before the batch, a listener publishes after it): whoever steps the robot (the
 :class:`~ego.servers.ros2_node.runner.NodeRunner`'s thread, a controller) carries the
 bridge along. Only the topics whose devices the robot serves are declared
-(:mod:`ego.servers.ros2_node.topics`).
+(:mod:`ego.servers.ros2_node.topics`). The samples ROS 2 sends are decoded on each
+subscription's own thread, never on Zenoh's (:class:`~ego.ros2.participant.Subscription`);
+the cmd_vel deadman has a thread of its own (:mod:`ego.servers.ros2_node.deadman`), which
+:meth:`Ros2Bridge.close` joins.
 """
 
 from __future__ import annotations
@@ -20,12 +23,13 @@ from ego.ros2.attachment import Attachment
 from ego.servers.ros2_node import convert
 from ego.servers.ros2_node.build import Messages
 from ego.servers.ros2_node.commands import Commands
-from ego.servers.ros2_node.sampling import Sampler, served_devices
+from ego.servers.ros2_node.deadman import Deadman
+from ego.servers.ros2_node.sampling import Sampler, sampled, served_devices
 from ego.servers.ros2_node.topics import PUBLISHED, SUBSCRIBED, TF_STATIC, served
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot
-    from ego.ros2.participant import Participant, Publisher
+    from ego.ros2.participant import Participant, Publisher, Subscription
 
 __all__ = ["Ros2Bridge"]
 
@@ -47,15 +51,17 @@ class Ros2Bridge:
     ) -> None:  # fmt: skip
         self.robot, self.node = robot, node
         self.period_s = period_ms / 1000
-        self.commands = Commands(deadline_s)
+        self.commands = Commands(deadline_s, clock)
+        self.deadman = Deadman(robot, self.commands, name=node.resolve("~"), clock=clock)
         self.messages = Messages(node.distro)
         self._clock, self._wall_ns = clock, wall_ns
         devices = served_devices(robot, table)
         self.published = served(PUBLISHED, devices)
         self.subscribed = served(SUBSCRIBED, devices)
-        self.sampler = Sampler(robot, {n for row in self.published for n in row.needs},
-                               period_ms, camera_period_ms, table)  # fmt: skip
+        self.sampler = Sampler(robot, sampled(self.published, devices), period_ms,
+                               camera_period_ms, table)  # fmt: skip
         self.publishers: dict[str, Publisher] = {}
+        self.subscriptions: dict[str, Subscription] = {}
         self._static_at = -STATIC_PERIOD_S
         #: The stamp of the last step published (ns since the epoch).
         self.last_stamp_ns: int | None = None
@@ -66,8 +72,11 @@ class Ros2Bridge:
         for row in (*self.published, TF_STATIC):
             self.publishers[row.name] = self.node.publisher(row.name, row.type_name, row.qos)
         for sub in self.subscribed:
-            self.node.subscription(sub.name, sub.type_name, sub.qos, self._handler(sub.name))
+            self.subscriptions[sub.name] = self.node.subscription(
+                sub.name, sub.type_name, sub.qos, self._handler(sub.name)
+            )
         self.sampler.enable()
+        self.deadman.start()
         return self.hook()
 
     def hook(self) -> Ros2Bridge:
@@ -85,6 +94,11 @@ class Ros2Bridge:
             self.robot.remove_step_hooks(self._guard)
             self.robot.remove_step_hooks(self._publish)
 
+    def close(self) -> None:
+        """Unhook the steps and join the deadman's thread; again does nothing."""
+        self.detach()
+        self.deadman.close()
+
     # -- ROS 2 to the robot ------------------------------------------------------------
 
     def _handler(self, topic: str) -> Callable[[Any, Attachment], None]:
@@ -99,14 +113,14 @@ class Ros2Bridge:
 
     def _on_twist(self, message: Any, _: Attachment) -> None:
         speeds = convert.twist_to_steps(float(message.linear.x), float(message.angular.z))
-        self.commands.drive(speeds, self._clock())
+        self.commands.drive(speeds)
 
     def _guard(self, robot: Robot) -> None:
-        pending = self.commands.take(self._clock())
-        if pending.stop is not None:
-            log.info("cmd_vel %s: robot stopped", pending.stop.why)
+        pending = self.commands.take()
+        self.deadman.before_step(pending.lapses)
+        if pending.stop is not None:  # the deadman stopped the wheels: ego's view follows
             robot.motors.set_speed(0, 0)
-        elif pending.speeds is not None:
+        if pending.speeds is not None:  # a Twist heard after it
             robot.motors.set_speed(*pending.speeds)
         for index, on in pending.leds.items():
             robot.leds.set(index, on)
@@ -114,6 +128,7 @@ class Ros2Bridge:
     # -- the robot to ROS 2 ------------------------------------------------------------
 
     def _publish(self, robot: Robot) -> None:
+        self.deadman.after_step()
         stamp = self._wall_ns()
         wants_image = any(self.publishers[r.name].matched for r in self.published if r.on_demand)
         wants_jpeg = "image_raw/compressed" in self.publishers and (

@@ -107,17 +107,21 @@ class Messages:
         return self.make("geometry_msgs/msg/Quaternion", x=x, y=y, z=z, w=w)
 
     def imu(self, reading: Reading) -> Any:
-        """``imu``: the acceleration (driver.cpp:307-322); the e-puck has no gyro or
-        orientation ego reads, so their covariances say "not measured" (REP-145)."""
+        """``imu``: the acceleration and, where the robot has a gyro (an e-puck2, a
+        Pi-puck's IMU), the angular velocity (driver.cpp:307-322); no orientation, and no
+        angular velocity on a robot without a gyro: their covariances say "not measured"
+        (REP-145)."""
         import numpy as np
 
         assert reading.acceleration is not None
-        zero = self.vector3(0.0, 0.0, 0.0)
+        rates = reading.angular_velocity
         return self.make(
             "sensor_msgs/msg/Imu", header=self.header(reading.stamp_ns, "base_link"),
             orientation=self.make("geometry_msgs/msg/Quaternion", x=0.0, y=0.0, z=0.0, w=1.0),
-            orientation_covariance=np.array(_NOT_MEASURED), angular_velocity=zero,
-            angular_velocity_covariance=np.array(_NOT_MEASURED),
+            orientation_covariance=np.array(_NOT_MEASURED),
+            angular_velocity=self.vector3(*(rates or (0.0, 0.0, 0.0))),
+            angular_velocity_covariance=np.array(_NOT_MEASURED) if rates is None
+            else np.zeros(9),
             linear_acceleration=self.vector3(*reading.acceleration),
             linear_acceleration_covariance=np.zeros(9),
         )  # fmt: skip

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from ego.core.odometry import AXLE_M, WHEEL_RADIUS_M
 from ego.devices.motors import rad_s_to_steps
 from ego.ros2.epuck_driver import GROUND_TABLE, INFRARED_TABLE, interpolate_table
-from ego.serial.protocol import MAX_SPEED_STEPS
+from ego.serial.profiles import MAX_SPEED_STEPS
 
 __all__ = [
     "GROUND_TABLE",
@@ -35,10 +35,11 @@ __all__ = [
 SENSOR_ANGLES_RAD: tuple[float, ...] = tuple(
     math.radians(a) for a in (-15, -45, -90, -150, 150, 90, 45, 15, 0)
 )
-#: driver.cpp:66-72,77: the Range limits as the driver writes them (the infra-red ones
-#: swapped in its source: "max" 0.025 below "min" 0.045; kept, since tools read them).
-INFRARED_MAX_RANGE, INFRARED_MIN_RANGE = 0.025, 0.045
-TOF_MAX_RANGE, TOF_MIN_RANGE = 1.0, 0.045
+#: driver.cpp:69-74,77: the Range limits as the driver writes them, min below max (ROS
+#: tools check it). An unmerged branch of epuck_ros2 (4ac67cf, "Change min distance")
+#: raised both minimums to 0.045, above the IR maximum; the driver at 91ff8a1 keeps these.
+INFRARED_MAX_RANGE, INFRARED_MIN_RANGE = 0.025, 0.009
+TOF_MAX_RANGE, TOF_MIN_RANGE = 1.0, 0.005
 GROUND_MIN_RANGE, GROUND_MAX_RANGE = 0.0, 0.016
 SENSOR_DIST_FROM_CENTER = 0.035
 OUT_OF_RANGE = 0.0

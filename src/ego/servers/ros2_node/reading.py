@@ -42,6 +42,8 @@ class Reading:
     floor: tuple[int, ...] | None = None
     #: x, y, z in m/s^2 (ego's accelerometer axes).
     acceleration: tuple[float, float, float] | None = None
+    #: x, y, z in rad/s (ego's gyro axes), where the robot has a gyro.
+    angular_velocity: tuple[float, float, float] | None = None
     #: The wheels' angles (rad) and speeds (rad/s).
     wheels_rad: tuple[float, float] | None = None
     wheels_radps: tuple[float, float] | None = None

@@ -12,7 +12,7 @@ in the units its row gives (mm, or m).
 from __future__ import annotations
 
 import logging
-from collections.abc import Collection
+from collections.abc import Collection, Iterable
 from typing import TYPE_CHECKING
 
 from ego.core.odometry import Odometry
@@ -23,8 +23,9 @@ from ego.servers.ros2_node.reading import OdometryState, Reading
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot
+    from ego.servers.ros2_node.topics import Published
 
-__all__ = ["Sampler", "served_devices"]
+__all__ = ["Sampler", "sampled", "served_devices"]
 
 log = logging.getLogger(__name__)
 
@@ -48,6 +49,15 @@ def served_devices(robot: Robot, table: DeviceTable = TABLE) -> set[str]:
         if spec.name in family.member_names:
             found.add(spec.name)
     return found
+
+
+def sampled(published: Iterable[Published], devices: Collection[str]) -> set[str]:
+    """The devices to sample for the ``published`` topics: what each needs, and the gyro
+    for ``imu``'s angular velocity where the robot serves one (``devices``)."""
+    needs = {n for row in published for n in row.needs}
+    if "gyro" in devices and any(row.name == "imu" for row in published):
+        needs.add("gyro")
+    return needs
 
 
 class Sampler:
@@ -85,6 +95,9 @@ class Sampler:
             reading.floor = tuple(int(v) for v in robot.floor.values[:3])
         if "accelerometer" in self.families and robot.accelerometer.has_values:
             reading.acceleration = robot.accelerometer.acceleration_mps2
+        if "gyro" in self.families and robot.gyro.has_values:
+            x, y, z = robot.gyro.rates_rad_s
+            reading.angular_velocity = (x, y, z)
         if "encoders" in self.families and robot.encoders.has_values:
             self._wheels(reading)
         reading.tof_m = self._tof()

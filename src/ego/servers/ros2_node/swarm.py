@@ -15,8 +15,8 @@ from collections.abc import Callable
 from contextlib import ExitStack
 from typing import TYPE_CHECKING, Any
 
-from ego.backends import find_backend
-from ego.serial.protocol import Firmware
+from ego.core.registry import find_backend
+from ego.seam.profile import Firmware
 
 if TYPE_CHECKING:
     from ego.core.robot import Robot
@@ -61,7 +61,7 @@ class RosSwarm:
                 self._stack.callback(node.close)
                 bridge = Ros2Bridge(robot, node, period_ms=self.period_ms,
                                     deadline_s=self.deadline_s).attach()  # fmt: skip
-                self._stack.callback(bridge.detach)
+                self._stack.callback(bridge.close)
                 runner = NodeRunner(robot, self.period_ms, self.name(index))
                 self._stack.callback(runner.close)
                 self.robots.append(robot)

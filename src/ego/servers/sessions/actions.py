@@ -12,17 +12,11 @@ from collections.abc import Hashable
 from dataclasses import dataclass, field
 
 from ego.errors import EgoError
+from ego.net.frames import Frame, FrameKey, MessageType, encode_frame
 from ego.net.handshake import Hello
 from ego.net.messages import RobotCall
-from ego.net.wire import (
-    Frame,
-    FrameKey,
-    MessageType,
-    SequenceGuard,
-    encode_frame,
-    error_fields,
-    pack_error,
-)
+from ego.net.payloads import error_fields, pack_error
+from ego.net.sequence import SequenceGuard
 
 __all__ = [
     "Action",

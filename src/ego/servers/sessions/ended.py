@@ -13,7 +13,8 @@ import collections
 from collections.abc import Hashable
 
 from ego.errors import LinkLostError
-from ego.net.wire import Frame, MessageType, encode_frame, pack_error
+from ego.net.frames import Frame, MessageType, encode_frame
+from ego.net.payloads import pack_error
 from ego.servers.sessions.actions import Action, Peer, Send, ServerStats, error_frame, small_reply
 
 __all__ = ["MAX_EXPIRED", "EndedSessions", "ended_payload"]

@@ -17,6 +17,7 @@ from collections.abc import Callable, Hashable
 
 from ego.errors import AuthenticationError, FrameError, RobotBusyError
 from ego.net.auth import FailureThrottle, new_nonce
+from ego.net.frames import Frame, FrameKey, MessageType, encode_frame
 from ego.net.handshake import (
     CookieJar,
     auth_proof,
@@ -25,7 +26,8 @@ from ego.net.handshake import (
     parse_hello,
     session_key,
 )
-from ego.net.wire import Frame, FrameKey, MessageType, Verdict, encode_frame, pack_json
+from ego.net.payloads import pack_json
+from ego.net.sequence import Verdict
 from ego.servers.sessions.actions import (
     Action,
     Authenticated,

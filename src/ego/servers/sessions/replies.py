@@ -7,16 +7,9 @@ from __future__ import annotations
 import logging
 
 from ego.errors import EgoError, FrameError, VersionMismatchError
+from ego.net.frames import PROTOCOL_VERSION, SEALED_OVERHEAD, MessageType, encode_frame
 from ego.net.messages import Fetch
-from ego.net.wire import (
-    PROTOCOL_VERSION,
-    SEALED_OVERHEAD,
-    MessageType,
-    encode_frame,
-    error_fields,
-    pack_error,
-    split_reply,
-)
+from ego.net.payloads import error_fields, pack_error, split_reply
 from ego.servers.sessions.actions import ControllerState, Peer, Send, ServerStats
 
 __all__ = ["answer", "count_bad", "error_payload", "fetch", "malformed", "reply_frame"]

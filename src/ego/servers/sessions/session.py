@@ -12,7 +12,7 @@ Its parts:
   the client's proof checked in constant time, failures answered one at a time and
   later for a guessing host (:class:`~ego.net.auth.FailureThrottle`), the session
   key that seals every later frame;
-* dedup (:class:`~ego.net.wire.SequenceGuard`): a repeated request is answered from
+* dedup (:class:`~ego.net.sequence.SequenceGuard`): a repeated request is answered from
   the cache and never runs twice; an older one is ignored;
 * the lease, the deadman and one request in flight: the
   :class:`~ego.servers.sessions.control.ControlSession` the Zenoh node runs too, held
@@ -35,18 +35,18 @@ from collections.abc import Callable
 
 from ego.errors import FrameError, RemoteError, VersionMismatchError
 from ego.net.auth import FailureThrottle
-from ego.net.messages import Bye, Fetch, parse_request
-from ego.net.wire import (
+from ego.net.frames import (
     MAX_PAYLOAD,
     REQUEST_TYPES,
     Frame,
     FrameKey,
     MessageType,
-    Verdict,
     decode_frame,
     encode_frame,
     peek_session,
 )
+from ego.net.messages import Bye, Fetch, parse_request
+from ego.net.sequence import Verdict
 from ego.servers.sessions.actions import (
     Action,
     ControllerState,

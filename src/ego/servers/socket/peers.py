@@ -11,7 +11,7 @@ import os
 from collections.abc import Hashable, Iterator
 from typing import Any, cast
 
-from ego.net.wire import MAX_PAYLOAD, FrameKey, FrameReader
+from ego.net.frames import MAX_PAYLOAD, FrameKey, FrameReader
 from ego.servers.sessions.actions import Peer, ServerStats
 
 __all__ = ["MAX_UNAUTHENTICATED", "PREAUTH_WRITE_LIMIT", "WRITE_LIMIT", "Peers", "owner_only"]

@@ -44,18 +44,18 @@ from collections.abc import Callable, Sequence
 from types import TracebackType
 from typing import TYPE_CHECKING, Any
 
-from ego.core.channel import Channel
 from ego.errors import FrameError
 from ego.net.auth import FailureThrottle, coerce_secret, is_loopback
-from ego.net.wire import (
+from ego.net.frames import (
     DEFAULT_CHUNK_SIZE,
     MAX_DATAGRAM,
     MAX_PREAUTH_PAYLOAD,
     SEALED_OVERHEAD,
     Frame,
     FrameReader,
-    parse_url,
 )
+from ego.net.urls import parse_url
+from ego.seam.channel import Channel
 from ego.servers.nursery import Nursery
 from ego.servers.service import FrameEncoder, RobotService, encode_image
 from ego.servers.sessions.actions import Action, Authenticated, Hangup, Peer, Run, Send, StopRobot

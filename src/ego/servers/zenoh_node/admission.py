@@ -14,7 +14,8 @@ from ego.errors import EgoError, ProtocolError, RobotBusyError
 from ego.serial.protocol import parse_batch
 
 if TYPE_CHECKING:
-    from ego.serial.protocol import Batch, Profile
+    from ego.seam.batch import Batch
+    from ego.seam.profile import Profile
     from ego.servers.sessions.control import ControlSession
 
 __all__ = [

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from ego.errors import EgoError, ProtocolError, RobotBusyError
-from ego.net.wire import error_fields, pack_error
+from ego.net.payloads import error_fields, pack_error
 from ego.servers.dashboard.served import WatchedChannel
 from ego.servers.service import firmware_fields
 from ego.servers.sessions.control import ControlSession
@@ -52,9 +52,9 @@ from ego.zenoh_net.tally import Tally
 if TYPE_CHECKING:
     import zenoh
 
-    from ego.core.channel import Channel
     from ego.core.ground_truth import GroundTruth
-    from ego.serial.protocol import Batch
+    from ego.seam.batch import Batch
+    from ego.seam.channel import Channel
 
 __all__ = ["MAX_BATCH_BYTES", "RobotNode"]
 
