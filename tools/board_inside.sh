@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Run by tools/board_check.sh inside the emulated board, after the guide's install:
 # what a person does first with ego on the robot, each step failing the check if it fails.
+# Background jobs of a non-interactive shell ignore SIGINT: they are stopped with SIGTERM,
+# which ego run and ego serve turn into a clean stop as they do under systemd.
 set -euo pipefail
 ego=~/ego/bin/ego
 py=~/ego/bin/python
@@ -53,7 +55,7 @@ while True:
 assert b"<html" in page.lower(), page[:200]
 print("dashboard page:", len(page), "bytes")
 EOF
-    kill -INT "$run"; wait "$run" || true
+    kill -TERM "$run"; wait "$run" || true
 else
     echo "aiohttp not installed by the guide: skipped"
 fi
@@ -63,7 +65,7 @@ if $py -c 'import zenoh' 2>/dev/null; then
     $ego serve --zenoh --name board --port sim >/tmp/serve.out 2>&1 &
     serve=$!
     $ego run --port zenoh://board --duration 3 examples/obstacle_avoidance.py
-    kill -INT "$serve"; wait "$serve" || true
+    kill -TERM "$serve"; wait "$serve" || true
 else
     echo "eclipse-zenoh not installed by the guide: skipped"
 fi
