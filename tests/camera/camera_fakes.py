@@ -1,7 +1,7 @@
 """Camera test doubles: an in-process V4L2 device behind the syscall seam, a scripted source.
 
-``FakeVideoDevice`` implements ``ego.camera.v4l2.V4L2Syscalls``. It is written from the
-kernel's videodev2.h independently of ``ego.camera.v4l2``: it decodes each ioctl
+``FakeVideoDevice`` implements ``ego.camera.v4l2_syscalls.V4L2Syscalls``. It is written from the
+kernel's videodev2.h independently of ``ego.camera.videodev2``: it decodes each ioctl
 request number (direction, size, type, number) and checks it against the literal
 values of the kernel header for this word size, then reads and writes the argument's
 raw bytes with ``struct`` at the header's offsets. A wrong ctypes layout in ego shows up

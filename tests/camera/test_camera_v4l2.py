@@ -23,7 +23,7 @@ from ego.camera import (
     UnsupportedControlError,
     V4L2Source,
     rgb565_to_rgb888,
-    v4l2,
+    videodev2,
 )
 from ego.errors import CameraCaptureError, CameraError
 
@@ -41,18 +41,18 @@ def source(device: FakeVideoDevice):
 
 
 def test_request_numbers_match_the_kernel_header():
-    ours = {name: getattr(v4l2, f"VIDIOC_{name}") for name in REQUESTS}
+    ours = {name: getattr(videodev2, f"VIDIOC_{name}") for name in REQUESTS}
     assert {k: hex(v) for k, v in ours.items()} == {k: hex(v) for k, v in REQUESTS.items()}
 
 
 def test_struct_sizes_match_the_kernel_abi():
     sizes = {
-        v4l2.v4l2_capability: 104,
-        v4l2.v4l2_format: 208 if WORD64 else 204,
-        v4l2.v4l2_requestbuffers: 20,
-        v4l2.v4l2_buffer: 88 if WORD64 else 68,
-        v4l2.v4l2_control: 8,
-        v4l2.v4l2_queryctrl: 68,
+        videodev2.v4l2_capability: 104,
+        videodev2.v4l2_format: 208 if WORD64 else 204,
+        videodev2.v4l2_requestbuffers: 20,
+        videodev2.v4l2_buffer: 88 if WORD64 else 68,
+        videodev2.v4l2_control: 8,
+        videodev2.v4l2_queryctrl: 68,
     }
     assert {s.__name__: ctypes.sizeof(s) for s in sizes} == {
         s.__name__: n for s, n in sizes.items()

@@ -24,7 +24,8 @@ from ego.camera.source import (
     GrantedFormat,
     PixelFormat,
 )
-from ego.camera.v4l2 import LinuxSyscalls, V4L2Source, V4L2Syscalls
+from ego.camera.v4l2 import V4L2Source
+from ego.camera.v4l2_syscalls import LinuxSyscalls, V4L2Syscalls
 from ego.errors import (
     CameraTimeoutError,
     ConfigSyntaxError,
