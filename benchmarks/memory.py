@@ -107,7 +107,7 @@ def _emulator() -> Iterator[tuple[subprocess.Popen[str], str]]:
 
 def _raw_frames(folder: Path, width: int, height: int) -> Path:
     """A raw RGB565 file of one frame of the photograph, as the driver delivers it."""
-    from benchmarks.camera_tables import natural_frame
+    from benchmarks.camera_measure import natural_frame
 
     path = folder / f"frame_{width}x{height}.raw"
     if not path.exists():
