@@ -99,12 +99,25 @@ class FaultPlan:
         self.specs = tuple(self.specs)
         self.rng = random.Random(self.seed)
         self.injected: Counter[str] = Counter()
-        self._forced: list[str] = []
+        #: Forced faults: (kind, the batch number to strike, or None for the next one).
+        self._forced: list[tuple[str, int | None]] = []
 
-    def force(self, kind: str) -> None:
-        """Inject ``kind`` into the next batch (tests use it as a trigger)."""
+    def force(self, kind: str, batch: int | None = None) -> None:
+        """Inject ``kind`` into batch number ``batch`` (1-based, as
+        :attr:`BatchRecord.index` counts), or into the next batch to arrive if None
+        (tests use it as a trigger)."""
         FaultSpec(kind)  # validates the name
-        self._forced.append(kind)
+        self._forced.append((kind, batch))
+
+    def _take_forced(self, batch: int, corrupt: bool) -> set[str]:
+        """The forced kinds that strike ``batch`` (corrupt's, or the others); taken out,
+        with those meant for a batch already gone."""
+        hit = {k for k, b in self._forced if (k == "corrupt") == corrupt and b in (None, batch)}
+        self._forced = [
+            (k, b) for k, b in self._forced
+            if (k == "corrupt") != corrupt or (b is not None and b > batch)
+        ]  # fmt: skip
+        return hit
 
     def _due(self, spec: FaultSpec, batch: int) -> bool:
         return batch in spec.at_batches or (spec.rate > 0 and self.rng.random() < spec.rate)
@@ -115,8 +128,7 @@ class FaultPlan:
         A silent batch (actuators only) has no reply to drop, garble or delay.
         """
         kinds = {s.kind for s in self.specs if s.kind != "corrupt" and self._due(s, batch)}
-        kinds.update(k for k in self._forced if k != "corrupt")
-        self._forced = [k for k in self._forced if k == "corrupt"]
+        kinds.update(self._take_forced(batch, corrupt=False))
         if not has_reply:
             kinds -= {"drop", "garble", "delay"}
         chosen = [k for k in BATCH_FAULTS if k in kinds]
@@ -125,12 +137,11 @@ class FaultPlan:
 
     def corrupt_chunk(self, chunk: bytes, batch: int) -> tuple[bytes, bool]:
         """Maybe flip one bit of one byte of a chunk on its way in."""
-        hit = "corrupt" in self._forced or any(
-            s.kind == "corrupt" and self._due(s, batch) for s in self.specs
-        )
-        if not hit or not chunk:
+        if not chunk:
             return chunk, False
-        self._forced = [k for k in self._forced if k != "corrupt"]
+        forced = self._take_forced(batch, corrupt=True)
+        if not forced and not any(s.kind == "corrupt" and self._due(s, batch) for s in self.specs):
+            return chunk, False
         self.injected["corrupt"] += 1
         data = bytearray(chunk)
         data[self.rng.randrange(len(data))] ^= 1 << self.rng.randrange(8)

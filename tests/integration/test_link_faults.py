@@ -208,9 +208,11 @@ def test_reset_during_a_short_reply_is_reported(letters: str, emulator: Emulator
     seen, or the robot's lost speeds and counters would pass unnoticed."""
     link = open_link(emulator)
     try:
-        link.exchange(encode_batch([req("D", 500, 500)], link.profile))
+        silent = emulator.batches + 1  # every batch before it was answered
+        link.exchange(encode_batch([req("D", 500, 500)], link.profile))  # not waited for
         batch = encode_batch([req(c) for c in letters], link.profile)
-        emulator.inject("reset")
+        # The batch after the silent one, which may still be on its way to the dsPIC.
+        emulator.inject("reset", batch=silent + 1)
         with pytest.raises(RobotResetError):
             link.exchange(batch)
         assert emulator.world.speeds == (0, 0)

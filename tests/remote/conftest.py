@@ -7,7 +7,6 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from fakes import FAST_LINK
 from remote_helpers import ConnectFactory, Served, ServeFactory
 
 from ego.backends.remote.channel import RemoteChannel
@@ -19,6 +18,11 @@ from firmware_sim.camera import SimulatedSource
 
 #: Client links fail fast in tests: the server's link already retried the serial line.
 CLIENT_LINK = LinkSettings(retries=1, reconnect_timeout_s=2.0)
+#: The served emulator's line: the emulator runs in the test's process, so on a loaded
+#: machine its answer may wait for a core and for the GIL well past FAST_LINK's 10 ms, and
+#: a retry would run a batch twice. The faults these tests inject (a 3 s stall, a reset)
+#: are far longer, or need no timeout at all.
+SERVED_LINK = LinkSettings(reply_timeout_s=0.25, reconnect_timeout_s=1.0, line_timeout_s=0.5)
 
 
 @pytest.fixture
@@ -33,7 +37,7 @@ def serve() -> Iterator[ServeFactory]:
             kinds: tuple[str, ...] = ("tcp",),
             firmware: str = "webots",
             emulator_options: dict[str, Any] | None = None,
-            link_settings: LinkSettings = FAST_LINK,
+            link_settings: LinkSettings = SERVED_LINK,
             sim_camera: bool = False,
             **options: Any,
         ) -> Served:

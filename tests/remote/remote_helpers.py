@@ -15,6 +15,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from types import TracebackType
 
+from helpers import wait_until
+
 from ego.backends.remote.channel import RemoteChannel
 from ego.camera.source import GrantedFormat, PixelFormat
 from ego.net.auth import client_proof, new_nonce
@@ -351,15 +353,20 @@ class RawClient:
         self.sock.close()
 
 
-def wait_for(predicate: object, timeout_s: float, interval_s: float = 0.005) -> float:
-    """Seconds until ``predicate()`` held; AssertionError after ``timeout_s``."""
-    assert callable(predicate)
-    start = time.monotonic()
-    while not predicate():
-        if time.monotonic() - start > timeout_s:
-            raise AssertionError(f"condition not met within {timeout_s} s")
-        time.sleep(interval_s)
-    return time.monotonic() - start
+#: How late the deadman may fire, at most, as a share of its deadline (README, "ego serve").
+DEADMAN_MARGIN = 0.10
+
+
+def assert_deadman_fired(server: Server, deadline_s: float, times: int = 1) -> float:
+    """The server's deadman fired ``times`` times, the last after its client had been
+    silent more than ``deadline_s`` and at most :data:`DEADMAN_MARGIN` more, on the
+    server's own clock (what the test's loop saw later proves nothing); that silence."""
+    stats = server.stats
+    assert wait_until(lambda: len(stats.deadman_silences) >= times), stats
+    assert stats.deadman_stops == times, stats
+    silence = stats.deadman_silences[-1]
+    assert deadline_s < silence <= deadline_s * (1 + DEADMAN_MARGIN), silence
+    return silence
 
 
 #: The ``serve`` and ``connect`` fixtures' types (in conftest.py), importable by tests.

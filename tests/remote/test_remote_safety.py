@@ -13,7 +13,14 @@ import time
 import zlib
 
 import pytest
-from remote_helpers import ConnectFactory, DatagramProxy, RawClient, ServeFactory, wait_for
+from helpers import wait_until
+from remote_helpers import (
+    ConnectFactory,
+    DatagramProxy,
+    RawClient,
+    ServeFactory,
+    assert_deadman_fired,
+)
 
 from ego.backends.remote.channel import RemoteChannel
 from ego.errors import AuthenticationError, RobotBusyError, RobotResetError
@@ -57,11 +64,8 @@ def test_silent_client_gets_motors_stopped_and_leds_off_after_the_deadline(
     _drive(link, 400, -400, 1)
     world = served.emu.world
     assert world.speeds == (400, -400) and all(world.leds)
-    silent_since = time.monotonic()
-    elapsed = wait_for(lambda: world.speeds == (0, 0) and not any(world.leds), 2.0)
-    elapsed = time.monotonic() - silent_since
-    assert DEADLINE_S * 0.9 <= elapsed <= DEADLINE_S + 0.25, elapsed
-    assert served.server.stats.deadman_stops == 1
+    assert_deadman_fired(served.server, DEADLINE_S)
+    assert wait_until(lambda: world.speeds == (0, 0) and not any(world.leds)), world
     assert served.server.controller is None
 
 
@@ -84,7 +88,7 @@ def test_timed_out_client_reconnects_and_is_told_to_reapply_its_state(
     served = serve(kinds=(kind,), deadline_s=0.2)
     link = connect(served.url, heartbeat=False)
     _drive(link, 300, 300, 0)
-    wait_for(lambda: served.server.stats.deadman_stops == 1, 1.0)
+    assert wait_until(lambda: served.server.stats.deadman_stops == 1)
     batch = encode_batch([Request(Command.GET_SPEED)], link.profile)
     with pytest.raises(RobotResetError):
         link.exchange(batch)  # the robot was stopped behind its back: say so
@@ -101,9 +105,8 @@ def test_transport_dropped_without_close_lets_the_deadman_stop_the_robot(
     _drive(link, 300, 300, 1)
     del link
     gc.collect()
-    elapsed = wait_for(lambda: served.emu.world.speeds == (0, 0), 2.0)
-    assert elapsed <= DEADLINE_S + 0.25
-    assert served.server.stats.deadman_stops == 1
+    assert_deadman_fired(served.server, DEADLINE_S)
+    assert wait_until(lambda: served.emu.world.speeds == (0, 0))
 
 
 def test_disconnect_without_goodbye_stops_the_robot_at_once(serve: ServeFactory) -> None:
@@ -118,8 +121,8 @@ def test_disconnect_without_goodbye_stops_the_robot_at_once(serve: ServeFactory)
     assert raw.receive().type is MessageType.OK
     assert served.emu.world.speeds == (300, 300)
     raw.close()
-    elapsed = wait_for(lambda: served.emu.world.speeds == (0, 0), 1.0)
-    assert elapsed < 1.0  # long before the 5 s deadline
+    assert wait_until(lambda: served.emu.world.speeds == (0, 0))
+    assert served.server.stats.deadman_stops == 0  # at once, not by the 5 s deadman
     assert served.server.controller is None
 
 
@@ -352,11 +355,8 @@ def test_a_long_step_keeps_control_but_a_hung_controller_trips_the_deadman(
         assert robot.step(1000) == 0  # three deadlines long, waited out inside step()
         assert served.server.stats.deadman_stops == 0
         assert served.emu.world.speeds == (250, 250)
-        hung_at = time.monotonic()
-        elapsed = wait_for(lambda: served.emu.world.speeds == (0, 0), 3.0)  # "hung"
-        assert served.server.stats.deadman_stops == 1
-        assert elapsed <= DEADLINE_S + 0.3, elapsed
-        assert time.monotonic() - hung_at < 3.0
+        assert_deadman_fired(served.server, DEADLINE_S)  # "hung" in its own code
+        assert wait_until(lambda: served.emu.world.speeds == (0, 0))
 
 
 def test_the_throttle_doubles_per_host_caps_and_forgets() -> None:
@@ -412,10 +412,10 @@ def test_idle_and_surplus_connections_are_dropped_and_the_client_still_gets_in(
     host, port = served.url.removeprefix("tcp://").rsplit(":", 1)
     idle = [socket.create_connection((host, int(port)), timeout=5) for _ in range(80)]
     try:
-        wait_for(lambda: served.server.stats.dropped >= 80 - MAX_UNAUTHENTICATED, 2.0)
+        assert wait_until(lambda: served.server.stats.dropped >= 80 - MAX_UNAUTHENTICATED)
         link = connect(served.url)  # the cap evicts the oldest idle one for it
         _drive(link, 0, 0, 0)
-        wait_for(lambda: served.server.stats.dropped >= 80, 3.0)
+        assert wait_until(lambda: served.server.stats.dropped >= 80)
         for sock in idle:
             sock.settimeout(2.0)
             assert sock.recv(1) == b""  # the server hung up on every idle connection
@@ -439,7 +439,7 @@ def test_a_controller_that_only_sets_speeds_ends_once_the_deadman_stopped_its_ro
         robot.motors.set_speed(250, 250)
         assert robot.step(32) == 0
         assert served.emu.world.speeds == (250, 250)
-        wait_for(lambda: served.emu.world.speeds == (0, 0), 3.0)  # hung in its own code
+        assert wait_until(lambda: served.emu.world.speeds == (0, 0))  # hung in its own code
         assert served.server.stats.deadman_stops == 1
         with caplog.at_level(logging.ERROR):
             steps = [robot.step(32) for _ in range(3)]

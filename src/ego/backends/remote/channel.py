@@ -60,6 +60,7 @@ from ego.net.messages import (
     pack_request,
 )
 from ego.net.wire import ASCII_REPLY_LINES, MessageType, parse_url, unpack_json
+from ego.nursery import Nursery
 from ego.serial.firmware import profile_for
 from ego.serial.link import LinkSettings
 from ego.serial.protocol import Batch
@@ -312,9 +313,10 @@ class _Heartbeat:
         self._ping = ping
         self._interval_s = interval_s
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, name="ego-remote-heartbeat",
-                                        daemon=True)  # fmt: skip
-        self._thread.start()
+        # A program that exits with its channel open: the thread ends first (the server's
+        # deadman then stops the robot).
+        self._threads = Nursery("a remote channel's heartbeat", at_exit=self._stop.set)
+        self._threads.start_thread(self._run, name="ego-remote-heartbeat")
 
     def _run(self) -> None:
         while not self._stop.wait(self._interval_s / 4):
@@ -324,9 +326,9 @@ class _Heartbeat:
             del ping
 
     def stop(self) -> None:
+        """End and join the thread (not waited for when the thread itself stops it)."""
         self._stop.set()
-        if self._thread is not threading.current_thread():
-            self._thread.join()
+        self._threads.close()
 
 
 class RemoteFrameSource:
