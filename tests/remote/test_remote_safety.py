@@ -451,3 +451,17 @@ def test_a_controller_that_only_sets_speeds_ends_once_the_deadman_stopped_its_ro
     logged = [r.getMessage() for r in caplog.records if r.levelno >= logging.ERROR]
     assert any("the server's deadman stopped the robot" in m for m in logged), logged
     assert served.server.stats.sessions == 1  # it ended; it did not drive on in a new one
+
+
+def test_the_deadman_sleeps_until_the_deadline_instead_of_polling(
+    serve: ServeFactory, connect: ConnectFactory
+) -> None:
+    """Issue 35: the deadman was a thread asking the session every 10 ms. Now it is a
+    timer armed with the deadline: a silent controller's 0.5 s costs it a wake-up or two
+    (one per deadline it was armed with), not fifty."""
+    served = serve(kinds=("tcp",), deadline_s=DEADLINE_S)
+    link = connect(served.url, heartbeat=False)
+    _drive(link, 300, 300, 1)
+    assert_deadman_fired(served.server, DEADLINE_S)
+    deadman = served.server.deadman
+    assert deadman is not None and deadman.fired <= 3, deadman.fired

@@ -150,7 +150,8 @@ class Server:
         self._closers: list[Callable[[], None]] = []
         self._tasks = Nursery("ego serve")
         self._loop: asyncio.AbstractEventLoop | None = None
-        self._deadman: DeadlineTimer | None = None
+        #: The deadman: a timer asleep until the controller's deadline (set by start()).
+        self.deadman: DeadlineTimer | None = None
         self._stopping = threading.Event()
         self._closed = asyncio.Event()
         self._last_fd_warning = 0.0
@@ -205,7 +206,7 @@ class Server:
                 self._closers.append(transport.close)
             shown = f"[{sockname[0]}]" if ":" in sockname[0] else sockname[0]
             self.urls.append(f"{scheme}://{shown}:{sockname[1]}")
-        self._deadman = self._tasks.start_timer(self._deadline_passed, name="ego-serve-deadman")
+        self.deadman = self._tasks.start_timer(self._deadline_passed, name="ego-serve-deadman")
         self._arm()
         log.info(
             "serving %s (%s firmware) on %s%s",
@@ -250,15 +251,15 @@ class Server:
         with self._lock:
             actions = method(*args)
             due = self.session.next_deadline()
-        if due is not None and self._deadman is not None:
-            self._deadman.arm(due)  # a no-op unless it brings the deadline closer
+        if due is not None and self.deadman is not None:
+            self.deadman.arm(due)  # a no-op unless it brings the deadline closer
         self.feed(actions)
 
     def _arm(self) -> None:
         with self._lock:
             due = self.session.next_deadline()
-        if due is not None and self._deadman is not None:
-            self._deadman.arm(due)
+        if due is not None and self.deadman is not None:
+            self.deadman.arm(due)
 
     # -- output ------------------------------------------------------------------------------
 
