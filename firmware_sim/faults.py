@@ -57,9 +57,12 @@ class FaultTimings:
     delay_s: float = 0.1
     stall_s: float = 1.0
     replug_s: float = 0.3
+    #: After a reset, how long the banner's second line lags its first (0: at line
+    #: rate). A loaded machine, a USB hub or a Bluetooth stack can split the two.
+    banner_gap_s: float = 0.0
 
     def __post_init__(self) -> None:
-        for name in ("delay_s", "stall_s", "replug_s"):
+        for name in ("delay_s", "stall_s", "replug_s", "banner_gap_s"):
             value = getattr(self, name)
             if not 0.0 <= value <= MAX_FAULT_S:  # also refuses NaN
                 raise ValueError(f"{name} {value} is outside 0..{MAX_FAULT_S:g} s")

@@ -268,7 +268,9 @@ class Emulator:
         ready += self.latency_s
         if "reset" in kinds:
             self.dspic.reset()
-            self._schedule(BANNER, ready)
+            first_line = BANNER.index(b"\n") + 1
+            self._schedule(BANNER[:first_line], ready)
+            self._schedule(BANNER[first_line:], ready + self.plan.timings.banner_gap_s)
             return
         if "disconnect" in kinds:
             self._unplug()

@@ -34,6 +34,7 @@ from ego.core.profile import (
 from ego.errors import ExtraBytesError, ShortReplyError, UnsupportedDeviceError
 
 __all__ = [
+    "BANNER_END",
     "BANNER_MARKER",
     "BITS_PER_BYTE",
     "DEFAULT_BAUD",
@@ -67,6 +68,9 @@ MAX_SPEED_STEPS = 1000
 #: Every welcome banner of the firmwares we know contains this; its arrival mid-stream
 #: means the dsPIC restarted.
 BANNER_MARKER = b"WELCOME"
+#: How the banner ends, for every firmware we know (docs/protocol.md: Asercom.c:117-126,
+#: Asercom2.c:153-160): once it is in, nothing of the banner is left to come.
+BANNER_END = b'"H" for help\r\n'
 
 
 def command_byte(letter: str) -> int:
