@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import gc
 from collections.abc import Iterator
 from typing import Any
 
@@ -52,6 +53,22 @@ def serve() -> Iterator[ServeFactory]:
             return Served(emu, link, server, thread)
 
         yield factory
+
+
+@pytest.fixture
+def settled_heap() -> Iterator[None]:
+    """A deadline measured without a full garbage collection of the whole test session's
+    heap in the middle: the objects alive now (every earlier test's) are collected once
+    and frozen out of the collector, and thawed after. In a full run that collection
+    holds the GIL for a few hundred milliseconds on a loaded machine (a deadman measured
+    0.3 s late in the suite, never alone); a robot's server never holds the thousands of
+    tests' objects a suite run leaves to walk."""
+    gc.collect()
+    gc.freeze()
+    try:
+        yield
+    finally:
+        gc.unfreeze()
 
 
 @pytest.fixture

@@ -77,7 +77,7 @@ class DatagramProxy:
         self._queue: list[tuple[float, int, str, bytes]] = []
         self._order = itertools.count()
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, name="udp-proxy", daemon=True)
+        self._thread = threading.Thread(target=self._run, name="udp-proxy")
 
     @property
     def url(self) -> str:
@@ -98,6 +98,7 @@ class DatagramProxy:
         self._thread.join(timeout=5)
         self.front.close()
         self.back.close()
+        assert not self._thread.is_alive(), "the proxy's thread did not end"
 
     def _run(self) -> None:
         while not self._stop.is_set():
@@ -227,7 +228,7 @@ class StreamRelay:
         self.counts: collections.Counter[str] = collections.Counter()
         self._threads: list[threading.Thread] = []
         self._socks: list[socket.socket] = [self.listener]
-        accept = threading.Thread(target=self._accept, daemon=True)
+        accept = threading.Thread(target=self._accept, name="relay-accept")
         accept.start()
         self._threads.append(accept)
 
@@ -243,7 +244,7 @@ class StreamRelay:
                 self._socks += [client, server]
                 for src, dst, direction in ((client, server, "up"), (server, client, "down")):
                     pump = threading.Thread(
-                        target=self._pump, args=(src, dst, direction), daemon=True
+                        target=self._pump, args=(src, dst, direction), name=f"relay-{direction}"
                     )
                     pump.start()
                     self._threads.append(pump)
@@ -269,9 +270,16 @@ class StreamRelay:
             dst.shutdown(socket.SHUT_WR)
 
     def close(self) -> None:
+        """Close every socket (a shutdown first wakes a blocked accept or recv), then join
+        every thread; one still running is a failure, not left behind."""
         for sock in self._socks:
             with contextlib.suppress(OSError):
+                sock.shutdown(socket.SHUT_RDWR)
+            with contextlib.suppress(OSError):
                 sock.close()
+        for thread in list(self._threads):
+            thread.join(5)
+        assert not any(t.is_alive() for t in self._threads), "a relay thread did not end"
 
     def __enter__(self) -> StreamRelay:
         return self

@@ -9,7 +9,6 @@ is what a robot reachable from other machines must have (``check_listen``).
 
 from __future__ import annotations
 
-import gc
 import subprocess
 import time
 from collections.abc import Iterator
@@ -49,21 +48,6 @@ def _session_of(datagram: bytes) -> int:
 
 
 @pytest.fixture
-def settled_heap() -> Iterator[None]:
-    """The timings under a flood without a full garbage collection of the whole test
-    session's heap in the middle: the objects alive now (every earlier test's) are
-    collected once and frozen out of the collector, and thawed after. What is measured is
-    the server and the client under the flood; a robot's controller process never holds
-    the thousands of tests' objects a full suite run leaves to walk."""
-    gc.collect()
-    gc.freeze()
-    try:
-        yield
-    finally:
-        gc.unfreeze()
-
-
-@pytest.fixture
 def udp_session(serve: ServeFactory) -> Iterator[tuple[object, DatagramProxy, RemoteChannel]]:
     served = serve(kinds=("udp",), secret=SECRET, require_secret=True)
     with DatagramProxy(served.url) as proxy:
@@ -95,6 +79,7 @@ def test_a_spoofed_udp_step_from_the_clients_address_is_dropped(
         assert _speeds(channel, 100, 100) == (100, 100)
 
 
+@pytest.mark.usefixtures("settled_heap")
 def test_a_replayed_udp_session_neither_runs_again_nor_keeps_the_robot_going(
     udp_session: tuple[object, DatagramProxy, RemoteChannel],
 ) -> None:

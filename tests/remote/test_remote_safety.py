@@ -56,6 +56,7 @@ def _drive(link: Link, left: int, right: int, led: int) -> None:
 # -- the deadman -----------------------------------------------------------------------
 
 
+@pytest.mark.usefixtures("settled_heap")
 def test_silent_client_gets_motors_stopped_and_leds_off_after_the_deadline(
     serve: ServeFactory, connect: ConnectFactory, kind: str
 ) -> None:
@@ -97,6 +98,7 @@ def test_timed_out_client_reconnects_and_is_told_to_reapply_its_state(
 
 
 @pytest.mark.filterwarnings("ignore::ResourceWarning")
+@pytest.mark.usefixtures("settled_heap")
 def test_transport_dropped_without_close_lets_the_deadman_stop_the_robot(
     serve: ServeFactory,
 ) -> None:
@@ -217,7 +219,7 @@ def test_client_refuses_a_server_that_cannot_prove_the_secret(claims: dict[str, 
                 reply = {"nonce": bytes(32).hex(), "proof": bytes(32).hex(), **claims}
                 sock.sendto(encode_frame(MessageType.OK, frame.seq, pack_json(reply), 77), addr)
 
-    thread = threading.Thread(target=impostor, daemon=True)
+    thread = threading.Thread(target=impostor, name="impostor")
     thread.start()
     try:
         with pytest.raises(AuthenticationError, match="could not prove"):
@@ -227,8 +229,11 @@ def test_client_refuses_a_server_that_cannot_prove_the_secret(claims: dict[str, 
                 heartbeat=False,
             )
     finally:
-        thread.join(timeout=3)
+        with contextlib.suppress(OSError):
+            sock.shutdown(socket.SHUT_RDWR)  # wakes its recvfrom, where a close would not
         sock.close()
+        thread.join(timeout=5)
+    assert not thread.is_alive(), "the impostor's thread did not end"
     assert heard == [MessageType.HELLO]  # never an AUTH: no proof for the impostor
 
 
@@ -342,6 +347,7 @@ def test_welcome_names_the_firmware_and_deadline(serve: ServeFactory) -> None:
     assert welcome["deadline_s"] == 0.4
 
 
+@pytest.mark.usefixtures("settled_heap")
 def test_a_long_step_keeps_control_but_a_hung_controller_trips_the_deadman(
     serve: ServeFactory, kind: str
 ) -> None:
@@ -453,6 +459,7 @@ def test_a_controller_that_only_sets_speeds_ends_once_the_deadman_stopped_its_ro
     assert served.server.stats.sessions == 1  # it ended; it did not drive on in a new one
 
 
+@pytest.mark.usefixtures("settled_heap")
 def test_the_deadman_sleeps_until_the_deadline_instead_of_polling(
     serve: ServeFactory, connect: ConnectFactory
 ) -> None:
