@@ -76,6 +76,7 @@ def test_heartbeat_keeps_an_idle_controller_in_control(
     served = serve(kinds=(kind,), deadline_s=DEADLINE_S)
     link = connect(served.url)  # heartbeat on: a controller with a 1 s step
     _drive(link, 250, 250, 1)
+    # Three deadlines: a deadman that fires within 10 % of one (README) would have by now.
     time.sleep(1.0)
     assert served.emu.world.speeds == (250, 250)
     assert served.server.stats.deadman_stops == 0
