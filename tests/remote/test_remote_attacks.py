@@ -199,6 +199,9 @@ def test_a_udp_hello_flood_from_many_ports_keeps_no_state_and_every_client_gets_
                                              connect_timeout_s=20.0, retries=1000)  # fmt: skip
             assert _speeds(channel, 0, 0) == (0, 0)
             channel.close()
+            # One client at a time: the next gets in once the server has let this one go
+            # (by its goodbye, or by the deadman if the flood lost the goodbye).
+            assert wait_until(lambda: served.server.controller is None)
     finally:
         flood.wait(timeout=10)
     assert not served.server.session.gate._pending  # spoofable HELLOs left no state
