@@ -57,9 +57,12 @@ class FaultTimings:
     delay_s: float = 0.1
     stall_s: float = 1.0
     replug_s: float = 0.3
+    #: After a reset, how long the banner's second line lags its first (0: at line
+    #: rate). A loaded machine, a USB hub or a Bluetooth stack can split the two.
+    banner_gap_s: float = 0.0
 
     def __post_init__(self) -> None:
-        for name in ("delay_s", "stall_s", "replug_s"):
+        for name in ("delay_s", "stall_s", "replug_s", "banner_gap_s"):
             value = getattr(self, name)
             if not 0.0 <= value <= MAX_FAULT_S:  # also refuses NaN
                 raise ValueError(f"{name} {value} is outside 0..{MAX_FAULT_S:g} s")
@@ -99,12 +102,25 @@ class FaultPlan:
         self.specs = tuple(self.specs)
         self.rng = random.Random(self.seed)
         self.injected: Counter[str] = Counter()
-        self._forced: list[str] = []
+        #: Forced faults: (kind, the batch number to strike, or None for the next one).
+        self._forced: list[tuple[str, int | None]] = []
 
-    def force(self, kind: str) -> None:
-        """Inject ``kind`` into the next batch (tests use it as a trigger)."""
+    def force(self, kind: str, batch: int | None = None) -> None:
+        """Inject ``kind`` into batch number ``batch`` (1-based, as
+        :attr:`BatchRecord.index` counts), or into the next batch to arrive if None
+        (tests use it as a trigger)."""
         FaultSpec(kind)  # validates the name
-        self._forced.append(kind)
+        self._forced.append((kind, batch))
+
+    def _take_forced(self, batch: int, corrupt: bool) -> set[str]:
+        """The forced kinds that strike ``batch`` (corrupt's, or the others); taken out,
+        with those meant for a batch already gone."""
+        hit = {k for k, b in self._forced if (k == "corrupt") == corrupt and b in (None, batch)}
+        self._forced = [
+            (k, b) for k, b in self._forced
+            if (k == "corrupt") != corrupt or (b is not None and b > batch)
+        ]  # fmt: skip
+        return hit
 
     def _due(self, spec: FaultSpec, batch: int) -> bool:
         return batch in spec.at_batches or (spec.rate > 0 and self.rng.random() < spec.rate)
@@ -115,8 +131,7 @@ class FaultPlan:
         A silent batch (actuators only) has no reply to drop, garble or delay.
         """
         kinds = {s.kind for s in self.specs if s.kind != "corrupt" and self._due(s, batch)}
-        kinds.update(k for k in self._forced if k != "corrupt")
-        self._forced = [k for k in self._forced if k == "corrupt"]
+        kinds.update(self._take_forced(batch, corrupt=False))
         if not has_reply:
             kinds -= {"drop", "garble", "delay"}
         chosen = [k for k in BATCH_FAULTS if k in kinds]
@@ -125,12 +140,11 @@ class FaultPlan:
 
     def corrupt_chunk(self, chunk: bytes, batch: int) -> tuple[bytes, bool]:
         """Maybe flip one bit of one byte of a chunk on its way in."""
-        hit = "corrupt" in self._forced or any(
-            s.kind == "corrupt" and self._due(s, batch) for s in self.specs
-        )
-        if not hit or not chunk:
+        if not chunk:
             return chunk, False
-        self._forced = [k for k in self._forced if k != "corrupt"]
+        forced = self._take_forced(batch, corrupt=True)
+        if not forced and not any(s.kind == "corrupt" and self._due(s, batch) for s in self.specs):
+            return chunk, False
         self.injected["corrupt"] += 1
         data = bytearray(chunk)
         data[self.rng.randrange(len(data))] ^= 1 << self.rng.randrange(8)

@@ -28,6 +28,7 @@ from types import TracebackType
 from firmware_sim.dspic import BANNER, BatchRecord, Dspic, Emission
 from firmware_sim.faults import FaultPlan, FaultSpec, FaultTimings
 from firmware_sim.i2c import OveroBus
+from firmware_sim.threads import OwnedThread
 from firmware_sim.world import World
 
 __all__ = ["Emulator"]
@@ -110,7 +111,7 @@ class Emulator:
         self._replug_at: float | None = None
         self._wake_r, self._wake_w = os.pipe()
         self._stop = threading.Event()
-        self._thread: threading.Thread | None = None
+        self._thread: OwnedThread | None = None
         self._closed = False
         self._plug()
         self._schedule(BANNER, time.monotonic())  # power-on banner, drained at open
@@ -118,7 +119,7 @@ class Emulator:
     # -- lifecycle -----------------------------------------------------------------------
 
     def start(self) -> Emulator:
-        self._thread = threading.Thread(target=self.serve_forever, name="ego-sim", daemon=True)
+        self._thread = OwnedThread(self.serve_forever, "ego-sim", stop=self.stop)
         self._thread.start()
         return self
 
@@ -130,13 +131,15 @@ class Emulator:
         self._stop.set()
         with contextlib.suppress(OSError):
             os.write(self._wake_w, b"x")
-        if self._thread is not None and self._thread is not threading.current_thread():
-            self._thread.join(timeout=5)
-        self._unplug()
-        for fd in (self._wake_r, self._wake_w):
-            with contextlib.suppress(OSError):
-                os.close(fd)
-        shutil.rmtree(self._dir, ignore_errors=True)
+        try:
+            if self._thread is not None:
+                self._thread.join()
+        finally:
+            self._unplug()
+            for fd in (self._wake_r, self._wake_w):
+                with contextlib.suppress(OSError):
+                    os.close(fd)
+            shutil.rmtree(self._dir, ignore_errors=True)
 
     def __enter__(self) -> Emulator:
         return self.start()
@@ -153,9 +156,17 @@ class Emulator:
     def firmware(self) -> str:
         return self.dspic.firmware
 
-    def inject(self, kind: str) -> None:
-        """Strike the next batch with fault ``kind`` (a trigger, beside the rates)."""
-        self.plan.force(kind)
+    def inject(self, kind: str, batch: int | None = None) -> None:
+        """Strike batch number ``batch`` with fault ``kind`` (a trigger, beside the rates):
+        1-based, as :attr:`batches` and ``history``'s records count them; None strikes
+        the next batch to arrive, which races a batch still on its way (an actuator-only
+        batch is not answered: its sender does not wait for it)."""
+        self.plan.force(kind, batch)
+
+    @property
+    def batches(self) -> int:
+        """How many batches the dsPIC has parsed so far."""
+        return self.dspic.batches
 
     # -- the pty -------------------------------------------------------------------------
 
@@ -257,7 +268,9 @@ class Emulator:
         ready += self.latency_s
         if "reset" in kinds:
             self.dspic.reset()
-            self._schedule(BANNER, ready)
+            first_line = BANNER.index(b"\n") + 1
+            self._schedule(BANNER[:first_line], ready)
+            self._schedule(BANNER[first_line:], ready + self.plan.timings.banner_gap_s)
             return
         if "disconnect" in kinds:
             self._unplug()

@@ -78,17 +78,24 @@ def spawn(args: list[str], cwd: Path) -> Iterator[subprocess.Popen[str]]:
         proc.communicate(timeout=10)
 
 
-def wait_until(condition: Callable[[], bool], timeout_s: float = 5.0) -> bool:
-    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held.
+def wait_until(
+    condition: Callable[[], object], timeout_s: float = 5.0, interval_s: float = 0.005
+) -> bool:
+    """Poll ``condition`` until it holds or ``timeout_s`` passes; whether it held (``assert
+    wait_until(...), why``). The one waiting helper of the suite.
 
     An actuator-only batch gets no reply (protocol.md), and another process's robot acts on
-    its own time, so tests poll the world rather than sleep a fixed time.
+    its own time, so tests wait for the world rather than sleep a fixed time. The budget
+    is generous on purpose (a loaded machine is slow): it bounds a failure, it measures
+    nothing. A timing promise is asserted against the clock the code itself keeps (the
+    server's deadman records how long its client was silent), never against how soon
+    this loop noticed.
     """
     deadline = time.monotonic() + timeout_s
     while not condition():
         if time.monotonic() > deadline:
-            return False
-        time.sleep(0.005)
+            return bool(condition())
+        time.sleep(interval_s)
     return True
 
 

@@ -24,6 +24,7 @@ from collections import deque
 
 from firmware_sim.epuck2.asercom2 import Asercom2
 from firmware_sim.epuck2.camera import frame_rgb565_be
+from firmware_sim.threads import OwnedThread
 
 __all__ = ["ACTUATORS_BUFF_LEN", "DEFAULT_PORT", "Radio"]
 
@@ -84,7 +85,7 @@ class Radio:
         self._tx[0], self._tx[1] = 0xF8, 0xF7  # uart_e-puck2.c:89-91
         self._filled = bytes(UART_RX_BUFF_SIZE)
         self._filled = self._poll()  # the bridge polls once at boot (uart_e-puck2.c:96)
-        self._thread = threading.Thread(target=self._run, name="epuck2-radio", daemon=True)
+        self._thread = OwnedThread(self._run, "epuck2-radio", stop=self.close)
 
     def start(self) -> None:
         self._thread.start()
@@ -98,11 +99,12 @@ class Radio:
                 client.shutdown(socket.SHUT_RDWR)  # unblocks a MSG_WAITALL recv or a send
         with contextlib.suppress(OSError):
             self._server.shutdown(socket.SHUT_RDWR)
-        if self._thread.is_alive():
-            self._thread.join(timeout=5)
-        for sock in (client, self._server):
-            if sock is not None:
-                sock.close()
+        try:
+            self._thread.join()
+        finally:
+            for sock in (client, self._server):
+                if sock is not None:
+                    sock.close()
 
     def polls(self) -> list[bytes]:
         """Every 19-byte actuator payload the bridge has sent the main processor, oldest

@@ -26,6 +26,7 @@ import tty
 from collections import deque
 
 from firmware_sim.epuck2.asercom2 import Asercom2
+from firmware_sim.threads import OwnedThread
 
 __all__ = ["BANNER", "SerialPort"]
 
@@ -69,7 +70,7 @@ class SerialPort:
         self._wake_r, self._wake_w = os.pipe()
         self._stop = threading.Event()
         self._closed = False
-        self._thread = threading.Thread(target=self._run, name="epuck2-serial", daemon=True)
+        self._thread = OwnedThread(self._run, "epuck2-serial", stop=self.close)
         self._schedule(BANNER, time.monotonic())
 
     def start(self) -> None:
@@ -83,12 +84,13 @@ class SerialPort:
         self._stop.set()
         with contextlib.suppress(OSError):
             os.write(self._wake_w, b"x")
-        if self._thread.is_alive():
-            self._thread.join(timeout=5)
-        for fd in (self._master, self._slave, self._wake_r, self._wake_w):
-            with contextlib.suppress(OSError):
-                os.close(fd)
-        shutil.rmtree(self._dir, ignore_errors=True)
+        try:
+            self._thread.join()
+        finally:
+            for fd in (self._master, self._slave, self._wake_r, self._wake_w):
+                with contextlib.suppress(OSError):
+                    os.close(fd)
+            shutil.rmtree(self._dir, ignore_errors=True)
 
     # -- the loop -------------------------------------------------------------------
 

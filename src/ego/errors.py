@@ -22,6 +22,7 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
     │   ├── RobotResetError                      the dsPIC restarted (its banner arrived)
     │   ├── ChecksumError                        a reply whose checksum does not match
     │   └── FirmwareMismatchError                the firmware is not the one we were told
+    ├── ThreadLeakError (RuntimeError)           a thread its owner could not end by close
     ├── BackendOptionError (ValueError)          an option a port's backend does not take,
     │                                            or one of the wrong type or value
     ├── BadFileError (ValueError)                not a regular file, or over a bound
@@ -89,6 +90,7 @@ __all__ = [
     "SecretRequiredError",
     "SettingOutOfRangeError",
     "ShortReplyError",
+    "ThreadLeakError",
     "UnknownDeviceError",
     "UnknownSettingError",
     "UnsupportedControlError",
@@ -214,6 +216,11 @@ class ChecksumError(ProtocolError):
 
 class FirmwareMismatchError(ProtocolError):
     """The firmware answers differently from the profile in use."""
+
+
+class ThreadLeakError(EgoError, RuntimeError):
+    """A thread its owner (an :class:`ego.nursery.Nursery`) told to end was still running
+    when the owner's close gave up waiting; the message names the thread and its owner."""
 
 
 class BackendOptionError(EgoError, ValueError):

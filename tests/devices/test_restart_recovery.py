@@ -7,6 +7,7 @@ carries on; the controller's next step still returns 0.
 
 from __future__ import annotations
 
+import pytest
 from helpers import emulator_of
 
 import ego
@@ -82,3 +83,36 @@ def test_a_reset_while_standing_still_does_not_start_the_motors(
     assert robot.channel.stats.restarts == 1
     assert world.speeds == (0, 0)
     assert robot.motors.values == (0, 0)
+
+
+def test_a_reset_whose_banner_comes_in_two_pieces_is_not_taken_for_the_firmware_answer() -> None:
+    """Issue 35: on a loaded machine the banner's lines came apart; the link, draining
+    until the line was quiet, stopped between them and took what came next for the
+    answer to its V ("reply 'on robot type "H" for help' to 'V' does not start with 'v'",
+    or no answer at all). It drains until the banner's last line is in."""
+    from fakes import FAST_LINK
+
+    from ego.errors import RobotResetError
+    from ego.seam.batch import Request
+    from ego.seam.profile import Command
+    from ego.serial.link import Link
+    from ego.serial.protocol import encode_batch
+    from ego.serial.transport import SerialTransport
+    from firmware_sim import Emulator, FaultTimings
+
+    with Emulator("webots", seed=1, timings=FaultTimings(banner_gap_s=0.15)) as emu:
+        link = Link(SerialTransport(emu.path), settings=FAST_LINK)  # a 20 ms quiet line
+        try:
+            batch = encode_batch([Request(Command.PROXIMITY)], link.profile)
+            link.exchange(batch)
+            emu.inject("reset", batch=emu.batches + 1)
+            # The silent batch restarts the dsPIC; the V behind it meets the banner's first
+            # line, and is asked again: its answer must be the firmware's, not line two.
+            link.exchange(encode_batch([Request(Command.SET_SPEED, (100, 100))], link.profile))
+            replies = link.ascii_command("V")
+            assert replies and replies[0].startswith("v"), replies
+            with pytest.raises(RobotResetError):
+                link.exchange(batch)
+            assert link.exchange(batch) == emu.history[-1].reply  # and the next step works
+        finally:
+            link.close()

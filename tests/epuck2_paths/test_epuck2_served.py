@@ -8,13 +8,12 @@ from __future__ import annotations
 import os
 import signal
 import socket
-import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import ExitStack
 from pathlib import Path
 
 import pytest
-from helpers import ego_command, spawn
+from helpers import ego_command, spawn, wait_until
 
 import ego
 from ego.serial.profiles import EPUCK2_USB, EPUCK2_WIFI
@@ -30,15 +29,6 @@ def _free_port() -> int:
         probe.bind(("127.0.0.1", 0))
         port: int = probe.getsockname()[1]
         return port
-
-
-def _until(condition: Callable[[], bool], timeout_s: float) -> bool:
-    end = time.monotonic() + timeout_s
-    while not condition():
-        if time.monotonic() > end:
-            return False
-        time.sleep(0.005)
-    return True
 
 
 @pytest.fixture
@@ -90,7 +80,7 @@ def test_ego_serve_serves_an_e_puck2(link: str, request: pytest.FixtureRequest) 
             # The client speaks the served link's own profile (WiFi's floor has 3 values).
             assert robot.channel.profile == (EPUCK2_WIFI if link == "radio" else EPUCK2_USB)
             _drive_and_read(robot, emulator)
-        assert _until(lambda: emulator.world.speeds == (0, 0), 2.0), "the client's close stops it"
+        assert wait_until(lambda: emulator.world.speeds == (0, 0)), "the client's close stops it"
         server.send_signal(signal.SIGTERM)
         assert server.wait(10) == 0
 
@@ -106,7 +96,7 @@ def test_the_zenoh_node_serves_an_e_puck2(usb: Epuck2Emulator) -> None:
         with ego.Robot("zenoh://e2", zenoh_connect=[endpoint]) as robot:
             assert robot.channel.info.firmware is ego.Firmware.EPUCK2
             _drive_and_read(robot, usb)
-        assert _until(lambda: usb.world.speeds == (0, 0), 2.0), "the client's close stops it"
+        assert wait_until(lambda: usb.world.speeds == (0, 0)), "the client's close stops it"
 
 
 def test_a_supervised_e_puck2_is_stopped_when_its_controller_is_killed(usb: Epuck2Emulator) -> None:
@@ -116,7 +106,7 @@ def test_a_supervised_e_puck2_is_stopped_when_its_controller_is_killed(usb: Epuc
         assert run.stdout is not None
         line = run.stdout.readline()
         assert line.startswith("running"), (line, run.stderr.read() if run.stderr else "")
-        assert _until(lambda: usb.world.speeds != (0, 0), 5.0)
+        assert wait_until(lambda: usb.world.speeds != (0, 0))
         os.kill(int(line.split()[1]), signal.SIGKILL)
-        assert _until(lambda: usb.world.speeds == (0, 0), 1.0), "a killed controller's robot stops"
+        assert wait_until(lambda: usb.world.speeds == (0, 0)), "a killed controller's robot stops"
         run.wait(20)

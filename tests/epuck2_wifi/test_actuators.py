@@ -8,7 +8,7 @@ import struct
 import time
 
 import pytest
-from wifi_helpers import until
+from helpers import wait_until
 
 import ego
 from ego.backends.epuck2.requests import WIFI_PROFILE
@@ -47,10 +47,10 @@ def test_negative_speeds_keep_their_sign_on_the_wheels(wifi: Epuck2Emulator, url
     with ego.Robot(url) as robot:
         robot.motors.set_speed(-300, 200)
         robot.step(16)
-        assert until(lambda: wifi.world.speeds == (-300, 200))
+        assert wait_until(lambda: wifi.world.speeds == (-300, 200))
         robot.motors.set_speed(150, -1000)
         robot.step(16)
-        assert until(lambda: wifi.world.speeds == (150, -1000))
+        assert wait_until(lambda: wifi.world.speeds == (150, -1000))
 
 
 def test_get_speed_answers_signed_bytes(url: str) -> None:
@@ -72,7 +72,7 @@ def test_the_leds_bytes(wifi: Epuck2Emulator, url: str) -> None:
             Request(Command.RGB_LEDS, (100, 0, 0, 0, 0, 0, 0, 50, 0, 0, 0, 100)),
         ))  # fmt: skip
         leds = wifi.robot.leds
-        assert until(lambda: leds.body)
+        assert wait_until(lambda: leds.body)
         assert leds.red == [True, False, False, False]
         assert leds.rgb == [[100, 0, 0], [0, 0, 0], [0, 50, 0], [0, 0, 100]]
         assert not leds.front

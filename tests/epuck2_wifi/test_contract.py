@@ -10,7 +10,7 @@ import threading
 from collections.abc import Iterator
 
 import pytest
-from wifi_helpers import until
+from helpers import wait_until
 
 from ego.backends.epuck2.channel import Epuck2Channel
 from ego.core.registry import open_port
@@ -94,7 +94,7 @@ def test_the_safe_stop_is_confirmed_through_it(
 ) -> None:
     set_speed = encode_batch([Request(Command.SET_SPEED, (300, 300))], channel.profile)
     channel.exchange(set_speed)
-    assert until(lambda: wifi.world.speeds == (300, 300))
+    assert wait_until(lambda: wifi.world.speeds == (300, 300))
     send_stop(channel)
     assert channel.exchange(read_batch(channel))[:4] == bytes(4)
-    assert until(lambda: wifi.world.speeds == (0, 0))
+    assert wait_until(lambda: wifi.world.speeds == (0, 0))

@@ -9,13 +9,16 @@ import socket
 import time
 
 import pytest
-from wifi_helpers import until
+from helpers import wait_until
 from wifi_relay import Relay
 
 import ego
 from ego.core.registry import open_port
 from ego.errors import LinkLostError, LinkTimeoutError, PortNotFoundError
 from firmware_sim.epuck2 import Epuck2Emulator
+
+#: socket_task's state while it waits for a client (it saw the last one go).
+ACCEPT = 2
 
 
 def test_after_a_drop_the_wheels_follow_the_controller(
@@ -24,13 +27,13 @@ def test_after_a_drop_the_wheels_follow_the_controller(
     with ego.Robot(relay_url) as robot:
         robot.motors.set_speed(300, 300)
         robot.step(16)
-        assert until(lambda: wifi.world.speeds == (300, 300))
+        assert wait_until(lambda: wifi.world.speeds == (300, 300))
         assert relay.cut() == 1
-        time.sleep(0.1)
+        assert wifi.radio is not None and wifi.radio.wait_for(ACCEPT, 5.0)  # it saw the cut
         assert wifi.world.speeds == (300, 300)  # the robot keeps its last speeds
         robot.motors.set_speed(-200, 150)
         robot.step(16)
-        assert until(lambda: wifi.world.speeds == (-200, 150))
+        assert wait_until(lambda: wifi.world.speeds == (-200, 150))
         assert robot.channel.stats.reconnects == 1
         assert relay.accepted == 2
 
@@ -45,7 +48,7 @@ def test_a_drop_while_the_controller_reads_reconnects_too(
         relay.cut()
         for _ in range(5):
             robot.step(16)  # the step's answers wait on the new connection
-        assert until(lambda: wifi.world.speeds == (250, -250))
+        assert wait_until(lambda: wifi.world.speeds == (250, -250))
         assert robot.channel.stats.reconnects == 1
 
 
@@ -55,12 +58,12 @@ def test_a_drop_then_the_controller_gone_stops_the_robot(
     robot = ego.Robot(relay_url)
     robot.motors.set_speed(350, 350)
     robot.step(16)
-    assert until(lambda: wifi.world.speeds == (350, 350))
+    assert wait_until(lambda: wifi.world.speeds == (350, 350))
     relay.cut()
-    time.sleep(0.1)
+    assert wifi.radio is not None and wifi.radio.wait_for(ACCEPT, 5.0)  # it saw the cut
     assert wifi.world.speeds == (350, 350)  # the robot keeps its last speeds
     robot.close()  # the close reconnects with the stop as its first command
-    assert until(lambda: wifi.world.speeds == (0, 0))
+    assert wait_until(lambda: wifi.world.speeds == (0, 0))
 
 
 def test_a_robot_that_does_not_come_back_is_a_clear_link_lost_error(

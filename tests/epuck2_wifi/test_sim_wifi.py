@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import subprocess
 import sys
-import time
 
 import pytest
+from helpers import wait_until
 
 import ego
 from ego.errors import BackendOptionError
@@ -24,9 +24,7 @@ def test_the_sim_backend_s_wifi_mode_drives_the_emulated_e_puck2() -> None:
         robot.proximity.enable(32)
         for _ in range(10):
             robot.step(32)
-        time.sleep(0.1)
-        moved = truth.pose()
-        assert (moved.x_m, moved.y_m) != (start.x_m, start.y_m)
+        assert wait_until(lambda: (truth.pose().x_m, truth.pose().y_m) != (start.x_m, start.y_m))
 
 
 def test_wifi_is_the_e_puck2_s() -> None:

@@ -9,7 +9,7 @@ import logging
 import time
 
 import pytest
-from wifi_helpers import until
+from helpers import wait_until
 from wifi_relay import Relay
 
 import ego
@@ -33,7 +33,7 @@ def test_closing_a_robot_stops_it_whatever_the_radio_s_phase(
             robot.camera.enable(16)
         robot.step(16)
         speeds = (400 + trial, 400 + trial)
-        assert until(lambda speeds=speeds: wifi.world.speeds == speeds)
+        assert wait_until(lambda speeds=speeds: wifi.world.speeds == speeds)
         robot.close()
         assert wifi.radio.wait_for(ACCEPT, 5.0)
         assert wifi.world.speeds == (0, 0), f"trial {trial}: the stop was lost"
@@ -50,7 +50,7 @@ def test_closing_the_channel_alone_sees_its_stop_answered(wifi: Epuck2Emulator, 
 
     opened = open_port(url)
     opened.channel.exchange(encode_batch([Request(Command.SET_SPEED, (-300, 250))], WIFI_PROFILE))
-    assert until(lambda: wifi.world.speeds == (-300, 250))
+    assert wait_until(lambda: wifi.world.speeds == (-300, 250))
     opened.close()
     assert wifi.radio is not None and wifi.radio.wait_for(ACCEPT, 5.0)
     assert wifi.world.speeds == (0, 0)

@@ -20,10 +20,10 @@ from __future__ import annotations
 
 import random
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import pytest
-from fakes import FAST_FAULTS, FAST_LINK
+from fakes import FAST_LINK
 
 from ego.errors import (
     ExtraBytesError,
@@ -36,7 +36,7 @@ from ego.seam.profile import Command, Firmware
 from ego.serial.link import Link
 from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
-from firmware_sim import FAULT_KINDS, Emulator, FaultSpec
+from firmware_sim import FAULT_KINDS, Emulator, FaultSpec, FaultTimings
 
 SENSOR_LETTERS = {Firmware.WEBOTS: "aEMNOQu", Firmware.GCTRONIC: "aENOQu"}
 #: Errors a step may raise; anything else (and LinkLostError: the port always comes back
@@ -103,7 +103,9 @@ def check_delivery(
         assert reply == record.reply, f"wrong bytes delivered (faults {record.faults})"
     sensors = [c for c in record.commands if c not in "DLP"]
     assert sensors == list(sent[1:]), f"parsed {record.commands!r}, sent {sent!r}"
-    if record.commands != sent or values[2] != speeds:  # E echoes the speeds D set
+    # E echoes the speeds D set; a garbled reply may have changed that echo, not the speeds.
+    echo_wrong = values[2] != speeds and "garble" not in record.faults
+    if record.commands != sent or echo_wrong:
         assert "corrupt" in record.faults, (
             f"actuators misread without a corrupt fault: parsed {record.commands!r}, "
             f"E {values[2]} for D {speeds}"
@@ -111,14 +113,24 @@ def check_delivery(
         tally.misread_actuators += 1
 
 
+#: The link for these tests: FAST_LINK's bounds, with a reply timeout (50 ms beyond the
+#: batch's wire and work time) and a quiet line (50 ms) that a busy machine does not hit by
+#: itself: the emulator runs in the test's process, and a batch it answers late for want of
+#: a core would be a fault nobody injected.
+FAULT_LINK = replace(FAST_LINK, reply_timeout_s=0.05, resync_quiet_s=0.05)
+#: The faults to match: a delay beyond every batch's reply timeout here (at most 80 ms),
+#: a stall beyond the link's four attempts.
+FAULT_TIMINGS = FaultTimings(delay_s=0.2, stall_s=1.0, replug_s=0.15)
+
+
 def open_link(emu: Emulator) -> Link:
-    return Link(SerialTransport(emu.path), settings=FAST_LINK)
+    return Link(SerialTransport(emu.path), settings=FAULT_LINK)
 
 
 # -- every kind at a raised rate ---------------------------------------------------------------
 
 #: protocol.md asks for faults at 1 %; the rate is raised so that a short run sees several.
-#: A stall costs the most time (0.3 s each), so it comes less often.
+#: A stall costs the most time (1 s each), so it comes less often.
 RATES = {kind: 0.04 if kind == "stall" else 0.07 for kind in FAULT_KINDS}
 STEPS = 120
 
@@ -127,7 +139,7 @@ STEPS = 120
 @pytest.mark.parametrize("kind", FAULT_KINDS)
 def test_link_never_delivers_a_wrong_value_under_faults(kind: str) -> None:
     faults = [FaultSpec(kind, rate=RATES[kind])]
-    with Emulator("webots", seed=11, faults=faults, timings=FAST_FAULTS) as emu:
+    with Emulator("webots", seed=11, faults=faults, timings=FAULT_TIMINGS) as emu:
         link = open_link(emu)
         try:
             tally = run_steps(link, emu, STEPS, random.Random(kind))
@@ -152,7 +164,7 @@ def test_link_never_delivers_a_wrong_value_under_faults(kind: str) -> None:
 @pytest.mark.slow
 def test_every_fault_at_one_percent_together() -> None:
     faults = [FaultSpec(kind, rate=0.01) for kind in FAULT_KINDS]
-    with Emulator("webots", seed=5, faults=faults, timings=FAST_FAULTS) as emu:
+    with Emulator("webots", seed=5, faults=faults, timings=FAULT_TIMINGS) as emu:
         link = open_link(emu)
         try:
             tally = run_steps(link, emu, 160, random.Random(5))
@@ -170,7 +182,7 @@ def test_every_fault_at_one_percent_together() -> None:
 @pytest.mark.parametrize("firmware", ["webots", "gctronic"])
 @pytest.mark.parametrize("kind", FAULT_KINDS)
 def test_injected_fault_is_recovered_or_raised_typed(firmware: str, kind: str) -> None:
-    with Emulator(firmware, seed=3, timings=FAST_FAULTS) as emu:
+    with Emulator(firmware, seed=3, timings=FAULT_TIMINGS) as emu:
         link = open_link(emu)
         rng = random.Random(3)
         try:
@@ -185,14 +197,14 @@ def test_injected_fault_is_recovered_or_raised_typed(firmware: str, kind: str) -
     if kind == "drop":
         assert stats.faults["LinkTimeoutError"] >= 1
         assert tally.recovered >= 1
-    elif kind == "delay":  # 60 ms late: past the reply timeout, caught up by a retry
+    elif kind == "delay":  # 200 ms late: past the reply timeout, caught up by a retry
         assert stats.faults["LinkTimeoutError"] >= 1
     elif kind == "extra":
         assert stats.faults["ExtraBytesError"] >= 1
         assert tally.recovered >= 1
     elif kind == "garble":
         assert tally.garbled == 1
-    elif kind == "stall":  # 0.3 s: longer than the link's four attempts
+    elif kind == "stall":  # 1 s: longer than the link's four attempts
         assert stats.faults["LinkTimeoutError"] >= 1
     elif kind == "disconnect":
         assert (tally.restarts, stats.reconnects, stats.restarts) == (1, 1, 1)
@@ -210,9 +222,11 @@ def test_reset_during_a_short_reply_is_reported(letters: str, emulator: Emulator
     seen, or the robot's lost speeds and counters would pass unnoticed."""
     link = open_link(emulator)
     try:
-        link.exchange(encode_batch([req("D", 500, 500)], link.profile))
+        silent = emulator.batches + 1  # every batch before it was answered
+        link.exchange(encode_batch([req("D", 500, 500)], link.profile))  # not waited for
         batch = encode_batch([req(c) for c in letters], link.profile)
-        emulator.inject("reset")
+        # The batch after the silent one, which may still be on its way to the dsPIC.
+        emulator.inject("reset", batch=silent + 1)
         with pytest.raises(RobotResetError):
             link.exchange(batch)
         assert emulator.world.speeds == (0, 0)

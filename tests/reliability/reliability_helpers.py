@@ -30,7 +30,7 @@ class FakeDevice:
         self.path = os.ttyname(self._slave)
         self._answer = answer
         self._stop_r, self._stop_w = os.pipe()
-        self._thread = threading.Thread(target=self._serve, name="fake-device", daemon=True)
+        self._thread = threading.Thread(target=self._serve, name="fake-device")
         self._thread.start()
 
     def _serve(self) -> None:
@@ -53,6 +53,7 @@ class FakeDevice:
         for fd in (self._master, self._slave, self._stop_r, self._stop_w):
             with contextlib.suppress(OSError):
                 os.close(fd)
+        assert not self._thread.is_alive(), "the fake device's thread did not end"
 
     def __enter__(self) -> FakeDevice:
         return self

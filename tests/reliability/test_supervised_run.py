@@ -8,11 +8,11 @@ import select
 import signal
 import subprocess
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
-from helpers import ego_command, spawn
+from helpers import ego_command, spawn, wait_until
 
 from firmware_sim import Emulator
 
@@ -46,12 +46,11 @@ def _controller_pid(proc: subprocess.Popen[str], emu: Emulator) -> int:
     return int(line.split()[1])
 
 
-def _until(condition: object, timeout_s: float) -> float:
-    """Seconds until ``condition()`` held (polled every ms), or ``timeout_s``."""
-    assert callable(condition)
+def _until(condition: Callable[[], object], timeout_s: float) -> float:
+    """Seconds until ``condition()`` held (:func:`helpers.wait_until`, every ms), or
+    ``timeout_s``: the supervisor is another process, whose clock a test cannot read."""
     start = time.monotonic()
-    while not condition() and time.monotonic() - start < timeout_s:
-        time.sleep(0.001)
+    wait_until(condition, timeout_s, interval_s=0.001)
     return time.monotonic() - start
 
 

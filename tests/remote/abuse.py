@@ -19,7 +19,8 @@ import zlib
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from remote_helpers import RawClient, wait_for
+from helpers import wait_until
+from remote_helpers import RawClient
 
 from ego.errors import FrameError
 from ego.net.frames import (
@@ -65,10 +66,10 @@ def pipeline_and_close(
     raw.send_raw(b"".join(raw.frame(MessageType.STEP, GO) for _ in range(count)))
     closed_at, seen = time.monotonic(), len(emu.history)
     raw.close()
-    wait_for(lambda: emu.world.speeds == (0, 0), budget_s, 0.001)
+    assert wait_until(lambda: emu.world.speeds == (0, 0), budget_s, 0.001)
     stopped_s = time.monotonic() - closed_at
     # Whatever was still queued would run now: give it the time a few batches take.
-    wait_for(lambda: server.controller is None, 1.0)
+    assert wait_until(lambda: server.controller is None)
     time.sleep(0.2)
     return stopped_s, len(emu.history) - seen
 

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import contextlib
+import gc
 from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from fakes import FAST_LINK
 from remote_helpers import ConnectFactory, Served, ServeFactory
 
 from ego.backends.remote.channel import RemoteChannel
@@ -19,6 +19,11 @@ from firmware_sim.camera import SimulatedSource
 
 #: Client links fail fast in tests: the server's link already retried the serial line.
 CLIENT_LINK = LinkSettings(retries=1, reconnect_timeout_s=2.0)
+#: The served emulator's line: the emulator runs in the test's process, so on a loaded
+#: machine its answer may wait for a core and for the GIL well past FAST_LINK's 10 ms, and
+#: a retry would run a batch twice. The faults these tests inject (a 3 s stall, a reset)
+#: are far longer, or need no timeout at all.
+SERVED_LINK = LinkSettings(reply_timeout_s=0.25, reconnect_timeout_s=1.0, line_timeout_s=0.5)
 
 
 @pytest.fixture
@@ -33,7 +38,7 @@ def serve() -> Iterator[ServeFactory]:
             kinds: tuple[str, ...] = ("tcp",),
             firmware: str = "webots",
             emulator_options: dict[str, Any] | None = None,
-            link_settings: LinkSettings = FAST_LINK,
+            link_settings: LinkSettings = SERVED_LINK,
             sim_camera: bool = False,
             **options: Any,
         ) -> Served:
@@ -48,6 +53,22 @@ def serve() -> Iterator[ServeFactory]:
             return Served(emu, link, server, thread)
 
         yield factory
+
+
+@pytest.fixture
+def settled_heap() -> Iterator[None]:
+    """A deadline measured without a full garbage collection of the whole test session's
+    heap in the middle: the objects alive now (every earlier test's) are collected once
+    and frozen out of the collector, and thawed after. In a full run that collection
+    holds the GIL for a few hundred milliseconds on a loaded machine (a deadman measured
+    0.3 s late in the suite, never alone); a robot's server never holds the thousands of
+    tests' objects a suite run leaves to walk."""
+    gc.collect()
+    gc.freeze()
+    try:
+        yield
+    finally:
+        gc.unfreeze()
 
 
 @pytest.fixture

@@ -15,6 +15,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from types import TracebackType
 
+from helpers import wait_until
+
 from ego.backends.remote.channel import RemoteChannel
 from ego.camera.source import GrantedFormat, PixelFormat
 from ego.net.auth import client_proof, new_nonce
@@ -74,7 +76,7 @@ class DatagramProxy:
         self._queue: list[tuple[float, int, str, bytes]] = []
         self._order = itertools.count()
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, name="udp-proxy", daemon=True)
+        self._thread = threading.Thread(target=self._run, name="udp-proxy")
 
     @property
     def url(self) -> str:
@@ -95,6 +97,7 @@ class DatagramProxy:
         self._thread.join(timeout=5)
         self.front.close()
         self.back.close()
+        assert not self._thread.is_alive(), "the proxy's thread did not end"
 
     def _run(self) -> None:
         while not self._stop.is_set():
@@ -224,7 +227,7 @@ class StreamRelay:
         self.counts: collections.Counter[str] = collections.Counter()
         self._threads: list[threading.Thread] = []
         self._socks: list[socket.socket] = [self.listener]
-        accept = threading.Thread(target=self._accept, daemon=True)
+        accept = threading.Thread(target=self._accept, name="relay-accept")
         accept.start()
         self._threads.append(accept)
 
@@ -240,7 +243,7 @@ class StreamRelay:
                 self._socks += [client, server]
                 for src, dst, direction in ((client, server, "up"), (server, client, "down")):
                     pump = threading.Thread(
-                        target=self._pump, args=(src, dst, direction), daemon=True
+                        target=self._pump, args=(src, dst, direction), name=f"relay-{direction}"
                     )
                     pump.start()
                     self._threads.append(pump)
@@ -266,9 +269,16 @@ class StreamRelay:
             dst.shutdown(socket.SHUT_WR)
 
     def close(self) -> None:
+        """Close every socket (a shutdown first wakes a blocked accept or recv), then join
+        every thread; one still running is a failure, not left behind."""
         for sock in self._socks:
             with contextlib.suppress(OSError):
+                sock.shutdown(socket.SHUT_RDWR)
+            with contextlib.suppress(OSError):
                 sock.close()
+        for thread in list(self._threads):
+            thread.join(5)
+        assert not any(t.is_alive() for t in self._threads), "a relay thread did not end"
 
     def __enter__(self) -> StreamRelay:
         return self
@@ -350,15 +360,20 @@ class RawClient:
         self.sock.close()
 
 
-def wait_for(predicate: object, timeout_s: float, interval_s: float = 0.005) -> float:
-    """Seconds until ``predicate()`` held; AssertionError after ``timeout_s``."""
-    assert callable(predicate)
-    start = time.monotonic()
-    while not predicate():
-        if time.monotonic() - start > timeout_s:
-            raise AssertionError(f"condition not met within {timeout_s} s")
-        time.sleep(interval_s)
-    return time.monotonic() - start
+#: How late the deadman may fire, at most, as a share of its deadline (README, "ego serve").
+DEADMAN_MARGIN = 0.10
+
+
+def assert_deadman_fired(server: Server, deadline_s: float, times: int = 1) -> float:
+    """The server's deadman fired ``times`` times, the last after its client had been
+    silent more than ``deadline_s`` and at most :data:`DEADMAN_MARGIN` more, on the
+    server's own clock (what the test's loop saw later proves nothing); that silence."""
+    stats = server.stats
+    assert wait_until(lambda: len(stats.deadman_silences) >= times), stats
+    assert stats.deadman_stops == times, stats
+    silence = stats.deadman_silences[-1]
+    assert deadline_s < silence <= deadline_s * (1 + DEADMAN_MARGIN), silence
+    return silence
 
 
 #: The ``serve`` and ``connect`` fixtures' types (in conftest.py), importable by tests.

@@ -5,7 +5,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
-from remote_helpers import ConnectFactory, FakeCamera, ServeFactory, wait_for
+from helpers import wait_until
+from remote_helpers import ConnectFactory, FakeCamera, ServeFactory
 
 from ego.backends.remote.channel import RemoteFrameSource
 from ego.camera import Camera
@@ -94,7 +95,7 @@ def test_silent_client_has_its_camera_closed(serve: ServeFactory, connect: Conne
     served = serve(frame_source=camera, deadline_s=0.2)
     source = _source(connect, served.url, heartbeat=False)
     source.open(64, 48, "RGB565")
-    wait_for(lambda: camera.closed == 1, 1.0)
+    assert wait_until(lambda: camera.closed == 1)
 
 
 def test_local_transport_has_no_remote_camera(link: object) -> None:

@@ -6,7 +6,8 @@ import time
 
 import pytest
 from fakes import FAST_LINK
-from remote_helpers import ConnectFactory, ServeFactory, wait_for
+from helpers import wait_until
+from remote_helpers import ConnectFactory, ServeFactory
 
 from ego.backends.remote.channel import RemoteChannel
 from ego.core.registry import open_port
@@ -61,8 +62,8 @@ def test_actuator_batch_moves_the_emulated_wheels_and_leds(
     requests = [Request(Command.SET_SPEED, (300, -200)), Request(Command.SET_LED, (3, 1))]
     assert link.exchange(encode_batch(requests, link.profile)) == b""
     # The dsPIC hears the batch once its bytes crossed the emulated wire.
-    wait_for(lambda: served.emu.world.speeds == (300, -200), 1.0)
-    wait_for(lambda: served.emu.world.leds[3] == 1, 1.0)
+    assert wait_until(lambda: served.emu.world.speeds == (300, -200))
+    assert wait_until(lambda: served.emu.world.leds[3] == 1)
 
 
 def test_firmware_is_detected_through_the_relay(

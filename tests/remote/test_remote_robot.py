@@ -7,7 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from remote_helpers import ServeFactory, wait_for
+from helpers import wait_until
+from remote_helpers import ServeFactory
 
 import ego
 import ego.examples
@@ -31,7 +32,7 @@ def test_robot_on_a_url_reads_its_sensors_and_drives(serve: ServeFactory, kind: 
         assert robot.step(32) == 0
         assert len(robot.proximity.values) == 8
         assert served.emu.history[-1].commands.startswith("D")
-        wait_for(lambda: served.emu.world.speeds == (300, -300), 1.0)
+        assert wait_until(lambda: served.emu.world.speeds == (300, -300))
         for _ in range(3):
             assert robot.step(32) == 0
     assert served.emu.world.speeds == (0, 0)  # leaving the with-block stopped it
@@ -43,8 +44,11 @@ def test_webots_controller_runs_unchanged_over_the_network(serve: ServeFactory, 
     options = runtime.RunOptions(port=served.url, duration_s=0.64, basic_time_step_ms=32)
     run_controller(OBSTACLE_AVOIDANCE, options)
     batches = [r.commands for r in served.emu.history]
-    steps_with_proximity = sum("N" in c for c in batches)
-    assert 15 <= steps_with_proximity <= 21  # 0.64 s of 32 ms steps
+    # 0.64 s of controller time in 32 ms steps: 20 steps, however slow the machine. The
+    # server counts the steps it ran (a retransmitted one is answered from its cache);
+    # the emulator's history would count a batch the serial line retried twice.
+    assert served.server.stats.steps == 20 + 1, served.server.stats  # and the closing stop
+    assert sum("N" in c for c in batches) >= 20  # each step read the proximity sensors
     assert any(c.startswith("D") for c in batches)  # it drove
     assert served.emu.world.speeds == (0, 0)  # and was stopped when it ended
     assert served.server.controller is None
@@ -78,8 +82,8 @@ def test_group_steps_robots_together_each_on_its_own_server(serve: ServeFactory)
         assert group.results == (0, 0)
         assert (a.steps, b.steps) == (10, 10)
         assert elapsed < 10 * 0.032 * 1.75  # in parallel, not one after the other
-        wait_for(lambda: one.emu.world.speeds == (100, 100), 1.0)
-        wait_for(lambda: two.emu.world.speeds == (-100, -100), 1.0)
+        assert wait_until(lambda: one.emu.world.speeds == (100, 100))
+        assert wait_until(lambda: two.emu.world.speeds == (-100, -100))
 
 
 def test_group_step_is_minus_one_once_a_robot_is_lost(serve: ServeFactory) -> None:
@@ -93,17 +97,10 @@ def test_group_step_is_minus_one_once_a_robot_is_lost(serve: ServeFactory) -> No
         b.proximity.enable(32)
         assert group.step(32) == 0
         two.thread.stop()  # robot b's server goes away
-        assert wait_for_minus_one(group) < 3.0
+        # Each step waits out QUICK_LOSS's bounded retries and reconnection, then -1.
+        assert wait_until(lambda: group.step(32) == -1, interval_s=0), "b was never reported"
         assert group.lost == (b,)
         assert step_all([a], 32) == 0  # the other robot still steps
-
-
-def wait_for_minus_one(group: RobotGroup[ego.Robot]) -> float:
-    start = time.monotonic()
-    while group.step(32) != -1:
-        if time.monotonic() - start > 5:
-            raise AssertionError("the lost robot was never reported")
-    return time.monotonic() - start
 
 
 class _Fake:

@@ -9,7 +9,8 @@ import threading
 from collections.abc import Iterator
 
 from fakes import FAST_LINK
-from remote_helpers import RawClient, wait_for
+from helpers import wait_until
+from remote_helpers import RawClient
 
 from ego.camera.source import GrantedFormat, PixelFormat
 from ego.net.frames import MessageType
@@ -94,14 +95,14 @@ def test_a_goodbye_during_a_frame_closes_the_camera_only_once_the_frame_is_read(
             client.send(*pack_request(CameraFrame("raw")))
             assert source.reading.wait(5)
             client.send(MessageType.BYE)  # a stop with the camera's close, while it reads
-            wait_for(lambda: running.server.controller is None, 5)
+            assert wait_until(lambda: running.server.controller is None, 5)
             assert running.server.service.channel.lock.acquire(timeout=5)  # the stop ran
             running.server.service.channel.lock.release()
             assert source.closed_while_reading == 0
         finally:
             source.go.set()
             client.close()
-        wait_for(lambda: source.closed == 1, 5)
+        assert wait_until(lambda: source.closed == 1, 5)
     assert source.closed_while_reading == 0
 
 

@@ -137,10 +137,17 @@ class ZenohAdapter:
         return "ok" if heard else "unheard"
 
     def tick(self, now: float) -> str:
-        stops = self.node.stops
+        lapses = self.node.lease.lapses
         self.clock.now = now
-        # The deadman looks at least every 50 ms: 0.3 s is six looks.
-        if wait_until(lambda: self.node.stops > stops, 0.3):
+        # The fake clock jumps where a sleeping timer cannot see it: the deadman is told to
+        # look now, and what it made of the time is known once it has looked.
+        deadman = self.node.deadman
+        assert deadman is not None
+        looked = deadman.looked
+        deadman.poke()
+        assert wait_until(lambda: deadman.looked > looked), "the deadman never looked"
+        if self.node.lease.lapses > lapses:
+            assert wait_until(lambda: self.node.stops > 0), "the lapse never stopped the robot"
             return "stopped"
         holder = self.node.lease.holder
         return f"held by {holder}" if holder else "free"

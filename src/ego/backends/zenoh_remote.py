@@ -24,6 +24,7 @@ from ego.backends.remote.connection import error_from_reply
 from ego.core.backend import BackendOptions, Opened
 from ego.core.ground_truth import TruePose
 from ego.errors import FirmwareMismatchError, LinkLostError
+from ego.nursery import Nursery
 from ego.seam.channel import ChannelBase
 from ego.zenoh_net.keys import check_name, robot_key
 from ego.zenoh_net.sessions import ZenohSettings, open_session
@@ -57,9 +58,8 @@ class _Keeper:
         self._put = put
         self._stop = threading.Event()
         self.failure: Exception | None = None
-        self._thread = threading.Thread(target=self._run, name="ego-zenoh-keepalive",
-                                        daemon=True)  # fmt: skip
-        self._thread.start()
+        self._threads = Nursery("a Zenoh channel's keepalive", at_exit=self._stop.set)
+        self._threads.start_thread(self._run, name="ego-zenoh-keepalive")
 
     def _run(self) -> None:
         while not self._stop.wait(KEEPALIVE_EVERY_S / 4):
@@ -72,7 +72,7 @@ class _Keeper:
 
     def stop(self) -> None:
         self._stop.set()
-        self._thread.join()
+        self._threads.close()
 
 
 class ZenohChannel(ChannelBase):

@@ -20,6 +20,8 @@ import sys
 import threading
 from typing import Any
 
+from ego.nursery import Nursery
+
 __all__ = ["FaceKeys", "Keyboard", "decode_keys"]
 
 
@@ -71,6 +73,8 @@ class Keyboard:
         self._saved: list[Any] | None = None
         self._stop = threading.Event()
         self._reader: threading.Thread | None = None
+        self._threads: Nursery | None = None
+        self._wake: tuple[int, int] | None = None  # a pipe: disable() wakes the reader
         if sampling_period is None:  # Webots' Keyboard(): on at the basic time step
             from ego.faces.default_robot import current_context
 
@@ -89,18 +93,33 @@ class Keyboard:
         if self._reader is None and os.isatty(self._fd):
             self._raw(self._fd)
             self._stop.clear()
-            self._reader = threading.Thread(
-                target=self._read, args=(self._fd,), name="ego-keyboard", daemon=True
+            self._wake = os.pipe()
+            # A program that exits with the keyboard on: the reader ends first.
+            self._threads = Nursery("the keyboard", join_s=1.0, at_exit=self._end_reader)
+            self._reader = self._threads.start_thread(
+                self._read, self._fd, self._wake[0], name="ego-keyboard"
             )
-            self._reader.start()
 
     def disable(self) -> None:
+        """Stop reading keys; the reader thread is joined (a ThreadLeakError if it hangs)."""
         self._period = 0
+        threads, self._threads, self._reader = self._threads, None, None
+        try:
+            if threads is not None:
+                self._end_reader()
+                threads.close()
+        finally:
+            if self._wake is not None:
+                for end in self._wake:
+                    os.close(end)
+                self._wake = None
+            self._restore()
+
+    def _end_reader(self) -> None:
         self._stop.set()
-        reader, self._reader = self._reader, None
-        if reader is not None:
-            reader.join(timeout=1)
-        self._restore()
+        if self._wake is not None:
+            with contextlib.suppress(OSError):
+                os.write(self._wake[1], b"x")
 
     def getSamplingPeriod(self) -> int:
         return self._period
@@ -146,10 +165,13 @@ class Keyboard:
             with contextlib.suppress(termios.error, OSError):
                 termios.tcsetattr(self._fd, termios.TCSADRAIN, saved)
 
-    def _read(self, fd: int) -> None:
+    def _read(self, fd: int, wake: int) -> None:
         pending = b""
         while not self._stop.is_set():
-            ready, _, _ = select.select([fd], [], [], 0.05)
+            # Asleep until a key or disable(); 50 ms after a lone ESC, it is the ESC key.
+            ready, _, _ = select.select([fd, wake], [], [], 0.05 if pending else None)
+            if wake in ready:
+                return
             if not ready:
                 if pending:  # a lone ESC, no sequence behind it
                     for key in decode_keys(pending):

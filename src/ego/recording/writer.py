@@ -32,6 +32,7 @@ from ego._version import __version__
 from ego.camera.encode import encode_jpeg
 from ego.core.telemetry import Telemetry, describe_robot, describe_world
 from ego.errors import EgoError
+from ego.nursery import Nursery
 from ego.recording.ros2_bag import FORMAT, Ros2Bag
 from ego.recording.schemas import CHANNELS, log_message, pose_message, schema_bytes, stamp
 from ego.seam.channel import TappedChannel, as_channel_base
@@ -89,10 +90,9 @@ class Recorder:
             "robot": json.dumps(describe_robot(robot)),
             "world": json.dumps(describe_world(robot.ground_truth)),
         }
-        self._writer = threading.Thread(
-            target=self._write, args=(metadata,), name="ego-recorder", daemon=True
-        )
-        self._writer.start()
+        # A program that exits with its robot open: the recording is finished first.
+        self._threads = Nursery("a robot's recorder", join_s=30.0, at_exit=self._finish)
+        self._writer = self._threads.start_thread(self._write, metadata, name="ego-recorder")
         robot.tap_channel(self._exchange)
         robot.add_step_listener(self._step)
         # The robot's close ends the writer (after the stop it sends is recorded).
@@ -222,7 +222,7 @@ class Recorder:
                 robot.channel = as_channel_base(robot.channel.inner)  # on, without the tap
         self._queue.put(None)
         if self._writer is not None:
-            self._writer.join(30)
+            self._threads.close()
         else:
             self._file.close()
 

@@ -33,7 +33,7 @@ from ego.seam.batch import Batch
 from ego.seam.channel import ChannelBase, FirmwareInfo, LinkStats, reconnect_within
 from ego.seam.profile import DEFAULT_BAUD, Firmware, Profile
 from ego.serial.probe import probe_firmware
-from ego.serial.profiles import BANNER_MARKER, PROFILES, wire_time_s
+from ego.serial.profiles import BANNER_END, BANNER_MARKER, PROFILES, wire_time_s
 from ego.serial.transport import Transport
 
 __all__ = ["Link", "LinkSettings", "LinkStats", "drain_line", "read_lines", "reply_timeout_s"]
@@ -216,7 +216,8 @@ class Link(ChannelBase):
             # as the port opened): it may not have heard it. Ask again once the banner
             # is in; the next batch tells the owner to re-apply the robot's state.
             log.warning("%s: the dsPIC restarted before answering %r", self.transport.name, letter)
-            self._drain()
+            if not any(BANNER_END.strip().decode() in line for line in replies):
+                self._drain(until=BANNER_END)
             self._tail = b""
             self._unreported_restart = True
             self.transport.write(command)
@@ -359,7 +360,10 @@ class Link(ChannelBase):
         self._tail = seen[-(len(BANNER_MARKER) - 1) :]
         if BANNER_MARKER in seen:
             self._tail = b""
-            self._drain()  # the rest of the banner
+            # The rest of the banner; its last line, not a quiet moment, says it is all in
+            # (on a loaded machine, or a USB hub, its two lines can come 20 ms apart, and
+            # the second one was then read as the reply to the probe's V).
+            self._drain(until=b"" if BANNER_END in seen[seen.index(BANNER_MARKER):] else BANNER_END)
             self._restarted("the dsPIC restarted (welcome banner mid-stream)")
 
     def _reconnect(self, cause: LinkLostError) -> None:

@@ -17,6 +17,7 @@ from ego.seam.profile import DEFAULT_BAUD, AsciiStop, Command, Firmware, Profile
 from ego.serial.asercom2 import SensorLayout, decode_sensors
 
 __all__ = [
+    "BANNER_END",
     "BANNER_MARKER",
     "BITS_PER_BYTE",
     "EPUCK2_ACC_ZERO",
@@ -38,6 +39,9 @@ MAX_SPEED_STEPS = 1000
 #: Every welcome banner of the firmwares we know contains this; its arrival mid-stream
 #: means the dsPIC restarted.
 BANNER_MARKER = b"WELCOME"
+#: How the banner ends, for every firmware we know (docs/protocol.md: Asercom.c:117-126,
+#: Asercom2.c:153-160): once it is in, nothing of the banner is left to come.
+BANNER_END = b'"H" for help\r\n'
 
 
 def command_byte(letter: str) -> int:

@@ -60,6 +60,7 @@ from ego.net.messages import (
 )
 from ego.net.payloads import ASCII_REPLY_LINES, unpack_json
 from ego.net.urls import parse_url
+from ego.nursery import Nursery
 from ego.seam.batch import Batch
 from ego.seam.channel import ChannelBase, FirmwareInfo, reconnect_within
 from ego.seam.profile import Firmware
@@ -314,9 +315,10 @@ class _Heartbeat:
         self._ping = ping
         self._interval_s = interval_s
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, name="ego-remote-heartbeat",
-                                        daemon=True)  # fmt: skip
-        self._thread.start()
+        # A program that exits with its channel open: the thread ends first (the server's
+        # deadman then stops the robot).
+        self._threads = Nursery("a remote channel's heartbeat", at_exit=self._stop.set)
+        self._threads.start_thread(self._run, name="ego-remote-heartbeat")
 
     def _run(self) -> None:
         while not self._stop.wait(self._interval_s / 4):
@@ -326,9 +328,9 @@ class _Heartbeat:
             del ping
 
     def stop(self) -> None:
+        """End and join the thread (not waited for when the thread itself stops it)."""
         self._stop.set()
-        if self._thread is not threading.current_thread():
-            self._thread.join()
+        self._threads.close()
 
 
 class RemoteFrameSource:

@@ -24,6 +24,7 @@ from ego.devices.encoders import Encoders
 from ego.devices.families import make_families
 from ego.devices.table import TABLE
 from ego.errors import UnsupportedDeviceError
+from ego.nursery import Nursery
 from ego.seam.batch import Batch, Request
 from ego.seam.channel import Channel, ChannelWrapper
 from ego.seam.profile import Command
@@ -245,7 +246,8 @@ class SwarmFeed(_StopFeed):
         self.names = names
         self._picks: dict[object, str] = {}
         self._closing = threading.Event()
-        self._thread = threading.Thread(target=self._publish, name="ego-swarm-feed", daemon=True)
+        self._threads = Nursery("the swarm's dashboard feed", join_s=2.0,
+                                at_exit=self._closing.set)  # fmt: skip
 
     def handle(self, client: object, message: object) -> Reply:
         if not (isinstance(message, dict) and message.get("type") == "pick"):
@@ -268,12 +270,12 @@ class SwarmFeed(_StopFeed):
                 strict=True) if name in picked and channel.last_sample is not None}  # fmt: skip
 
     def start(self) -> SwarmFeed:
-        self._thread.start()
+        self._threads.start_thread(self._publish, name="ego-swarm-feed")
         return self
 
     def close(self) -> None:
         self._closing.set()
-        self._thread.join(2)
+        self._threads.close()
 
     def _publish(self) -> None:
         while not self._closing.wait(0.04):

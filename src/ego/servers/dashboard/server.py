@@ -24,6 +24,7 @@ from typing import Any, Protocol
 
 from aiohttp import WSMsgType, web
 
+from ego.nursery import Nursery
 from ego.servers.dashboard.access import Gate, url_host
 from ego.servers.dashboard.control import Reply
 from ego.servers.dashboard.history import History
@@ -84,6 +85,8 @@ class DashboardServer:
         self._loop: asyncio.AbstractEventLoop | None = None
         self._runner: web.AppRunner | None = None
         self._thread: threading.Thread | None = None
+        #: Its thread's owner (a program that exits with the dashboard open closes it).
+        self._threads = Nursery("the dashboard", at_exit=self.close)
         self._ready = threading.Event()
         self._failure: BaseException | None = None
         self._wake: asyncio.Event | None = None
@@ -95,8 +98,7 @@ class DashboardServer:
 
     def start(self) -> DashboardServer:
         """Start serving; raises OSError at once when the address cannot be bound."""
-        self._thread = threading.Thread(target=self._serve, name="ego-dashboard", daemon=True)
-        self._thread.start()
+        self._thread = self._threads.start_thread(self._serve, name="ego-dashboard")
         self._ready.wait(10)
         if self._failure is not None:
             raise self._failure
@@ -116,12 +118,14 @@ class DashboardServer:
         return len(self._clients)
 
     def close(self) -> None:
+        """Stop serving and join the thread (:class:`~ego.errors.ThreadLeakError` if it is
+        still running 5 s later); idempotent."""
         loop, thread = self._loop, self._thread
         if loop is None or thread is None:
             return
         with contextlib.suppress(RuntimeError):  # the loop already ended
             asyncio.run_coroutine_threadsafe(self._shutdown(), loop).result(5)
-        thread.join(5)
+        self._threads.close()
         self._loop = self._thread = None
 
     def __enter__(self) -> DashboardServer:

@@ -111,6 +111,9 @@ class ServerStats:
     sessions: int = 0
     #: Times the robot was stopped because its client went silent or away.
     deadman_stops: int = 0
+    #: How long the controller had been silent, on the server's clock, each time the
+    #: deadman fired (the deadline plus how late it fired).
+    deadman_silences: list[float] = field(default_factory=list)
     #: Requests refused because another of the same session was still running.
     pipelined: int = 0
     #: Connections dropped unheard: over the half-open cap, never in control in time,

@@ -137,6 +137,13 @@ class ControlSession(Generic[H]):
         self.holder, self.lapses = None, self.lapses + 1
         return Lapsed(holder, silent_s, self.deadline_s)
 
+    def due_at(self) -> float | None:
+        """When the deadman is due (on the clock the events carry); None while nobody holds
+        the robot or a call of the holder runs."""
+        if self.holder is None or self.in_flight:
+            return None
+        return self.last_heard + self.deadline_s
+
     def due_in(self, now: float) -> float | None:
         """Seconds until the deadman is due (<= 0: due now); None while nobody holds the
         robot or a call of the holder runs."""

@@ -78,6 +78,12 @@ class Gate:
     def forget(self, peer_key: Hashable) -> None:
         self._pending.pop(peer_key, None)
 
+    def next_expiry(self) -> float | None:
+        """When the oldest pending handshake expires, or None."""
+        if not self._pending:
+            return None
+        return min(p.created for p in self._pending.values()) + self.handshake_timeout_s
+
     def expire(self, now: float) -> None:
         for key, pending in list(self._pending.items()):
             if now - pending.created > self.handshake_timeout_s:

@@ -205,11 +205,18 @@ class Session:
         if lapsed is None:
             return []
         self.stats.deadman_stops += 1
+        self.stats.deadman_silences.append(lapsed.silent_s)
         told = (
             "session ended: the server's deadman stopped the robot: "
             f"its controller was {lapsed.why}"
         )
         return self._end(lapsed.why, notify=True, told=told)
+
+    def next_deadline(self) -> float | None:
+        """When :meth:`tick` next has something to do (the deadman, a handshake that
+        takes too long), on the clock the events carry; None: not until another event."""
+        due = [t for t in (self.control.due_at(), self.gate.next_expiry()) if t is not None]
+        return min(due, default=None)
 
     def shutdown(self) -> list[Action]:
         return self._end("the server is shutting down", notify=True)

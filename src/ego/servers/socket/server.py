@@ -12,12 +12,14 @@ only moves bytes and runs calls:
   kept (the oldest goes first), and one that has not taken control within
   ``handshake_timeout_s`` is dropped; a reader too slow for its replies is dropped
   once ``write_limit`` bytes wait for it;
-* the deadman runs in a thread of its own, so that it fires on time even when the
-  event loop is flooded: it asks the session every few milliseconds, and stops the
-  robot itself;
+* the deadman is a :class:`~ego.nursery.DeadlineTimer` (a thread of its own), so that it
+  fires on time even when the event loop is flooded: it sleeps until the session's next
+  deadline (re-armed sooner by the events that bring one closer), and stops the robot
+  itself;
 * every task and thread has an owner that ends and joins it in :meth:`Server.aclose`:
-  the tasks a :class:`~ego.servers.nursery.Nursery`, the deadman and the three worker
-  threads the server (none is a daemon);
+  the tasks and the deadman's timer a :class:`~ego.nursery.Nursery` (a thread still
+  alive then is a :class:`~ego.errors.ThreadLeakError`), the three worker threads the
+  server (none is a daemon);
 * a stop never waits behind calls: it runs in a thread of its own, and a call whose
   session ended before its turn came is dropped, not run (the session lets a
   controller have one request in flight, so at most one batch runs after it is gone);
@@ -55,8 +57,8 @@ from ego.net.frames import (
     FrameReader,
 )
 from ego.net.urls import parse_url
+from ego.nursery import DeadlineTimer, Nursery
 from ego.seam.channel import Channel
-from ego.servers.nursery import Nursery
 from ego.servers.service import FrameEncoder, RobotService, encode_image
 from ego.servers.sessions.actions import Action, Authenticated, Hangup, Peer, Run, Send, StopRobot
 from ego.servers.sessions.session import Session
@@ -148,7 +150,8 @@ class Server:
         self._closers: list[Callable[[], None]] = []
         self._tasks = Nursery("ego serve")
         self._loop: asyncio.AbstractEventLoop | None = None
-        self._deadman: threading.Thread | None = None
+        #: The deadman: a timer asleep until the controller's deadline (set by start()).
+        self.deadman: DeadlineTimer | None = None
         self._stopping = threading.Event()
         self._closed = asyncio.Event()
         self._last_fd_warning = 0.0
@@ -203,8 +206,8 @@ class Server:
                 self._closers.append(transport.close)
             shown = f"[{sockname[0]}]" if ":" in sockname[0] else sockname[0]
             self.urls.append(f"{scheme}://{shown}:{sockname[1]}")
-        self._deadman = threading.Thread(target=_deadman, args=(self,), name="ego-serve-deadman")
-        self._deadman.start()
+        self.deadman = self._tasks.start_timer(self._deadline_passed, name="ego-serve-deadman")
+        self._arm()
         log.info(
             "serving %s (%s firmware) on %s%s",
             self.channel.name,
@@ -229,14 +232,13 @@ class Server:
         await self._perform(actions)
         for close in self._closers:
             close()
-        if self._deadman is not None:
-            loop = asyncio.get_running_loop()
-            await loop.run_in_executor(self._stop_thread, self._deadman.join, 5)
-        await self._tasks.aclose()
-        self._channel_thread.shutdown(wait=True)
-        self._camera_thread.shutdown(wait=True)
-        self._stop_thread.shutdown(wait=True)
-        self._closed.set()
+        try:
+            await self._tasks.aclose()  # the deadman's timer too
+        finally:
+            self._channel_thread.shutdown(wait=True)
+            self._camera_thread.shutdown(wait=True)
+            self._stop_thread.shutdown(wait=True)
+            self._closed.set()
 
     # -- input -------------------------------------------------------------------------------
 
@@ -248,7 +250,16 @@ class Server:
     def call_session(self, method: Callable[..., list[Action]], *args: Any) -> None:
         with self._lock:
             actions = method(*args)
+            due = self.session.next_deadline()
+        if due is not None and self.deadman is not None:
+            self.deadman.arm(due)  # a no-op unless it brings the deadline closer
         self.feed(actions)
+
+    def _arm(self) -> None:
+        with self._lock:
+            due = self.session.next_deadline()
+        if due is not None and self.deadman is not None:
+            self.deadman.arm(due)
 
     # -- output ------------------------------------------------------------------------------
 
@@ -326,6 +337,23 @@ class Server:
 
     # -- the deadman and the loop's own errors ---------------------------------------------------
 
+    def _deadline_passed(self, now: float) -> float | None:
+        """The deadman, on its timer's thread (on time whatever the event loop is doing):
+        the session's tick, the stop carried out here, not behind the loop's backlog; the
+        next deadline."""
+        with self._lock:
+            actions = self.session.tick(now)
+            following = self.session.next_deadline()
+        for action in actions:
+            if isinstance(action, StopRobot):
+                self._stop_robot(action)
+        rest: list[Action] = [a for a in actions if not isinstance(a, StopRobot)]
+        loop = self._loop
+        if rest and loop is not None and not loop.is_closed():
+            with contextlib.suppress(RuntimeError):  # the loop ended meanwhile
+                loop.call_soon_threadsafe(self.feed, rest)
+        return following
+
     def _loop_error(self, loop: asyncio.AbstractEventLoop, context: dict[str, Any]) -> None:
         exc = context.get("exception")
         if isinstance(exc, OSError) and exc.errno in (errno.EMFILE, errno.ENFILE):
@@ -336,24 +364,6 @@ class Server:
                 log.warning("out of file descriptors: new connections wait (%s)", exc)
             return
         loop.default_exception_handler(context)
-
-
-def _deadman(server: Server) -> None:
-    """The deadman, in its own thread: on time whatever the event loop is doing."""
-    tick = min(0.01, server.deadline_s / 50)
-    while not server._stopping.wait(tick):
-        with server._lock:
-            actions = server.session.tick(time.monotonic())
-        if not actions:
-            continue
-        for action in actions:
-            if isinstance(action, StopRobot):
-                server._stop_robot(action)  # here, not behind the loop's backlog
-        rest: list[Action] = [a for a in actions if not isinstance(a, StopRobot)]
-        loop = server._loop
-        if rest and loop is not None and not loop.is_closed():
-            with contextlib.suppress(RuntimeError):  # the loop ended meanwhile
-                loop.call_soon_threadsafe(server.feed, rest)
 
 
 def _receive_each(session: Session, peer: Peer, frames: list[Frame], now: float) -> list[Action]:
@@ -423,15 +433,18 @@ class ServerThread:
     """A :class:`Server` on its own event loop in a background thread.
 
     For tests, benchmarks and a PC beside an emulator; ``ego serve`` runs the loop in
-    the main thread instead.
+    the main thread instead. :meth:`stop` waits up to ``join_s`` for the thread; one still
+    running then is a :class:`~ego.errors.ThreadLeakError` (and a later stop waits again).
     """
 
-    def __init__(self, server: Server) -> None:
+    def __init__(self, server: Server, join_s: float = 10.0) -> None:
         self.server = server
         self._loop: asyncio.AbstractEventLoop | None = None
-        self._thread: threading.Thread | None = None
+        self._nursery = Nursery("ego serve's thread", join_s)
         self._ready = threading.Event()
         self._error: BaseException | None = None
+        #: What the server's close raised (a thread of its own left running, say).
+        self._close_error: BaseException | None = None
         self._stop: asyncio.Event | None = None
 
     @property
@@ -443,15 +456,19 @@ class ServerThread:
         return self.server.urls[0]
 
     def start(self) -> ServerThread:
-        self._thread = threading.Thread(target=self._run, name="ego-serve")
-        self._thread.start()
+        self._nursery.start_thread(self._run, name="ego-serve")
         self._ready.wait()
         if self._error is not None:
             raise self._error
         return self
 
     def _run(self) -> None:
-        asyncio.run(self._main())
+        try:
+            asyncio.run(self._main())
+        except Exception as exc:  # stop() raises it in its caller's thread
+            self._close_error = exc
+        finally:
+            self._ready.set()  # a start() waiting on a thread that failed early
 
     async def _main(self) -> None:
         self._loop = asyncio.get_running_loop()
@@ -473,9 +490,10 @@ class ServerThread:
         if loop is not None and stop is not None:
             with contextlib.suppress(RuntimeError):  # the loop already ended
                 loop.call_soon_threadsafe(stop.set)
-        if self._thread is not None:
-            self._thread.join(timeout=10)
-            self._thread = None
+        self._nursery.close()
+        failure, self._close_error = self._close_error, None
+        if failure is not None:
+            raise failure
 
     def __enter__(self) -> ServerThread:
         return self.start()

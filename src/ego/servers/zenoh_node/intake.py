@@ -10,9 +10,10 @@ controller's batches included) nor queues without end.
 from __future__ import annotations
 
 import logging
-import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
+
+from ego.nursery import Nursery
 
 if TYPE_CHECKING:
     import zenoh
@@ -26,13 +27,15 @@ RING_CAPACITY = 256
 
 
 class Intake:
-    """Declares a queryable on ``key`` and runs ``handle(query)`` for each, in one thread."""
+    """Declares a queryable on ``key`` and runs ``handle(query)`` for each, in one thread
+    of ``nursery``."""
 
     def __init__(
         self,
         session: zenoh.Session,
         key: str,
         handle: Callable[[Any], None],
+        nursery: Nursery,
         *,
         capacity: int = RING_CAPACITY,
     ) -> None:
@@ -44,8 +47,7 @@ class Intake:
         # The handler, not the queryable: undeclaring the queryable while its own recv()
         # waits would fail ("Already borrowed"); the handler's recv ends when it closes.
         self._queries = self.queryable.handler
-        self._thread = threading.Thread(target=self._run, name=f"ego-zenoh {key}")
-        self._thread.start()
+        nursery.start_thread(self._run, name=f"ego-zenoh {key}")
 
     def _run(self) -> None:
         while True:
@@ -64,8 +66,6 @@ class Intake:
             del query
 
     def undeclare(self) -> None:
-        """Stop taking queries; the thread ends once the one in hand is handled."""
+        """Stop taking queries; the thread ends once the one in hand is handled (its
+        nursery, the node's, joins it)."""
         self.queryable.undeclare()
-        self._thread.join(2)
-        if self._thread.is_alive():
-            log.error("%s: its thread did not end within 2 s", self.key)

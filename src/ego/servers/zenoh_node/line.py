@@ -16,6 +16,8 @@ from collections import deque
 from collections.abc import Callable
 from typing import Protocol
 
+from ego.nursery import Nursery
+
 __all__ = ["Job", "LineWorker"]
 
 log = logging.getLogger(__name__)
@@ -38,18 +40,26 @@ class LineWorker:
     """Runs ``Job``\\ s in one thread, and ``stop`` ahead of them when asked."""
 
     def __init__(
-        self, stop: Callable[[], None], *, name: str, capacity: int = DEFAULT_CAPACITY
+        self,
+        stop: Callable[[], None],
+        *,
+        name: str,
+        capacity: int = DEFAULT_CAPACITY,
+        nursery: Nursery | None = None,
     ) -> None:
         self._stop = stop
+        self.name = name
         self.capacity = capacity
         self._jobs: deque[Job] = deque()
         self._wake = threading.Condition()
         self._stop_wanted = False
         self._closing = False
-        self._thread = threading.Thread(target=self._work, name=name)
+        #: Its thread's owner: the node's nursery, or one of its own that close() closes.
+        self._own = nursery is None
+        self._nursery = Nursery(name, join_s=2.0) if nursery is None else nursery
 
     def start(self) -> LineWorker:
-        self._thread.start()
+        self._nursery.start_thread(self._work, name=self.name)
         return self
 
     def submit(self, job: Job) -> bool:
@@ -72,19 +82,18 @@ class LineWorker:
             self._wake.notify()
         return dropped
 
-    def close(self, why: str, timeout_s: float = 2.0) -> None:
-        """End the worker once the job in hand is done; the queued ones are cancelled."""
+    def close(self, why: str) -> None:
+        """End the worker once the job in hand is done; the queued ones are cancelled. A
+        worker with a nursery of its own is joined here (a job in hand that does not end
+        within 2 s is a :class:`~ego.errors.ThreadLeakError`); else its owner joins it."""
         with self._wake:
             self._closing = True
             left, self._jobs = list(self._jobs), deque()
             self._wake.notify()
         for job in left:
             job.cancel(why)
-        if self._thread.ident is not None:
-            self._thread.join(timeout_s)
-            if self._thread.is_alive():
-                log.error("%s: the job in hand did not end within %.1f s", self._thread.name,
-                          timeout_s)  # fmt: skip
+        if self._own:
+            self._nursery.close()
 
     def _next(self) -> Job | None:
         """The next job, None for the stop; raises StopIteration when closing."""

@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 
 from ego.errors import EgoError, ProtocolError, RobotBusyError
 from ego.net.payloads import error_fields, pack_error
+from ego.nursery import DeadlineTimer, Nursery
 from ego.servers.dashboard.served import WatchedChannel
 from ego.servers.service import firmware_fields
 from ego.servers.sessions.control import ControlSession
@@ -59,8 +60,6 @@ if TYPE_CHECKING:
 __all__ = ["MAX_BATCH_BYTES", "RobotNode"]
 
 log = logging.getLogger(__name__)
-#: How often the deadman looks while nobody holds the robot.
-IDLE_LOOK_S = 0.05
 #: What a checked query does on the line: given the query and its controller's id.
 Work = Callable[[Any, str], None]
 
@@ -110,8 +109,12 @@ class RobotNode:
         self._lock = threading.Lock()  # the lease: the intakes, the puts, the worker, the deadman
         self._closing = threading.Event()
         self._entities: list[Any] = []
-        self._line = LineWorker(self.stop, name=f"ego-zenoh-line-{self.name}")
-        self._deadman = threading.Thread(target=self._watch, name=f"ego-zenoh-deadman-{self.name}")
+        #: The node's threads: the line's worker, the intakes', the deadman's timer.
+        self.threads = Nursery(f"robot node {self.name}", join_s=2.0)
+        self._line = LineWorker(self.stop, name=f"ego-zenoh-line-{self.name}",
+                                nursery=self.threads)  # fmt: skip
+        #: The deadman: sleeps until the holder's deadline (set once started).
+        self.deadman: DeadlineTimer | None = None
         self._publisher: Any = None
         self._busy = f"robot {self.name} is driven by another controller"
         self._busy_reply = pack_error("RobotBusyError", self._busy)
@@ -129,12 +132,14 @@ class RobotNode:
         # them; the line's worker runs them (the serial line takes milliseconds). All can
         # be told to end: a Python thread left inside Zenoh at exit would abort the process.
         self._line.start()
-        self._deadman.start()
+        self.deadman = self.threads.start_timer(
+            self._deadline_passed, name=f"ego-zenoh-deadman-{self.name}", clock=self._clock
+        )
         self._entities.append(self._publisher)
         declare: list[Callable[[], Any]] = [
-            lambda: Intake(session, key("exchange"), self._on_exchange),
-            lambda: Intake(session, key("info"), self._info),
-            lambda: Intake(session, key("ascii"), self._on_ascii),
+            lambda: Intake(session, key("exchange"), self._on_exchange, self.threads),
+            lambda: Intake(session, key("info"), self._info, self.threads),
+            lambda: Intake(session, key("ascii"), self._on_ascii, self.threads),
             lambda: session.declare_subscriber(key("keepalive"), self._keepalive),
             lambda: session.declare_subscriber(key("bye"), self._bye),
             lambda: session.liveliness().declare_token(key("alive")),
@@ -149,7 +154,8 @@ class RobotNode:
         return self
 
     def close(self) -> None:
-        """Stop serving, then stop the robot's wheels and LEDs."""
+        """Stop serving, then stop the robot's wheels and LEDs; a thread of the node still
+        running then is a :class:`~ego.errors.ThreadLeakError` (after the stop)."""
         self._closing.set()
         for entity in reversed(self._entities):
             try:
@@ -157,9 +163,10 @@ class RobotNode:
             except Exception as exc:  # the session may be closing too
                 log.debug("undeclaring %s: %s", entity, exc)
         self._line.close(f"robot {self.name} is no longer served")
-        if self._deadman.ident is not None:
-            self._deadman.join(2)
-        self.stop()
+        try:
+            self.threads.close()
+        finally:
+            self.stop()
 
     def stop(self) -> None:
         """The confirmed stop batch (wheels 0, LEDs off), on the line's worker (or at close)."""
@@ -223,6 +230,9 @@ class RobotNode:
         finally:
             with self._lock:
                 self.lease.completed(who, self._clock())
+                due = self.lease.due_at()
+            if due is not None and self.deadman is not None:
+                self.deadman.arm(due)  # the deadline counts anew from the call's end
 
     def _exchange(self, query: Any, who: str, batch: Batch) -> None:
         def run() -> None:
@@ -273,21 +283,18 @@ class RobotNode:
         if released:
             self._stop_for(who, f"robot {self.name}: its controller said bye")
 
-    def _watch(self) -> None:
-        """Wait until the holder's deadline is due, then have the robot stopped at once."""
-        wait_s = IDLE_LOOK_S
-        while not self._closing.wait(wait_s):
-            with self._lock:
-                now = self._clock()
-                lapsed = self.lease.tick(now)
-                due_s = self.lease.due_in(now)
-            if lapsed is not None:
-                log.warning("robot %s: its controller went silent; stopping it", self.name)
-                why = f"its controller was {lapsed.why}"
-                self._stop_for(lapsed.holder, f"robot {self.name} was stopped before this "
-                               f"query ran: {why}")  # fmt: skip
-            # Just past the deadline (tick wants "more than"), never more than IDLE_LOOK_S.
-            wait_s = IDLE_LOOK_S if due_s is None else min(max(due_s, 0.0) + 1e-4, IDLE_LOOK_S)
+    def _deadline_passed(self, now: float) -> float | None:
+        """The deadman's timer fired: the robot stopped at once if its holder went silent;
+        the next deadline (None while nobody holds it or a call runs: a call's end arms it)."""
+        with self._lock:
+            lapsed = self.lease.tick(now)
+            due = self.lease.due_at()
+        if lapsed is not None:
+            log.warning("robot %s: its controller went silent; stopping it", self.name)
+            why = f"its controller was {lapsed.why}"
+            self._stop_for(lapsed.holder, f"robot {self.name} was stopped before this "
+                           f"query ran: {why}")  # fmt: skip
+        return due
 
     def _stop_for(self, who: str, why: str) -> None:
         """The stop, ahead of every queued query; ``who``'s queued ones are cancelled."""

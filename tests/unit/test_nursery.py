@@ -1,0 +1,182 @@
+"""Issue 35: every thread has an owner (ego.nursery): close reports a thread that will not
+end, timers sleep until their deadline, and no thread of ego or its emulator is a daemon."""
+
+from __future__ import annotations
+
+import ast
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+import ego
+import firmware_sim
+from ego.errors import ThreadLeakError
+from ego.nursery import Nursery
+from ego.servers.socket.server import ServerThread
+
+
+def test_close_joins_every_thread_it_started() -> None:
+    release = threading.Event()
+    nursery = Nursery("test")
+    threads = [nursery.start_thread(release.wait, name=f"t{i}") for i in range(3)]
+    release.set()
+    nursery.close()
+    assert not any(t.is_alive() for t in threads) and len(nursery) == 0
+
+
+def test_a_thread_that_will_not_end_is_reported_by_name_and_not_forgotten() -> None:
+    release = threading.Event()
+    nursery = Nursery("the owner", join_s=0.05)
+    nursery.start_thread(release.wait, name="stubborn")
+    with pytest.raises(ThreadLeakError, match=r"the owner: 1 thread.*stubborn"):
+        nursery.close()
+    assert len(nursery) == 1  # still owned: a later close waits for it again
+    release.set()
+    nursery.close()
+    assert len(nursery) == 0
+
+
+def test_a_closed_nursery_starts_no_thread() -> None:
+    nursery = Nursery("test")
+    nursery.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        nursery.start_thread(lambda: None, name="late")
+
+
+def test_a_thread_closing_its_own_nursery_is_not_waited_for() -> None:
+    nursery = Nursery("test", join_s=5)
+    done = threading.Event()
+
+    def close_myself() -> None:
+        nursery.close()
+        done.set()
+
+    thread = nursery.start_thread(close_myself, name="self-closing")
+    assert done.wait(5)
+    thread.join(5)
+    assert not thread.is_alive()
+
+
+def test_a_timer_fires_once_its_deadline_passes_on_the_given_clock_not_before() -> None:
+    fired: list[float] = []
+    seen = threading.Event()
+
+    def fire(now: float) -> float | None:
+        fired.append(now)
+        seen.set()
+        return None
+
+    with Nursery("test") as nursery:
+        timer = nursery.start_timer(fire, name="timer")
+        at = time.monotonic() + 0.05
+        timer.arm(at)
+        assert seen.wait(5)
+    assert len(fired) == 1 and fired[0] > at  # never early, on the owner's clock
+
+
+def test_a_timer_sleeps_until_its_deadline_instead_of_polling() -> None:
+    fires: list[float] = []
+
+    def fire(now: float) -> float | None:
+        fires.append(now)
+        return None
+
+    with Nursery("test") as nursery:
+        timer = nursery.start_timer(fire, name="timer")
+        timer.arm(time.monotonic() + 3600)  # an hour away: nothing to do until then
+        timer.arm(time.monotonic() + 7200)  # later than armed: changes nothing
+        assert timer.deadline is not None and timer.deadline < time.monotonic() + 3601
+    # Closing ended the timer's thread; it never woke to ask.
+    assert timer.fired == 0 and fires == []
+
+
+def test_a_timer_takes_the_deadline_its_call_answers() -> None:
+    calls: list[float] = []
+    done = threading.Event()
+
+    def fire(now: float) -> float | None:
+        calls.append(now)
+        if len(calls) == 3:
+            done.set()
+            return None
+        return now + 0.01
+
+    with Nursery("test") as nursery:
+        nursery.start_timer(fire, name="timer").arm(time.monotonic())
+        assert done.wait(5)
+    assert len(calls) == 3 and calls == sorted(calls)
+
+
+def test_a_timer_whose_call_fails_keeps_running() -> None:
+    calls = []
+    done = threading.Event()
+
+    def fire(now: float) -> float | None:
+        calls.append(now)
+        if len(calls) == 1:
+            raise ValueError("a bug")
+        done.set()
+        return None
+
+    with Nursery("test") as nursery:
+        timer = nursery.start_timer(fire, name="timer")
+        timer.arm(time.monotonic())
+        assert ego.nursery is not None
+        assert _wait(lambda: timer.looked == 1)
+        timer.arm(time.monotonic())
+        assert done.wait(5)
+
+
+def _wait(condition: object) -> bool:
+    from helpers import wait_until
+
+    assert callable(condition)
+    return wait_until(condition)
+
+
+class _Hung:
+    """A server whose close never returns (a serial line that hangs, say)."""
+
+    def __init__(self) -> None:
+        self.release = threading.Event()
+        self.urls = ["tcp://127.0.0.1:1"]
+
+    async def start(self) -> None:
+        pass
+
+    async def aclose(self) -> None:
+        import asyncio
+
+        await asyncio.to_thread(self.release.wait)
+
+
+def test_a_server_thread_that_will_not_end_is_reported_not_dropped() -> None:
+    hung = _Hung()
+    running = ServerThread(hung, join_s=0.05).start()  # type: ignore[arg-type]
+    with pytest.raises(ThreadLeakError, match="ego-serve"):
+        running.stop()
+    hung.release.set()
+    running.stop()  # now it ends, and is joined
+
+
+def _daemons(root: Path) -> list[str]:
+    found = []
+    for path in root.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.keyword) and node.arg == "daemon":
+                found.append(f"{path.relative_to(root.parent)}:{node.lineno}")
+            if isinstance(node, ast.Attribute) and node.attr in ("daemon", "setDaemon"):
+                found.append(f"{path.relative_to(root.parent)}:{node.lineno}")
+    return found
+
+
+# The ROS 2 node's runner is another change's (the bridge's flood and deadman work).
+KNOWN = {"ego/servers/ros2_node/runner.py"}
+
+
+def test_no_thread_of_ego_or_its_emulator_is_a_daemon() -> None:
+    roots = (Path(ego.__file__).parent, Path(firmware_sim.__file__).parent)
+    found = [d for root in roots for d in _daemons(root)]
+    assert [d for d in found if d.split(":")[0] not in KNOWN] == []
