@@ -172,11 +172,7 @@ def _daemons(root: Path) -> list[str]:
     return found
 
 
-# The ROS 2 node's runner is another change's (the bridge's flood and deadman work).
-KNOWN = {"ego/servers/ros2_node/runner.py"}
-
-
 def test_no_thread_of_ego_or_its_emulator_is_a_daemon() -> None:
     roots = (Path(ego.__file__).parent, Path(firmware_sim.__file__).parent)
     found = [d for root in roots for d in _daemons(root)]
-    assert [d for d in found if d.split(":")[0] not in KNOWN] == []
+    assert found == []

@@ -13,6 +13,8 @@ import threading
 from types import TracebackType
 from typing import TYPE_CHECKING
 
+from ego.nursery import Nursery
+
 if TYPE_CHECKING:
     from ego.core.robot import Robot
 
@@ -27,15 +29,17 @@ class NodeRunner:
     def __init__(self, robot: Robot, period_ms: int, name: str) -> None:
         self.robot = robot
         self.period_ms = period_ms
+        self._name = name
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, name=f"ego-ros2 {name}", daemon=True)
+        # A program that exits with the runner open: the loop ends first (no daemon).
+        self._threads = Nursery(f"the ROS 2 runner of {name}", at_exit=self._stop.set)
         #: Set when the thread ended (closed, the robot's link lost, or an error).
         self.ended = threading.Event()
         #: What ended the thread, if an error did (the owner raises it on).
         self.error: BaseException | None = None
 
     def start(self) -> NodeRunner:
-        self._thread.start()
+        self._threads.start_thread(self._run, name=f"ego-ros2 {self._name}")
         return self
 
     def _run(self) -> None:
@@ -51,10 +55,10 @@ class NodeRunner:
             self.ended.set()
 
     def close(self) -> None:
-        """Stop stepping and join the thread; again does nothing."""
+        """Stop stepping and join the thread (ThreadLeakError if it will not end); again
+        does nothing."""
         self._stop.set()
-        if self._thread.is_alive() and self._thread is not threading.current_thread():
-            self._thread.join()
+        self._threads.close()
 
     def __enter__(self) -> NodeRunner:
         return self.start()
