@@ -39,6 +39,9 @@ class _World:
     def declared_devices(self) -> frozenset[str]:
         return frozenset({"gps"})
 
+    def device_values(self, name: str) -> tuple[float, float, float]:
+        return (0.25, -0.125, 0.0486)
+
     def touching(self) -> bool:
         return True
 
