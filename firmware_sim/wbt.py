@@ -20,14 +20,17 @@ numbers, strings, ``TRUE``/``FALSE``, a node, or a ``[ ... ]`` list of either, w
   Supervisor's ``getFromDef``; nothing bumps into it or senses it.
 
 Everything else (Viewpoint, backgrounds, other robots...) is skipped, each skipped node
-type listed in :attr:`WbtWorld.notes`. Worlds are read in the frame Webots has used since
-R2022a (ENU: z up, the floor in x-y); an older file (y up) is refused with the advice
-Webots itself gives (open and save it once in a newer Webots, which converts it), and so
-is one declared ``coordinateSystem "NUE"``. A box may turn about the vertical or lie on a
-face (a rotation that swaps its axes, as Webots' converter writes it): it stands on the
-floor with its sides swapped; one on an edge or a corner, a robot rotated about anything
-but the vertical, and a ``RectangleArena`` off the origin or turned are refused naming
-the node and field: the emulator's world is flat and centred.
+type listed in :attr:`WbtWorld.notes`. A world declared ``coordinateSystem "NUE"`` (y
+up; an R2021 file is NUE unless it says otherwise) is converted to ENU as Webots R2022a
+converts it, and a ``RectangleArena`` may stand off the origin and turn about the
+vertical: the emulator simulates in the arena's own frame and a Supervisor answers in the
+file's (firmware_sim.frame, firmware_sim.wbt_frame). A GPS or Compass in the first
+E-puck's ``turretSlot`` or ``groundSensorsSlot`` is a ground-truth device mounted where
+the slot is (firmware_sim.wbt_slots). A box may turn about the vertical or lie on a face
+(a rotation that swaps its axes, as Webots' converter writes it): it stands on the floor
+with its sides swapped; one on an edge or a corner, a robot or an arena rotated about
+anything but the vertical are refused naming the node and field: the emulator's world is
+flat.
 
 Bounds (docs/bad_input.md): a file of at most :data:`MAX_WBT_BYTES`, at most
 :data:`MAX_NODES` nodes nested at most :data:`MAX_DEPTH` deep and :data:`MAX_TOKENS`
