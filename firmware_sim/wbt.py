@@ -255,7 +255,6 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     nodes, frame = _read_nodes(path)
     arena, floor = Arena(), None
     blocks: list[Block] = []
-    start: Pose | None = None
     starts: list[Pose] = []
     camera_size: tuple[int, int] | None = None
     lamp: Lamp | None = None
@@ -277,8 +276,8 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
                 blocks.append(block(node, *shape))
             elif node.type == "E-puck":
                 starts.append(_pose(node))
-                if start is None:
-                    start, robot_name = starts[0], node.name
+                if len(starts) == 1:
+                    robot_name = node.name
                     camera_size = _camera_size(node)
                     mounts, slot_notes = slot_devices(node)
             elif node.type == "PointLight" and lamp is None:
@@ -292,24 +291,21 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from exc
     blocks, starts, markers, lamp = carry(frame, blocks, starts, markers, lamp)
-    start = starts[0] if starts else None
-    notes = [f"skipped {count} {kind}" for kind, count in sorted(skipped.items())]
-    notes += slot_notes
-    if start is None:
+    notes = [f"skipped {count} {kind}" for kind, count in sorted(skipped.items())] + slot_notes
+    if not starts:
         notes.append("no E-puck in the world: the robot starts at the origin")
     world = World(
         seed=seed,
         arena=arena,
         blocks=blocks,
         lamp=lamp,
-        start=start,
+        start=starts[0] if starts else None,
         floor=floor or Plain(),
         camera_size=camera_size,
         starts=starts,
         devices=frozenset(mounts),
     )
-    world.robot_name = robot_name
-    world.markers = markers
+    world.robot_name, world.markers = robot_name, markers
     world.frame, world.mounts = frame, mounts
     return WbtWorld(world, notes)
 
