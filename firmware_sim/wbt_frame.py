@@ -24,10 +24,23 @@ def read_frame(version: str, nodes: list[Node]) -> Frame:
         to_enu(nodes)
     for node in nodes:
         if node.type == "RectangleArena":
+            if system == NUE:
+                _no_texture(node)
             x, y, _ = node.numbers("translation", 3, (0.0, 0.0, 0.0))
             rotation = node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0))
             return Frame(x, y, yaw(rotation, "RectangleArena.rotation"), system)
     return Frame(system=system)
+
+
+def _no_texture(arena: Node) -> None:
+    """Refuse an NUE arena's floor image: how an old Floor laid its texture on the x-z
+    plane is not modelled, and a line-follower's sensors would read it turned."""
+    appearance = arena.fields.get("floorAppearance")
+    for sub in appearance.walk() if isinstance(appearance, Node) else ():
+        if sub.type == "ImageTexture" and sub.fields.get("url"):
+            raise ValueError("RectangleArena.floorAppearance: a floor image in an NUE world "
+                             "is not modelled (its orientation on the old x-z floor); open "
+                             "and save the world once in Webots R2022a or newer")  # fmt: skip
 
 
 def _system(version: str, nodes: list[Node]) -> str:

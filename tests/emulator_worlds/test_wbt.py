@@ -158,6 +158,11 @@ def test_a_world_without_texture_has_a_plain_floor(tmp_path: Path) -> None:
             "WorldInfo.coordinateSystem 'EUN': the emulator reads ENU .* and NUE",
         ),
         (
+            "#VRML_SIM R2021b utf8\nRectangleArena { floorAppearance PBRAppearance {"
+            ' baseColorMap ImageTexture { url [ "floor.png" ] } } }\n',
+            "RectangleArena.floorAppearance: a floor image in an NUE world is not modelled",
+        ),
+        (
             "#VRML_SIM R2023b utf8\nRectangleArena { rotation 1 0 0 0.3 }\n",
             r"RectangleArena.rotation is rotated about \(1.0, 0.0, 0.0\), not the vertical",
         ),
