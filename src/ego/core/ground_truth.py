@@ -25,7 +25,9 @@ __all__ = ["Box", "GroundTruth", "Layout", "TruePose", "TrueWorld"]
 @dataclass(frozen=True, slots=True)
 class TruePose:
     """Where the robot truly is: x, y in metres, heading in radians (counter-clockwise
-    from +x), in the world's frame."""
+    from +x), in the simulator's frame (a Webots world's arena's own, centred and
+    unturned, z up: what the dashboard draws; a Supervisor and a GPS answer in the world
+    file's frame instead)."""
 
     x_m: float
     y_m: float
