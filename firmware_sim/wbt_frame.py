@@ -22,7 +22,7 @@ def read_frame(version: str, nodes: list[Node]) -> Frame:
     system = _system(version, nodes)
     if system == NUE:
         to_enu(nodes)
-    for node in nodes:
+    for node in reversed(nodes):  # the last arena, as world_from_wbt reads it
         if node.type == "RectangleArena":
             if system == NUE:
                 _no_texture(node)
