@@ -1,6 +1,7 @@
 """Worlds written the way Webots writes them, for the frame tests: an arena standing off
 the origin and turned (R2023b, with its EXTERNPROTO lines), and an older world declared
-NUE (R2021b, y up: no EXTERNPROTO lines then), each with a GPS in the E-puck's turret."""
+NUE (R2021b, y up: no EXTERNPROTO lines then), each with a GPS and a Compass in one of
+the E-puck's slots."""
 
 from __future__ import annotations
 
@@ -83,6 +84,8 @@ DEF EPUCK E-puck {
   supervisor TRUE
   groundSensorsSlot [
     GPS {
+    }
+    Compass {
     }
   ]
 }

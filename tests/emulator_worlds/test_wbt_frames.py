@@ -88,3 +88,6 @@ def test_an_nue_worlds_poses_are_answered_in_its_own_numbers(tmp_path: Path) -> 
     # The ground slot sits at (0.03, 0, 0.0003) on the robot (x forward, y left, z up).
     x, y = -0.2 + 0.03 * math.cos(1.0), 0.1 + 0.03 * math.sin(1.0)
     assert device_values(world, "gps") == pytest.approx((-y, 0.0003, -x))
+    # Webots before R2022a: north is +x, the robot's axes x right, y up, z back. Turned
+    # 1 rad about +y from facing -z, the robot has north behind it, to its right.
+    assert device_values(world, "compass") == pytest.approx((math.cos(1.0), 0.0, math.sin(1.0)))
