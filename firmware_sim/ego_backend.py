@@ -35,6 +35,7 @@ from firmware_sim.epuck2.emulator import BLUETOOTH_SELECTOR, UART_BAUD, Epuck2Em
 from firmware_sim.faults import FaultSpec, FaultTimings
 from firmware_sim.scene import Scene
 from firmware_sim.server import Emulator
+from firmware_sim.true_devices import device_values
 from firmware_sim.virtual_time import VirtualClock
 from firmware_sim.world import World
 
@@ -112,6 +113,9 @@ class WorldTruth:
 
     def declared_devices(self) -> frozenset[str]:
         return self._world.declared_devices()
+
+    def device_values(self, name: str) -> tuple[float, float, float]:
+        return device_values(self._world, name)
 
     def touching(self) -> bool:
         return self._world.touching()

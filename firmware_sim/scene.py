@@ -23,7 +23,9 @@ class _Start:
 
 
 class Scene:
-    """The world's solids by name: ``ROBOT`` for the robot, a box's DEF name for a box."""
+    """The world's solids by name: ``ROBOT`` for the robot, a box's DEF name for a box.
+    Poses and velocities are answered in the world file's own frame (its arena where it
+    stands, its NUE numbers if it speaks NUE: firmware_sim.frame), as Webots answers."""
 
     def __init__(self, world: World) -> None:
         self.world = world
@@ -51,8 +53,18 @@ class Scene:
         marker = self._marker(name)
         return "Solid" if marker is None else self.world.markers[marker].kind
 
+    @property
+    def vertical(self) -> tuple[float, float, float]:
+        """The world's up axis in the file's numbers: (0, 0, 1), or (0, 1, 0) for NUE."""
+        return self.world.frame.vertical
+
     def pose(self, name: str) -> tuple[float, float, float, float]:
-        """x, y, z (m) and the yaw about the vertical (rad) of the solid ``name``."""
+        """x, y, z (m) and the angle of the turn about :attr:`vertical` (rad) of the solid
+        ``name``, in the world file's frame."""
+        return self.world.frame.to_file(*self._own_pose(name))
+
+    def _own_pose(self, name: str) -> tuple[float, float, float, float]:
+        """x, y, z (m) and yaw (rad) in the emulator's frame (the arena's)."""
         if self._is_robot(name):
             p = self.world.snapshot()
             return p.x_m, p.y_m, 0.0, p.theta_rad
@@ -63,8 +75,10 @@ class Scene:
         block = self.world.blocks[self._block(name)]
         return block.x_m, block.y_m, block.height_m / 2, block.yaw_rad
 
-    def set_pose(self, name: str, x_m: float, y_m: float, yaw_rad: float) -> None:
-        """Put the solid ``name`` at (x, y), turned ``yaw_rad`` (kept out of the walls)."""
+    def set_pose(self, name: str, position: tuple[float, float, float], angle_rad: float) -> None:
+        """Put the solid ``name`` at ``position``, turned ``angle_rad`` about the vertical,
+        both in the world file's frame (kept out of the walls; z is the floor's)."""
+        x_m, y_m, _, yaw_rad = self.world.frame.from_file(position, angle_rad)
         marker = self._marker(name)
         if self._is_robot(name):
             self.world.place(Pose(x_m, y_m, yaw_rad))
@@ -80,8 +94,7 @@ class Scene:
             if self._marker(name) is None:
                 self._block(name)
             return (0.0,) * 6
-        vx, vy, wz = self.world.velocity()
-        return vx, vy, 0.0, 0.0, 0.0, wz
+        return self.world.frame.velocity_to_file(*self.world.velocity())
 
     def reset(self) -> None:
         """Everything back where the world began, the robot standing still (Webots'

@@ -20,14 +20,17 @@ numbers, strings, ``TRUE``/``FALSE``, a node, or a ``[ ... ]`` list of either, w
   Supervisor's ``getFromDef``; nothing bumps into it or senses it.
 
 Everything else (Viewpoint, backgrounds, other robots...) is skipped, each skipped node
-type listed in :attr:`WbtWorld.notes`. Worlds are read in the frame Webots has used since
-R2022a (ENU: z up, the floor in x-y); an older file (y up) is refused with the advice
-Webots itself gives (open and save it once in a newer Webots, which converts it), and so
-is one declared ``coordinateSystem "NUE"``. A box may turn about the vertical or lie on a
-face (a rotation that swaps its axes, as Webots' converter writes it): it stands on the
-floor with its sides swapped; one on an edge or a corner, a robot rotated about anything
-but the vertical, and a ``RectangleArena`` off the origin or turned are refused naming
-the node and field: the emulator's world is flat and centred.
+type listed in :attr:`WbtWorld.notes`. A world declared ``coordinateSystem "NUE"`` (y
+up; an R2021 file is NUE unless it says otherwise) is converted to ENU as Webots R2022a
+converts it, and a ``RectangleArena`` may stand off the origin and turn about the
+vertical: the emulator simulates in the arena's own frame and a Supervisor answers in the
+file's (firmware_sim.frame, firmware_sim.wbt_frame). A GPS or Compass in the first
+E-puck's ``turretSlot`` or ``groundSensorsSlot`` is a ground-truth device mounted where
+the slot is (firmware_sim.wbt_slots). A box may turn about the vertical or lie on a face
+(a rotation that swaps its axes, as Webots' converter writes it): it stands on the floor
+with its sides swapped; one on an edge or a corner, a robot or an arena rotated about
+anything but the vertical are refused naming the node and field: the emulator's world is
+flat.
 
 Bounds (docs/bad_input.md): a file of at most :data:`MAX_WBT_BYTES`, at most
 :data:`MAX_NODES` nodes nested at most :data:`MAX_DEPTH` deep and :data:`MAX_TOKENS`
@@ -39,7 +42,6 @@ world's folder (see firmware_sim.floor for its own bounds). A ``USE`` is the nod
 
 from __future__ import annotations
 
-import math
 import re
 from collections import deque
 from collections.abc import Iterator
@@ -49,8 +51,11 @@ from typing import Any
 
 from firmware_sim.files import read_regular
 from firmware_sim.floor import ImageFloor, Plain
+from firmware_sim.frame import Frame
 from firmware_sim.markers import Marker
+from firmware_sim.wbt_frame import carry, read_frame
 from firmware_sim.wbt_node import MAX_LENGTH_M, Node
+from firmware_sim.wbt_slots import slot_devices
 from firmware_sim.wbt_solids import MARKER_TYPES, block, box_shape, marker, yaw
 from firmware_sim.world import Arena, Block, Lamp, Pose, World
 
@@ -247,20 +252,21 @@ class WbtWorld:
 def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     """The emulator's World for a Webots world file (the subset in this module's doc)."""
     where = str(path)
-    nodes = _read_nodes(path)
+    nodes, frame = _read_nodes(path)
     arena, floor = Arena(), None
     blocks: list[Block] = []
-    start: Pose | None = None
     starts: list[Pose] = []
     camera_size: tuple[int, int] | None = None
     lamp: Lamp | None = None
     robot_name: str | None = None
     skipped: dict[str, int] = {}
     markers: list[Marker] = []
+    mounts: dict[str, tuple[float, float, float]] = {}
+    slot_notes: list[str] = []
     try:
         for node in nodes:
             if node.type == "WorldInfo":
-                _frame(node)
+                pass  # its coordinateSystem: read_frame's
             elif node.type == "RectangleArena":
                 arena, floor = _arena(node, path.parent)
             elif node.type == "WoodenBox":
@@ -270,9 +276,10 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
                 blocks.append(block(node, *shape))
             elif node.type == "E-puck":
                 starts.append(_pose(node))
-                if start is None:
-                    start, robot_name = starts[0], node.name
+                if len(starts) == 1:
+                    robot_name = node.name
                     camera_size = _camera_size(node)
+                    mounts, slot_notes = slot_devices(node)
             elif node.type == "PointLight" and lamp is None:
                 x, y, z = node.numbers("location", 3, (0.0, 0.0, 0.0))
                 lamp = Lamp(x, y, max(z, 0.0))
@@ -283,26 +290,29 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
             _within_bounds(blocks, starts)
     except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from exc
-    notes = [f"skipped {count} {kind}" for kind, count in sorted(skipped.items())]
-    if start is None:
+    blocks, starts, markers, lamp = carry(frame, blocks, starts, markers, lamp)
+    notes = [f"skipped {count} {kind}" for kind, count in sorted(skipped.items())] + slot_notes
+    if not starts:
         notes.append("no E-puck in the world: the robot starts at the origin")
     world = World(
         seed=seed,
         arena=arena,
         blocks=blocks,
         lamp=lamp,
-        start=start,
+        start=starts[0] if starts else None,
         floor=floor or Plain(),
         camera_size=camera_size,
         starts=starts,
+        devices=frozenset(mounts),
     )
-    world.robot_name = robot_name
-    world.markers = markers
+    world.robot_name, world.markers = robot_name, markers
+    world.frame, world.mounts = frame, mounts
     return WbtWorld(world, notes)
 
 
-def _read_nodes(path: Path) -> list[Node]:
-    """The top-level nodes of the world file at ``path`` (an older, y-up one refused)."""
+def _read_nodes(path: Path) -> tuple[list[Node], Frame]:
+    """The top-level nodes of the world file at ``path``, in ENU (an NUE world
+    converted), and its frame (firmware_sim.wbt_frame)."""
     where = str(path)
     try:
         text = read_regular(path, MAX_WBT_BYTES, "a Webots world").decode("utf-8")
@@ -312,12 +322,9 @@ def _read_nodes(path: Path) -> list[Node]:
         raise ValueError(f"{where}: {exc.strerror or exc}") from exc
     try:
         version, nodes = parse_wbt(text)
+        return nodes, read_frame(version, nodes)
     except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from exc
-    if _before_r2022a(version):
-        raise ValueError(f"{where}: a {version} world is y-up; open and save it once in "
-                         "Webots R2022a or newer, which converts it to z-up")  # fmt: skip
-    return nodes
 
 
 def _within_bounds(blocks: list[Block], starts: list[Pose]) -> None:
@@ -327,32 +334,8 @@ def _within_bounds(blocks: list[Block], starts: list[Pose]) -> None:
         raise ValueError(f"more than {MAX_ROBOTS} E-pucks: over the bound for a world")
 
 
-def _before_r2022a(version: str) -> bool:
-    match = re.fullmatch(r"R(\d{4})([ab])(?:-.*)?", version)
-    return match is not None and (int(match.group(1)), match.group(2)) < (2022, "a")
-
-
-def _frame(node: Node) -> None:
-    """Refuse a world in a frame the emulator does not read (its values would all be
-    read wrong): ENU is Webots' since R2022a."""
-    given = node.fields.get("coordinateSystem", "ENU")
-    system = given[0] if isinstance(given, list) and given else given
-    if system != "ENU":
-        raise ValueError(f"WorldInfo.coordinateSystem {system!r}: the emulator reads ENU "
-                         "worlds (x east, y north, z up), Webots' frame since R2022a")  # fmt: skip
-
-
 def _arena(node: Node, folder: Path) -> tuple[Arena, ImageFloor | Plain]:
-    translation = node.numbers("translation", 3, (0.0, 0.0, 0.0))
-    if abs(translation[0]) > 1e-6 or abs(translation[1]) > 1e-6:
-        where = " ".join(f"{v:g}" for v in translation)
-        raise ValueError(f"RectangleArena.translation {where}: an arena off the origin is "
-                         "not modelled (move the world so that the arena is centred)")  # fmt: skip
-    rotation = node.numbers("rotation", 4, (0.0, 0.0, 1.0, 0.0))
-    if abs(math.sin(yaw(rotation, "RectangleArena.rotation"))) > 1e-6:
-        turn = " ".join(f"{v:g}" for v in rotation)
-        raise ValueError(f"RectangleArena.rotation {turn}: an arena turned by other than a "
-                         "half turn is not modelled")  # fmt: skip
+    """The arena in its own frame (where it stands: firmware_sim.wbt_frame)."""
     sx, sy = node.numbers("floorSize", 2, (1.0, 1.0))
     tile_x, tile_y = node.numbers("floorTileSize", 2, (0.5, 0.5))
     tile = (tile_x, tile_y)

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from firmware_sim.floor import ImageFloor, LineTrack, Marks, Plain
+from firmware_sim.frame import Frame
 from firmware_sim.markers import Marker
 from firmware_sim.wheels import WheelModel, Wheels
 
@@ -226,6 +227,12 @@ class World:
         self._t = self.clock()
         #: The robot's DEF name in a world file, if it has one.
         self.robot_name: str | None = None
+        #: Where the arena sits in the world file's frame, and the file's convention
+        #: (firmware_sim.frame): a Supervisor, a GPS and a Compass answer in that frame.
+        self.frame = Frame()
+        #: Where each ground-truth device sits on the robot (m, x forward, y left, z up):
+        #: a .wbt world's E-puck slots (firmware_sim.wbt_slots); else at its centre.
+        self.mounts: dict[str, tuple[float, float, float]] = {}
         self.battery_raw = BATTERY_RAW
         #: The motor driver: the clamp of a commanded speed (steps/s) and the rate a wheel
         #: then really steps at. The e-puck1's by default; another robot's firmware model

@@ -144,23 +144,36 @@ def test_a_world_without_texture_has_a_plain_floor(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("text", "error"),
     [
-        ("#VRML_SIM R2021b utf8\nRectangleArena { }\n", "y-up.*R2022a"),
+        (
+            '#VRML_SIM R2021b utf8\nWorldInfo { coordinateSystem "ENU" }\n',
+            "R2021b world declared ENU keeps its objects in the old axes.*R2022a",
+        ),
         (
             "#VRML_SIM R2023b utf8\nWoodenBox { rotation 1 0 0 0.3 }\n",
             "WoodenBox.rotation 1 0 0 0.3 stands the box on an edge or a corner",
         ),
         ("#VRML_SIM R2023b utf8\nRectangleArena { floorSize 1 }\n", "floorSize must be 2"),
         (
-            '#VRML_SIM R2023b utf8\nWorldInfo { coordinateSystem "NUE" }\n',
-            "WorldInfo.coordinateSystem 'NUE': the emulator reads ENU",
+            '#VRML_SIM R2023b utf8\nWorldInfo { coordinateSystem "EUN" }\n',
+            "WorldInfo.coordinateSystem 'EUN': the emulator reads ENU .* and NUE",
         ),
         (
-            "#VRML_SIM R2023b utf8\nRectangleArena { translation 0.5 0 0 }\n",
-            "RectangleArena.translation 0.5 0 0: an arena off the origin",
+            "#VRML_SIM R2021b utf8\nRectangleArena { floorAppearance PBRAppearance {"
+            ' baseColorMap ImageTexture { url [ "floor.png" ] } } }\n',
+            "RectangleArena.floorAppearance: a floor image in an NUE world is not modelled",
         ),
         (
-            "#VRML_SIM R2023b utf8\nRectangleArena { rotation 0 0 1 0.3 }\n",
-            "RectangleArena.rotation 0 0 1 0.3: an arena turned",
+            "#VRML_SIM R2023b utf8\nRectangleArena { rotation 1 0 0 0.3 }\n",
+            r"RectangleArena.rotation is rotated about \(1.0, 0.0, 0.0\), not the vertical",
+        ),
+        (
+            '#VRML_SIM R2023b utf8\nE-puck { turretSlot [ GPS { name "gps2" } ] }\n',
+            "E-puck.turretSlot GPS.name \\['gps2'\\]: the emulator serves a GPS named 'gps'",
+        ),
+        (
+            "#VRML_SIM R2023b utf8\nE-puck { groundSensorsSlot [ Compass {"
+            " rotation 0 0 1 1 } ] }\n",
+            "E-puck.groundSensorsSlot Compass.rotation 0 0 1 1: a device turned on the robot",
         ),
         ("#VRML_SIM R2023b utf8\nRectangleArena { floorSize 0 1 }\n", "must be positive"),
         ("#VRML_SIM R2023b utf8\nRectangleArena {\n", "ends inside a node"),

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 import ego
 from ego.backends.zenoh_remote import _Truth
+from ego.controller.gps import GPS
 from ego.controller.radio import _true_pose
 from ego.core.backend import Opened
 from ego.core.ground_truth import Box, GroundTruth, Layout, TruePose, TrueWorld
@@ -38,6 +39,9 @@ class _World:
 
     def declared_devices(self) -> frozenset[str]:
         return frozenset({"gps"})
+
+    def device_values(self, name: str) -> tuple[float, float, float]:
+        return (0.25, -0.125, 0.0486)
 
     def touching(self) -> bool:
         return True
@@ -136,3 +140,12 @@ class _Core:
 def test_the_radio_reads_the_pose_through_the_protocol() -> None:
     assert _true_pose(_Core(_Truth_(None))) == [0.123456789, -0.5, math.pi / 2]  # type: ignore[arg-type]
     assert _true_pose(_Core(None)) is None  # type: ignore[arg-type]
+
+
+def test_the_faces_gps_reads_what_the_world_says_its_gps_reads() -> None:
+    """A GPS reads the world's device_values (its mount and the file's frame are the
+    world's to know), not the robot's centre: the double's pose is elsewhere."""
+    gps = GPS(_Core(_Truth_(_World())), "gps", strict=True)  # type: ignore[arg-type]
+    assert all(math.isnan(v) for v in gps.getValues())  # disabled: NaN, as Webots
+    gps.enable(32)
+    assert gps.getValues() == [0.25, -0.125, 0.0486]

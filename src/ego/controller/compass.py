@@ -17,9 +17,8 @@ class Compass(GroundTruthDevice):
     _node_type = "COMPASS"
 
     def getValues(self) -> list[float]:
-        """North (+y) in the robot's frame (x forward, y left, z up), as Webots' Compass;
+        """North (+y) in the robot's frame (x forward, y left, z up), as Webots' Compass
+        (a world declared NUE: north +x in the old robot frame, x right, y up, z back);
         NaN while disabled."""
-        pose = self._pose()
-        if pose is None:
-            return [math.nan] * 3
-        return [math.sin(pose.theta_rad), math.cos(pose.theta_rad), 0.0]
+        values = self._values()
+        return [math.nan] * 3 if values is None else list(values)

@@ -17,7 +17,8 @@ class GPS(GroundTruthDevice):
     _node_type = "GPS"
 
     def getValues(self) -> list[float]:
-        """x, y, z (m) of the robot's centre in Webots' ENU frame (x east, y north, z up);
-        NaN while disabled."""
-        pose = self._pose()
-        return [math.nan] * 3 if pose is None else [pose.x_m, pose.y_m, 0.0]
+        """x, y, z (m) of the device in the world's frame (Webots' ENU: x east, y north,
+        z up; a world declared NUE: its own x north, y up, z east): the robot's centre,
+        or where the world mounts it (an E-puck slot); NaN while disabled."""
+        values = self._values()
+        return [math.nan] * 3 if values is None else list(values)

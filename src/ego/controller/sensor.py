@@ -10,7 +10,7 @@ from ego.errors import UnsupportedDeviceError
 from ego.faces.webots_model import webots_model
 
 if TYPE_CHECKING:
-    from ego.core.ground_truth import GroundTruth, TruePose
+    from ego.core.ground_truth import GroundTruth
     from ego.core.robot import Robot as CoreRobot
 
 __all__ = ["GroundTruthDevice", "Sensor"]
@@ -123,9 +123,11 @@ class GroundTruthDevice(Device):
             raise UnsupportedDeviceError(f"{self._name!r}: a real robot has no ground truth")
         return truth
 
-    def _pose(self) -> TruePose | None:
-        """The robot's true pose, None while disabled or before the world has one."""
-        return self._truth().pose() if self._period else None
+    def _values(self) -> tuple[float, float, float] | None:
+        """What the world's device of this name reads (ground_truth.TrueWorld's
+        device_values), None while disabled."""
+        world = self._truth().true_world if self._period else None
+        return None if world is None else world.device_values(self._name)
 
     def enable(self, samplingPeriod: int) -> None:
         self._period = int(samplingPeriod)

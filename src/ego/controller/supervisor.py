@@ -25,6 +25,19 @@ def _vector(value: object, size: int, what: str) -> list[float]:
     return numbers
 
 
+def _turn_matrix(axis: tuple[float, float, float], angle: float) -> list[float]:
+    """The 3x3 matrix, row by row, of a turn of ``angle`` about the unit ``axis``
+    (Rodrigues' formula): the world's vertical, ENU's z or NUE's y."""
+    c, s = math.cos(angle), math.sin(angle)
+    x, y, z = axis
+    t = 1.0 - c
+    return [
+        t * x * x + c, t * x * y - z * s, t * x * z + y * s,
+        t * x * y + z * s, t * y * y + c, t * y * z - x * s,
+        t * x * z - y * s, t * y * z + x * s, t * z * z + c,
+    ]  # fmt: skip
+
+
 class SceneField(Field):
     """A node's ``translation`` or ``rotation`` field (SFVec3f, SFRotation)."""
 
@@ -46,26 +59,30 @@ class SceneField(Field):
         return [x, y, z]
 
     def setSFVec3f(self, values: list[float]) -> None:
-        """Move the solid; z is the floor's (the emulated world is flat)."""
+        """Move the solid (in the world file's frame); its height is the floor's (the
+        emulated world is flat)."""
         self._expect("translation")
-        x, y, _ = _vector(values, 3, "setSFVec3f")
-        self._scene.set_pose(self._solid, x, y, self._scene.pose(self._solid)[3])
+        x, y, z = _vector(values, 3, "setSFVec3f")
+        self._scene.set_pose(self._solid, (x, y, z), self._scene.pose(self._solid)[3])
 
     def getSFRotation(self) -> list[float]:
         self._expect("rotation")
-        return [0.0, 0.0, 1.0, self._scene.pose(self._solid)[3]]
+        return [*self._scene.vertical, self._scene.pose(self._solid)[3]]
 
     def setSFRotation(self, values: list[float]) -> None:
-        """Turn the solid about the vertical (an axis that tilts is refused)."""
+        """Turn the solid about the world's vertical (z, or y in an NUE world); an axis
+        that tilts is refused."""
         self._expect("rotation")
         ax, ay, az, angle = _vector(values, 4, "setSFRotation")
         norm = math.sqrt(ax * ax + ay * ay + az * az)
-        if norm == 0 or math.hypot(ax, ay) / norm > 1e-3:
+        vx, vy, vz = self._scene.vertical
+        along = (ax * vx + ay * vy + az * vz) / norm if norm else 0.0
+        if abs(abs(along) - 1.0) > 1e-6:
             raise UnsupportedDeviceError(
                 f"rotation about {values[:3]} tilts the solid; the emulated world is flat"
             )
-        x, y, _, _ = self._scene.pose(self._solid)
-        self._scene.set_pose(self._solid, x, y, angle * math.copysign(1.0, az))
+        x, y, z, _ = self._scene.pose(self._solid)
+        self._scene.set_pose(self._solid, (x, y, z), angle * math.copysign(1.0, along))
 
     def _expect(self, name: str) -> None:
         if self._name != name:
@@ -93,10 +110,9 @@ class SceneNode(Node):
         return [x, y, z]
 
     def getOrientation(self) -> list[float]:
-        """The 3x3 rotation matrix, row by row (a turn about the vertical)."""
-        yaw = self._scene.pose(self._name)[3]
-        c, s = math.cos(yaw), math.sin(yaw)
-        return [c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0]
+        """The 3x3 rotation matrix, row by row, in the world's frame (a turn about the
+        vertical)."""
+        return _turn_matrix(self._scene.vertical, self._scene.pose(self._name)[3])
 
     def getPose(self) -> list[float]:
         """The 4x4 homogeneous transform, row by row."""

@@ -3,11 +3,11 @@
 A real robot has none. A simulated one (the ``sim`` backend, the emulator ego never
 imports) hands ``ego.Robot`` an object of its own that follows :class:`GroundTruth`, as
 gpiozero's pin factories follow its ``Factory``: the true pose, and, where the whole world
-is known, a :class:`TrueWorld` (``true_world``: its layout for drawing, the floor's reflectance, the
-devices its file declares, the camera size it sets, how far the robot went). A robot
-node reached over Zenoh knows only the pose its node sent (``true_world`` None). Readers
-(telemetry, the dashboard, a recording, the faces, the radio, the demo) read these types
-and nothing else of the simulator.
+is known, a :class:`TrueWorld` (``true_world``: its layout for drawing, the floor's
+reflectance, the devices its file declares and what they read, the camera size it sets,
+how far the robot went). A robot node reached over Zenoh knows only the pose its node
+sent (``true_world`` None). Readers (telemetry, the dashboard, a recording, the faces,
+the radio, the demo) read these types and nothing else of the simulator.
 """
 
 from __future__ import annotations
@@ -25,7 +25,9 @@ __all__ = ["Box", "GroundTruth", "Layout", "TruePose", "TrueWorld"]
 @dataclass(frozen=True, slots=True)
 class TruePose:
     """Where the robot truly is: x, y in metres, heading in radians (counter-clockwise
-    from +x), in the world's frame."""
+    from +x), in the simulator's frame (a Webots world's arena's own, centred and
+    unturned, z up: what the dashboard draws; a Supervisor and a GPS answer in the world
+    file's frame instead)."""
 
     x_m: float
     y_m: float
@@ -74,6 +76,13 @@ class TrueWorld(Protocol):
 
     def declared_devices(self) -> frozenset[str]:
         """Which of "gps", "compass", "touch sensor" the world file gives the robot."""
+        ...
+
+    def device_values(self, name: str) -> tuple[float, float, float]:
+        """What the declared ``"gps"`` or ``"compass"`` reads now, as Webots' would: the
+        GPS where it sits (the robot's pose offset by its mount, an E-puck slot's), the
+        Compass north in the robot's axes; both in the world file's own frame (its arena
+        where it stands, NUE numbers in an NUE world). KeyError for another name."""
         ...
 
     def touching(self) -> bool:

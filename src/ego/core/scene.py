@@ -31,16 +31,24 @@ class Scene(Protocol):
         """The Webots node type behind ``name`` (``E-puck``, ``Solid``)."""
         ...
 
-    def pose(self, name: str) -> tuple[float, float, float, float]:
-        """x, y, z (m) and the yaw about the vertical (rad)."""
+    @property
+    def vertical(self) -> tuple[float, float, float]:
+        """The world's up axis in the world file's numbers: (0, 0, 1) in Webots' ENU
+        frame, (0, 1, 0) in a world declared NUE (x north, y up, z east)."""
         ...
 
-    def set_pose(self, name: str, x_m: float, y_m: float, yaw_rad: float) -> None:
-        """Move the solid ``name`` there (the floor is flat: no roll, no pitch)."""
+    def pose(self, name: str) -> tuple[float, float, float, float]:
+        """x, y, z (m) in the world file's frame, and the angle (rad) of the solid's turn
+        about :attr:`vertical` (the floor is flat: no roll, no pitch)."""
+        ...
+
+    def set_pose(self, name: str, position: tuple[float, float, float], angle_rad: float) -> None:
+        """Move the solid ``name`` to ``position`` (the world file's frame; its height is
+        the floor's), turned ``angle_rad`` about :attr:`vertical`."""
         ...
 
     def velocity(self, name: str) -> tuple[float, float, float, float, float, float]:
-        """Linear (m/s) and angular (rad/s) velocity in the world's frame."""
+        """Linear (m/s) and angular (rad/s) velocity in the world file's frame."""
         ...
 
     def reset(self) -> None:
