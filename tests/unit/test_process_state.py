@@ -27,7 +27,8 @@ SRC = ROOT / "src" / "ego"
 READER = SRC / "core" / "environment.py"
 CHILD_ENVIRONMENTS = {SRC / "app" / "swarm.py", SRC / "servers" / "supervisor.py"}
 #: Variables of the test and browser harness (README, "Develop"), not of ego itself.
-HARNESS = {"EGO_CHROMIUM", "EGO_REQUIRE_BROWSER"}
+# Read by the tests and by the project's own scripts (tools/board_check.sh), not by ego.
+HARNESS = {"EGO_CHROMIUM", "EGO_REQUIRE_BROWSER", "EGO_BOARD_CACHE", "EGO_BOARD_REUSE"}
 
 
 def _reads_environment(path: Path) -> list[int]:
