@@ -40,7 +40,8 @@ from ego.seam.profile import Command
 from ego.serial.link import Link
 from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 from firmware_sim import Emulator
 
 __all__ = ["main", "run"]

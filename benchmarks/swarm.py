@@ -50,7 +50,8 @@ def _udp_robots(count: int) -> Iterator[tuple[list[str], dict[str, str]]]:
     from ego.app.swarm import robot_seed
     from ego.core.registry import find_backend, open_port
     from ego.seam.profile import Firmware
-    from ego.servers.socket.server import Server, ServerThread
+    from ego.servers.socket.server import Server
+    from ego.servers.socket.server_thread import ServerThread
 
     backend: Any = find_backend("sim")
     with contextlib.ExitStack() as stack:

@@ -45,7 +45,8 @@ from ego.serial.link import Link, LinkSettings
 from ego.serial.profiles import PROFILES
 from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 from ego.servers.zenoh_node.node import RobotNode
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 from firmware_sim import Emulator

@@ -22,7 +22,8 @@ from ego.serial.transport import SerialTransport
 from ego.servers.dashboard.access import socket_url
 from ego.servers.dashboard.served import ServedFeed, WatchedChannel
 from ego.servers.dashboard.server import DashboardServer
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 from firmware_sim import Emulator
 from firmware_sim.ego_backend import EmulatorTruth
 

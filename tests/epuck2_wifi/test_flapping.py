@@ -12,7 +12,7 @@ from __future__ import annotations
 import logging
 
 import pytest
-from wifi_helpers import until
+from helpers import wait_until as until
 from wifi_relay import Relay
 
 import ego

@@ -23,7 +23,8 @@ from helpers import ego_command
 from ego.app.cli import build_parser, main
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 from firmware_sim import Emulator
 
 SECRET = "a-shared-secret-of-some-length"

@@ -47,7 +47,8 @@ from ego.recording.reader import Recording
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
 from ego.servers.dashboard.live import RobotFeed
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 from firmware_sim import Emulator
 from firmware_sim.camera import SimulatedSource
 

@@ -34,7 +34,8 @@ from reliability_helpers import read_line
 
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
-from ego.servers.socket.server import DEFAULT_DEADLINE_S, Server, ServerThread
+from ego.servers.socket.server import DEFAULT_DEADLINE_S, Server
+from ego.servers.socket.server_thread import ServerThread
 from firmware_sim import Emulator, World
 
 CONTROLLER = Path(__file__).parent / "controllers" / "interrupted_controller.py"

@@ -13,7 +13,8 @@ from remote_helpers import ConnectFactory, Served, ServeFactory
 from ego.backends.remote.channel import RemoteChannel
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 from firmware_sim import Emulator
 from firmware_sim.camera import SimulatedSource
 

@@ -35,7 +35,8 @@ from ego.net.handshake import session_key
 from ego.net.payloads import pack_json, unpack_json
 from ego.net.urls import parse_url
 from ego.serial.link import Link
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 from firmware_sim import Emulator
 
 

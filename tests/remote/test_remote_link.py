@@ -26,7 +26,8 @@ from ego.serial.link import Link
 from ego.serial.profiles import PROFILES
 from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 from firmware_sim import Emulator, FaultTimings
 
 #: The thesis' full sensor batch: a E M N O Q u.

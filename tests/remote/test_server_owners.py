@@ -20,7 +20,8 @@ from ego.seam.profile import Command
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
 from ego.servers.service import RobotService
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 from firmware_sim import Emulator
 
 

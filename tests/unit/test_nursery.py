@@ -14,7 +14,7 @@ import ego
 import firmware_sim
 from ego.errors import ThreadLeakError
 from ego.nursery import Nursery
-from ego.servers.socket.server import ServerThread
+from ego.servers.socket.server_thread import ServerThread
 
 
 def test_close_joins_every_thread_it_started() -> None:

@@ -32,7 +32,8 @@ from pathlib import Path
 from ego.core.safety import SignalExit, install_signal_handlers, send_stop
 from ego.errors import EgoError
 from ego.servers.robot import open_robot
-from ego.servers.socket.server import Server, ServerThread
+from ego.servers.socket.server import Server
+from ego.servers.socket.server_thread import ServerThread
 
 __all__ = ["DEFAULT_DEADLINE_S", "run_supervised", "wants_supervision"]
 
