@@ -46,9 +46,9 @@ Each class mixes in the builtin it refines, so ``except ValueError`` or
         └── FrameError (ValueError)              a malformed or oversized network frame
             └── VersionMismatchError             a frame of another ego protocol version
     ControllerTerminated (SystemExit)            a controller that went on after step()
-                                                 returned -1, ended a second later as
-                                                 Webots ends it (no ``except Exception``
-                                                 catches it, as none survives Webots' kill)
+                                                 returned -1, ended a second later (as in
+                                                 the simulator; no ``except Exception``
+                                                 catches it, as none survives that kill)
 """
 
 from __future__ import annotations

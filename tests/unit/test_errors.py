@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 from fakes import FAST_LINK
+from helpers import world_of
 
 import ego
 import firmware_sim
@@ -79,7 +80,7 @@ def test_a_speed_out_of_range_is_a_value_error_that_names_it(robot: ego.Robot) -
     with pytest.raises(ValueError, match="1200") as caught:
         robot.motors.set_speed(1200, 0)
     assert isinstance(caught.value, errors.OutOfRangeError)
-    assert robot.emulator.world.speeds == (0, 0)  # refused, not clamped and sent
+    assert world_of(robot).speeds == (0, 0)  # refused, not clamped and sent
 
 
 def test_an_unknown_device_is_a_key_error_listing_the_names_unquoted(robot: ego.Robot) -> None:
