@@ -6,10 +6,8 @@ proximity follows the e-puck IR response to the nearest surface, light falls (lo
 brighter) as the lamp gets nearer, the accelerometer sees gravity and motion, and the
 microphones hear the source. Time is the host's monotonic clock, so a controller that
 drives for one second moves the robot one second's worth.
-
-Geometry (e-puck): body 75 mm across, wheel radius 20.5 mm, axle 52 mm, 1000 steps a
-wheel turn, speeds clamped to +-1000 steps/s. Frame: x east, y north, theta = 0 faces
-+x, counter-clockwise positive.
+Frame: x east, y north, theta = 0 faces +x, counter-clockwise positive; the robot's
+geometry is firmware_sim.epuck_model's.
 """
 
 from __future__ import annotations
@@ -23,8 +21,35 @@ from typing import Any
 
 import numpy as np
 
+from firmware_sim.epuck_model import (
+    ACC_PER_G,
+    ACC_ZERO,
+    AXLE_M,
+    BATTERY_RAW,
+    FLOOR_SENSOR_OFFSETS_M,
+    GRAVITY,
+    IR_RESPONSE,
+    LONG_RANGE_BEARINGS_RAD,
+    MAX_SPEED_STEPS,
+    METRES_PER_STEP,
+    ROBOT_RADIUS_M,
+    SENSOR_BEARINGS_RAD,
+    microphone_buffers,
+    spherical_from_raw,
+    stepping_rate,
+)
 from firmware_sim.floor import ImageFloor, LineTrack, Marks, Plain
 from firmware_sim.frame import Frame
+from firmware_sim.layout import (
+    Arena,
+    Block,
+    Lamp,
+    Pose,
+    SoundSource,
+    default_blocks,
+    ray_box,
+    ray_disc,
+)
 from firmware_sim.markers import Marker
 from firmware_sim.wheels import WheelModel, Wheels
 
@@ -32,122 +57,15 @@ Floor = Marks | LineTrack | Plain | ImageFloor
 
 __all__ = [
     "IR_RESPONSE",
+    "ROBOT_RADIUS_M",
     "Arena",
     "Block",
     "Lamp",
     "Pose",
     "SoundSource",
     "World",
+    "stepping_rate",
 ]
-
-ROBOT_RADIUS_M = 0.0375
-WHEEL_RADIUS_M = 0.0205
-AXLE_M = 0.052
-STEPS_PER_TURN = 1000
-MAX_SPEED_STEPS = 1000
-METRES_PER_STEP = 2 * math.pi * WHEEL_RADIUS_M / STEPS_PER_TURN
-GRAVITY = 9.81
-ACC_ZERO = 2000  # raw accelerometer counts at 0 g (docs/protocol.md)
-ACC_PER_G = 800
-
-#: Webots' e-puck IR table: distance from the body (m) -> raw value.
-IR_RESPONSE = (
-    (0.0, 4095.0),
-    (0.005, 2133.0),
-    (0.01, 1466.0),
-    (0.02, 384.0),
-    (0.05, 120.0),
-    (0.07, 67.0),
-)
-#: Sensor bearings from the heading, CCW positive (ps0 front-right ... ps7 front-left).
-SENSOR_BEARINGS_RAD = (-0.30, -0.80, -1.57, -2.64, 2.64, 1.57, 0.80, 0.30)
-#: The Overo board's long-range IR8 (left) and IR9 (right), facing ahead-left/right.
-LONG_RANGE_BEARINGS_RAD = (0.5, -0.5)
-#: Floor sensors: (forward, left) offsets from the centre, left / centre / right.
-FLOOR_SENSOR_OFFSETS_M = ((0.03, 0.012), (0.032, 0.0), (0.03, -0.012))
-#: Microphones: mic0 right, mic1 left, mic2 back (forward, left offsets).
-MIC_OFFSETS_M = ((0.0, -0.03), (0.0, 0.03), (-0.03, 0.0))
-MIC_RATE_HZ = 16384
-MIC_SAMPLES = 100
-#: The ADC count of silence: the microphones' signal sits at mid-scale.
-MIC_MIDSCALE = 2048
-
-
-@dataclass(frozen=True, slots=True)
-class Pose:
-    x_m: float
-    y_m: float
-    theta_rad: float
-
-
-@dataclass(frozen=True, slots=True)
-class Arena:
-    """A walled arena: walls at x = +-half_size_m and y = +-half_y_m (square unless a
-    world file gives it two sides, as Webots' RectangleArena's floorSize does)."""
-
-    half_size_m: float = 0.5
-    wall_rgb: tuple[int, int, int] = (200, 190, 170)
-    half_y_m: float | None = None
-    wall_height_m: float = 0.10
-
-    @property
-    def half_extents(self) -> tuple[float, float]:
-        return self.half_size_m, self.half_size_m if self.half_y_m is None else self.half_y_m
-
-
-@dataclass(frozen=True, slots=True)
-class Block:
-    """A box standing on the floor: an obstacle with a colour to follow. Square, 5 cm high
-    and axis-aligned unless a world file gives it two sides, a height and a yaw (the
-    boxes of a Webots world); ``half_size_m`` is its half extent along its own x."""
-
-    x_m: float
-    y_m: float
-    half_size_m: float
-    rgb: tuple[int, int, int]
-    half_y_m: float | None = None
-    yaw_rad: float = 0.0
-    height_m: float = 0.05
-    #: Its DEF name in a world file, if it has one (a Supervisor finds it by it).
-    name: str | None = None
-
-    @property
-    def half_extents(self) -> tuple[float, float]:
-        return self.half_size_m, self.half_size_m if self.half_y_m is None else self.half_y_m
-
-    def to_local(self, x: float, y: float) -> tuple[float, float]:
-        """A world point in the box's frame (centred, its sides along the axes)."""
-        c, s = math.cos(self.yaw_rad), math.sin(self.yaw_rad)
-        dx, dy = x - self.x_m, y - self.y_m
-        return c * dx + s * dy, c * dy - s * dx
-
-    def to_world(self, lx: float, ly: float) -> tuple[float, float]:
-        c, s = math.cos(self.yaw_rad), math.sin(self.yaw_rad)
-        return self.x_m + c * lx - s * ly, self.y_m + s * lx + c * ly
-
-
-@dataclass(frozen=True, slots=True)
-class Lamp:
-    x_m: float = 0.3
-    y_m: float = 0.3
-    height_m: float = 0.15
-
-
-@dataclass(frozen=True, slots=True)
-class SoundSource:
-    x_m: float = -0.3
-    y_m: float = 0.3
-    frequency_hz: float = 1000.0
-    amplitude: float = 900.0  # ADC counts at 10 cm
-
-
-def _default_blocks() -> list[Block]:
-    return [
-        Block(0.25, -0.25, 0.04, (200, 30, 30)),
-        Block(-0.25, -0.22, 0.04, (30, 160, 40)),
-        Block(-0.3, 0.05, 0.03, (30, 60, 200)),
-    ]
-
 
 @dataclass(slots=True)
 class _Body:
@@ -160,25 +78,6 @@ class _Body:
     forward_acc: float = 0.0
     lateral_acc: float = 0.0
     leds: list[int] = field(default_factory=lambda: [0] * 10)
-
-
-#: e_acc.h GRAVITY: what one g reads as in A's magnitude, after e_acc_calibr.
-SPHERICAL_ONE_G = 768
-#: e_motors.c: a motor steps once every whole number of ticks of a 10 kHz timer.
-STEP_TIMER_HZ = 10000
-#: Asercom.c, 'b' on a rev 1.3: getBatteryValueRaw(), an ADC count. The source gives no
-#: figure for a charged battery; this one is inferred (about 3.9 V through the divider).
-BATTERY_RAW = 3012
-
-
-def stepping_rate(speed_steps: int) -> float:
-    """The rate a wheel really steps at for a commanded speed (e_motors.c).
-
-    The firmware clamps to +-1000 and steps every ``10000 // |v|`` timer ticks, so 950
-    runs at 1000 steps/s and 600 at 625.
-    """
-    v = max(-MAX_SPEED_STEPS, min(MAX_SPEED_STEPS, int(speed_steps)))
-    return 0.0 if v == 0 else math.copysign(STEP_TIMER_HZ / (STEP_TIMER_HZ // abs(v)), v)
 
 
 class World:
@@ -207,7 +106,7 @@ class World:
         self.camera_size = camera_size
         #: The other robots sharing this world (a swarm: firmware_sim.crowd), else None.
         self.crowd: Any = None
-        self.blocks = _default_blocks() if blocks is None else list(blocks)
+        self.blocks = default_blocks() if blocks is None else list(blocks)
         #: Named solids only a Supervisor sees (firmware_sim.markers): a world file's.
         self.markers: list[Marker] = []
         self.lamp = lamp or Lamp()
@@ -455,11 +354,11 @@ class World:
             if abs(d) > 1e-12:
                 best = min(best, ((h if d > 0 else -h) - pos) / d)
         for blk in self.blocks:
-            t = _ray_box(ox, oy, c, s, blk)
+            t = ray_box(ox, oy, c, s, blk)
             if t is not None:
                 best = min(best, t)
         for px, py in self._others():
-            t = _ray_disc(ox, oy, c, s, px, py, ROBOT_RADIUS_M)
+            t = ray_disc(ox, oy, c, s, px, py, ROBOT_RADIUS_M)
             if t is not None:
                 best = min(best, t)
         return max(best, 0.0)
@@ -570,85 +469,18 @@ class World:
         overshoot 0..360 and 0..180 a little; the orientation is 0 when the inclination
         is under 5 or over 160 degrees.
         """
-        raw = self.accelerometer_raw(zero, per_g)
-        f = np.float32
-        x, y = f(raw[0] - zero), f(raw[1] - zero)
-        # e_acc_calibr: centre_z = the reading at rest less GRAVITY (768, e_acc.h), so a
-        # robot at rest reads 768 on z whatever its accelerometer's own scale.
-        z = f(raw[2] - (zero + per_g - SPHERICAL_ONE_G))
-        k = f(180.0) / f(3.1415)
-        magnitude = np.sqrt(x * x + y * y + z * z, dtype=np.float32)
-        horizontal = np.sqrt(x * x + y * y, dtype=np.float32)
-        inclination = f(90.0) - f(np.arctan2(z, horizontal)) * k
-        if inclination < 5 or inclination > 160:
-            orientation = f(0.0)
-        else:
-            orientation = f(np.arctan2(x, y)) * k + f(180.0)
-        return (float(magnitude), float(orientation), float(inclination))
+        return spherical_from_raw(self.accelerometer_raw(zero, per_g), zero, per_g)
 
     def microphone_buffer(self) -> tuple[list[list[int]], int]:
-        """The circular buffers of the three microphones and the slot the ADC writes next.
-
-        e_ad_conv.c / e_micro.c: unsigned 12-bit samples around mid-scale (2048 is
-        silence) at 16384 Hz; the index (e_last_mic_scan_id) is the next slot to write,
-        which holds the oldest sample.
-        """
+        """The circular buffers of the three microphones and the slot the ADC writes next
+        (firmware_sim.epuck_model.microphone_buffers)."""
         with self._lock:
             self.advance()
-            now = self._t
             b = self._body
-            c, s = math.cos(b.theta_rad), math.sin(b.theta_rad)
-            k = np.arange(MIC_SAMPLES)
-            written = int(now * MIC_RATE_HZ)
-            next_slot = written % MIC_SAMPLES
-            # Slot i was last written (next_slot - 1 - i) mod 100 samples ago.
-            age = (next_slot - 1 - k) % MIC_SAMPLES
-            t = now - age / MIC_RATE_HZ
-            buffers = []
-            for f, left in MIC_OFFSETS_M:
-                mx, my = b.x_m + f * c - left * s, b.y_m + f * s + left * c
-                d = math.hypot(self.sound.x_m - mx, self.sound.y_m - my)
-                amp = self.sound.amplitude / (1.0 + d / 0.1)
-                wave = amp * np.sin(2 * np.pi * self.sound.frequency_hz * (t - d / 343.0))
-                if self.noise:
-                    wave = wave + self._rng.normal(0.0, 3.0, MIC_SAMPLES)
-                counts = np.clip(np.round(MIC_MIDSCALE + wave), 0, 4095)
-                buffers.append([int(v) for v in counts])
-            return buffers, next_slot
+            rng = self._rng if self.noise else None
+            return microphone_buffers(self._t, (b.x_m, b.y_m, b.theta_rad), self.sound, rng)
 
     def microphone_amplitudes(self) -> list[int]:
         """Max - min over the last 100 samples of each microphone."""
         buffers, _ = self.microphone_buffer()
         return [max(b) - min(b) for b in buffers]
-
-
-def _ray_box(ox: float, oy: float, c: float, s: float, blk: Block) -> float | None:
-    """Slab test in the box's frame: distance along the ray to the box, or None."""
-    lx, ly = blk.to_local(ox, oy)
-    bc, bs = math.cos(blk.yaw_rad), math.sin(blk.yaw_rad)
-    dx, dy = bc * c + bs * s, bc * s - bs * c
-    bx, by = blk.half_extents
-    t0, t1 = -math.inf, math.inf
-    for o, d, h in ((lx, dx, bx), (ly, dy, by)):
-        if abs(d) < 1e-12:
-            if not -h <= o <= h:
-                return None
-            continue
-        a, b = (-h - o) / d, (h - o) / d
-        t0, t1 = max(t0, min(a, b)), min(t1, max(a, b))
-    if t1 < max(t0, 0.0):
-        return None
-    return max(t0, 0.0)
-
-
-def _ray_disc(
-    ox: float, oy: float, c: float, s: float, px: float, py: float, radius: float
-) -> float | None:
-    """Distance along the ray to a disc (another e-puck's body), or None if it misses."""
-    mx, my = ox - px, oy - py
-    b = mx * c + my * s
-    disc = b * b - (mx * mx + my * my - radius * radius)
-    if disc < 0:
-        return None
-    t = -b - math.sqrt(disc)
-    return t if t >= 0 else None

@@ -12,14 +12,6 @@ ROOT = Path(__file__).resolve().parents[2]
 TREES = ("src/ego", "firmware_sim", "benchmarks", "tests")
 LIMIT = 500
 
-#: Modules allowed over the limit for now. ONLY firmware_sim/world.py: the lead splits it
-#: after the branches that are editing it have merged, then empties this set. Add nothing.
-ALLOWED_OVER_LIMIT: frozenset[str] = frozenset(
-    {
-        "firmware_sim/world.py",
-    }
-)
-
 
 def line_counts() -> dict[str, int]:
     """Each module's path (relative to the repository, with /) and its number of lines."""
@@ -38,14 +30,6 @@ def test_the_trees_are_found_and_counted() -> None:
 
 
 def test_no_module_is_over_500_lines() -> None:
-    over = {
-        name: n for name, n in line_counts().items() if n > LIMIT and name not in ALLOWED_OVER_LIMIT
-    }
+    over = {name: n for name, n in line_counts().items() if n > LIMIT}
     listing = "\n".join(f"  {n:5d} {name}" for name, n in sorted(over.items(), key=lambda i: -i[1]))
     assert not over, f"modules over {LIMIT} lines (split them by job):\n{listing}"
-
-
-def test_the_allowed_list_holds_only_modules_still_over_the_limit() -> None:
-    counts = line_counts()
-    stale = sorted(name for name in ALLOWED_OVER_LIMIT if counts.get(name, 0) <= LIMIT)
-    assert not stale, f"no longer over {LIMIT} lines (or gone): remove from the list: {stale}"
