@@ -8,6 +8,8 @@ ego=~/ego/bin/ego
 py=~/ego/bin/python
 cd /root/src
 step() { echo "-- $*"; }
+# A failed step leaves no emulator, server or controller running behind it.
+trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 
 step "ego --version"
 $ego --version
@@ -63,6 +65,8 @@ step "the extras: Zenoh, the robot served and driven as zenoh://board"
 if $py -c 'import zenoh' 2>/dev/null; then
     $ego serve --zenoh --name board --port sim >/tmp/serve.out 2>&1 &
     serve=$!
+    # Ready when it says it is the node (emulated, its start takes seconds).
+    for _ in $(seq 600); do grep -q "as Zenoh node board" /tmp/serve.out && break; sleep 0.5; done
     $ego run --port zenoh://board --duration 3 examples/obstacle_avoidance.py
     kill -TERM "$serve"; wait "$serve" || true
 else
