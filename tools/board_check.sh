@@ -131,6 +131,10 @@ status=0
 for arch in "${arches[@]}"; do
     # Each board in a subshell: its EXIT trap unmounts it before the next one starts; a
     # board that fails does not stop the other's check, and the status says it failed.
-    (check_arch "$arch") 2>&1 | tee "$cache/check-$arch.log" || status=1
+    # (Not under `||`: bash would ignore set -e inside the subshell there.)
+    set +e
+    (set -e; check_arch "$arch") 2>&1 | tee "$cache/check-$arch.log"
+    [ "${PIPESTATUS[0]}" -eq 0 ] || status=1
+    set -e
 done
 exit $status
