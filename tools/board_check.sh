@@ -102,7 +102,7 @@ check_arch() {
     trap 'umount_all "'"$root"'"' EXIT
     cp "$wheel" "$root/root/"
     mkdir -p "$root/root/src"
-    cp -a tests pyproject.toml examples "$root/root/src/"
+    cp -a tests benchmarks pyproject.toml examples "$root/root/src/"
     chroot_run "$root" apt-get update -qq
 
     if [ -d "$root/root/ego" ]; then  # a reused board: this tree's ego, by the guide's line
