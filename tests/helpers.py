@@ -32,6 +32,10 @@ __all__ = [
 #: flush-to-zero mode for the whole process (the armv7 wheel of yarl, which aiohttp pulls
 #: in, does on import). Hypothesis refuses a float strategy that allows subnormals then,
 #: and advises allow_subnormal=False: float strategies pass allow_subnormal=SUBNORMALS.
+#: yarl is imported first (where it is installed), as a later test's aiohttp would: the
+#: strategies are built when their module is collected, before that test runs.
+with contextlib.suppress(ImportError):
+    import yarl  # noqa: F401
 SUBNORMALS = math.ulp(0.0) != 0.0
 
 

@@ -98,10 +98,11 @@ check_arch() {
     mount --bind /dev "$root/dev"
     mount --bind /dev/pts "$root/dev/pts"
     mount -t tmpfs tmpfs "$root/tmp"
-    trap 'umount_all "'"$root"'"' RETURN
+    # Unmounted however the check ends (a failed step exits the script through set -e).
+    trap 'umount_all "'"$root"'"' EXIT
     cp "$wheel" "$root/root/"
     mkdir -p "$root/root/src"
-    cp -a tests pyproject.toml examples "$root/root/src/"
+    cp -a tests benchmarks pyproject.toml examples "$root/root/src/"
     chroot_run "$root" apt-get update -qq
 
     if [ -d "$root/root/ego" ]; then  # a reused board: this tree's ego, by the guide's line
@@ -126,6 +127,14 @@ umount_all() {
     return 0
 }
 
+status=0
 for arch in "${arches[@]}"; do
-    check_arch "$arch" 2>&1 | tee "$cache/check-$arch.log"
+    # Each board in a subshell: its EXIT trap unmounts it before the next one starts; a
+    # board that fails does not stop the other's check, and the status says it failed.
+    # (Not under `||`: bash would ignore set -e inside the subshell there.)
+    set +e
+    (set -e; check_arch "$arch") 2>&1 | tee "$cache/check-$arch.log"
+    [ "${PIPESTATUS[0]}" -eq 0 ] || status=1
+    set -e
 done
+exit $status

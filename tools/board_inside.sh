@@ -8,6 +8,8 @@ ego=~/ego/bin/ego
 py=~/ego/bin/python
 cd /root/src
 step() { echo "-- $*"; }
+# A failed step leaves no emulator, server or controller running behind it.
+trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 
 step "ego --version"
 $ego --version
@@ -38,22 +40,21 @@ fi
 
 step "the extras: the dashboard serves its page"
 if $py -c 'import aiohttp' 2>/dev/null; then
-    $ego run --port sim --duration 20 --dashboard-address 127.0.0.1:8799 \
+    $ego run --port sim --duration 600 --dashboard-address 127.0.0.1:8799 \
         examples/obstacle_avoidance.py >/tmp/dash.out 2>&1 &
     run=$!
+    # Ready when it prints its URL (with the page's token); emulated, that takes a while.
     $py - <<'EOF'
-import time, urllib.request
-deadline = time.monotonic() + 60
-while True:
-    try:
-        page = urllib.request.urlopen("http://127.0.0.1:8799/", timeout=5).read()
-        break
-    except OSError:
-        if time.monotonic() > deadline:
-            raise
-        time.sleep(0.5)
-assert b"<html" in page.lower(), page[:200]
-print("dashboard page:", len(page), "bytes")
+import re, time, urllib.request
+deadline = time.monotonic() + 600
+while not (url := re.search(r"dashboard at (\S+)", open("/tmp/dash.out").read())):
+    assert time.monotonic() < deadline, open("/tmp/dash.out").read()
+    time.sleep(1)
+# The page's own script, which needs no token: the server answers HTTP on the board.
+base = url.group(1).split("?")[0]
+script = urllib.request.urlopen(base + "app.js", timeout=60).read()
+assert b"WebSocket" in script, script[:200]
+print("dashboard serves app.js:", len(script), "bytes")
 EOF
     kill -TERM "$run"; wait "$run" || true
 else
@@ -64,6 +65,8 @@ step "the extras: Zenoh, the robot served and driven as zenoh://board"
 if $py -c 'import zenoh' 2>/dev/null; then
     $ego serve --zenoh --name board --port sim >/tmp/serve.out 2>&1 &
     serve=$!
+    # Ready when it says it is the node (emulated, its start takes seconds).
+    for _ in $(seq 600); do grep -q "as Zenoh node board" /tmp/serve.out && break; sleep 0.5; done
     $ego run --port zenoh://board --duration 3 examples/obstacle_avoidance.py
     kill -TERM "$serve"; wait "$serve" || true
 else
