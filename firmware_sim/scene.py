@@ -83,11 +83,13 @@ class Scene:
         vx, vy, wz = self.world.velocity()
         return vx, vy, 0.0, 0.0, 0.0, wz
 
-    def reset(self) -> None:
+    def reset(self, stop: bool = True) -> None:
         """Everything back where the world began, the robot standing still (Webots'
         motors stop at a reset); the controller's robot then stops its wheels and zeroes
-        its counters over the wire, as the dsPIC takes them."""
-        self.world.set_speeds(0, 0)
+        its counters over the wire, as the dsPIC takes them. Without ``stop`` the wheels
+        keep their speeds (a swarm's other robots: their controllers are not told)."""
+        if stop:
+            self.world.set_speeds(0, 0)
         self.world.place(self._start.robot)
         for index, (x, y, yaw) in enumerate(self._start.blocks):
             self.world.move_block(index, x, y, yaw)

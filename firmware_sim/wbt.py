@@ -14,6 +14,8 @@ numbers, strings, ``TRUE``/``FALSE``, a node, or a ``[ ... ]`` list of either, w
 * each ``E-puck``: ``translation`` and ``rotation`` (the start poses: a swarm's robots
   in order), and the first one's ``camera_width``/``camera_height`` fields (the camera
   size a Webots controller gets);
+* a ``Robot`` with ``supervisor TRUE``: a bodiless supervisor (firmware_sim.wbt_supervisor)
+  whose controller ``ego swarm`` runs beside the e-pucks; every E-puck's DEF name;
 * a ``PointLight``'s ``location``: the lamp the light sensors see;
 * any other ``Solid`` (``Transform``, ``Pose``, ``Group``) with a DEF name, whatever its
   shape (a flat marker, a Plane): its pose only (firmware_sim.markers), for a
@@ -52,6 +54,7 @@ from firmware_sim.floor import ImageFloor, Plain
 from firmware_sim.markers import Marker
 from firmware_sim.wbt_node import MAX_LENGTH_M, Node
 from firmware_sim.wbt_solids import MARKER_TYPES, block, box_shape, marker, yaw
+from firmware_sim.wbt_supervisor import MAX_SUPERVISORS, Bodiless, bodiless
 from firmware_sim.world import Arena, Block, Lamp, Pose, World
 
 __all__ = [
@@ -257,6 +260,8 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     robot_name: str | None = None
     skipped: dict[str, int] = {}
     markers: list[Marker] = []
+    robot_names: list[str | None] = []
+    supervisors: list[Bodiless] = []
     try:
         for node in nodes:
             if node.type == "WorldInfo":
@@ -270,17 +275,22 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
                 blocks.append(block(node, *shape))
             elif node.type == "E-puck":
                 starts.append(_pose(node))
+                robot_names.append(node.name)
                 if start is None:
                     start, robot_name = starts[0], node.name
                     camera_size = _camera_size(node)
             elif node.type == "PointLight" and lamp is None:
                 x, y, z = node.numbers("location", 3, (0.0, 0.0, 0.0))
                 lamp = Lamp(x, y, max(z, 0.0))
+            elif (supervisor := bodiless(node)) is not None:
+                supervisors.append(supervisor)
             elif node.name and node.type in MARKER_TYPES:
                 markers.append(marker(node))
             else:
                 skipped[node.type] = skipped.get(node.type, 0) + 1
             _within_bounds(blocks, starts)
+            if len(supervisors) > MAX_SUPERVISORS:
+                raise ValueError(f"more than {MAX_SUPERVISORS} supervisor Robots")
     except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from exc
     notes = [f"skipped {count} {kind}" for kind, count in sorted(skipped.items())]
@@ -298,6 +308,8 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     )
     world.robot_name = robot_name
     world.markers = markers
+    world.robot_names = robot_names
+    world.supervisors = supervisors
     return WbtWorld(world, notes)
 
 

@@ -226,6 +226,10 @@ class World:
         self._t = self.clock()
         #: The robot's DEF name in a world file, if it has one.
         self.robot_name: str | None = None
+        #: Every E-puck's DEF name in a world file (a swarm's, in order; None: none given).
+        self.robot_names: list[str | None] = []
+        #: A world file's bodiless supervisors (firmware_sim.wbt_supervisor.Bodiless).
+        self.supervisors: list[Any] = []
         self.battery_raw = BATTERY_RAW
         #: The motor driver: the clamp of a commanded speed (steps/s) and the rate a wheel
         #: then really steps at. The e-puck1's by default; another robot's firmware model

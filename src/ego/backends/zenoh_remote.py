@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, ClassVar, TypeVar
 
 from ego.backends.remote.channel import info_from
 from ego.backends.remote.connection import error_from_reply
+from ego.backends.zenoh_scene import RemoteScene
 from ego.core.backend import BackendOptions, Opened
 from ego.core.ground_truth import TruePose
 from ego.errors import FirmwareMismatchError, LinkLostError
@@ -93,8 +94,10 @@ class ZenohChannel(ChannelBase):
         self._truth_raw: bytes | None = None
         self._truth: list[float] | None = None
         self._keys: dict[str, str] = {}
-        fields = self._query("info", b"", timeout_s=QUERY_TIMEOUT_S, what="info")
-        self._info = info_from(json.loads(fields))
+        fields = json.loads(self._query("info", b"", timeout_s=QUERY_TIMEOUT_S, what="info"))
+        self._info = info_from(fields)
+        #: Whether the node serves its world's scene (an emulated swarm robot's).
+        self.serves_scene = fields.get("scene") is True
 
     @property
     def name(self) -> str:
@@ -225,7 +228,8 @@ class ZenohBackend:
             raise FirmwareMismatchError(
                 f"{port} serves a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
-        return Opened(channel, remote=True, ground_truth=_Truth(channel))
+        scene = RemoteScene(session, channel.robot) if channel.serves_scene else None
+        return Opened(channel, remote=True, ground_truth=_Truth(channel), scene=scene)
 
 
 class _Truth:

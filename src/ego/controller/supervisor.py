@@ -85,7 +85,7 @@ class SceneNode(Node):
         return self._scene.kind(self._name)
 
     def getBaseTypeName(self) -> str:
-        return "Robot" if self._scene.kind(self._name) == "E-puck" else "Solid"
+        return "Robot" if self._scene.kind(self._name) in ("E-puck", "Robot") else "Solid"
 
     def getPosition(self) -> list[float]:
         """x, y, z in metres, in the world's frame."""
