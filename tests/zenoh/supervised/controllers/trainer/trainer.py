@@ -11,6 +11,8 @@ from controller import Supervisor
 
 EPISODES = 3
 STEPS = 25
+#: The longest a wait for the robots may last, in steps (about 100 s).
+PATIENCE = 3000
 ROBOTS = ("EPUCK_A", "EPUCK_B")
 
 
@@ -53,22 +55,31 @@ def where(env: CSVSupervisorEnv, name: str) -> list[float]:
     return env.supervisor.getFromDef(name).getField("translation").getSFVec3f()
 
 
+def until(env: CSVSupervisorEnv, done, action: list[float], what: str) -> None:
+    """Step with ``action`` until ``done()``; a failure, not a hang, if it never is."""
+    for _ in range(PATIENCE):
+        if done():
+            return
+        env.step(action)
+    raise SystemExit(f"trainer: {what} within {PATIENCE} steps: {env.heard}")
+
+
 env = CSVSupervisorEnv()
 starts = {name: where(env, name) for name in ROBOTS}
 # Wait until both robots' controllers are up and heard (they start in their own time).
-while not all(env.heard.get(name) for name in ROBOTS):
-    env.step([0.0, 0.0])
+until(env, lambda: all(env.heard.get(name) for name in ROBOTS), [0.0, 0.0],
+      "the robots were not heard")
 episodes = []
 for _ in range(EPISODES):
     env.heard = {}
     for _ in range(STEPS):
         env.step([4.0, 4.0])
     # However late the robots' controllers step, the actions drive them 2 cm at least.
-    while any(math.dist(where(env, n)[:2], starts[n][:2]) < 0.02 for n in ROBOTS):
-        env.step([4.0, 4.0])
+    until(env, lambda: all(math.dist(where(env, n)[:2], starts[n][:2]) >= 0.02
+                           for n in ROBOTS), [4.0, 4.0], "the robots did not move 2 cm")
     # The episode ends with the robots halted (however late their controllers step).
-    while any(any(env.supervisor.getFromDef(n).getVelocity()) for n in ROBOTS):
-        env.step([0.0, 0.0])
+    until(env, lambda: not any(any(env.supervisor.getFromDef(n).getVelocity()) for n in ROBOTS),
+          [0.0, 0.0], "the robots did not halt")
     moved = {n: math.dist(where(env, n)[:2], starts[n][:2]) for n in ROBOTS}
     env.supervisor.simulationReset()
     back = {n: math.dist(where(env, n)[:2], starts[n][:2]) for n in ROBOTS}
@@ -78,8 +89,14 @@ for _ in range(EPISODES):
 box = env.supervisor.getFromDef("BOX")
 box.getField("translation").setSFVec3f([0.1, 0.35, 0.0])
 box_now = box.getPosition()
-for _ in range(5):
+# "stop" until the robots have ended (nothing heard from them for 10 steps).
+quiet = 0
+for _ in range(PATIENCE):
+    env.heard = {}
     env.step(["stop"])  # type: ignore[list-item]
+    quiet = 0 if env.heard else quiet + 1
+    if quiet >= 10:
+        break
 print("RESULT " + json.dumps({"me": env.supervisor.getName(), "episodes": episodes,
                               "box": box_now, "self": env.supervisor.getSelf().getTypeName(),
                               "names": sorted(env.supervisor.getFromDef(n).getDef()
