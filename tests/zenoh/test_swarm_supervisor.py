@@ -48,3 +48,20 @@ def test_a_bodiless_supervisor_trains_two_robots_over_the_radio(tmp_path: Path) 
     assert math.isclose(a["other_x"], 0.2) and math.isclose(b["other_x"], -0.2)
     assert a["kind"] == b["kind"] == "E-puck"
     assert a["actions"] > 0 and b["actions"] > 0
+
+
+def test_a_supervisor_whose_controller_is_missing_is_refused_in_one_line(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "worlds").mkdir()
+    world = tmp_path / "worlds" / "w.wbt"
+    world.write_text(WORLD.read_text().replace('controller "trainer"', 'controller "absent"'))
+    result = subprocess.run(
+        [*ego_command(), "swarm", "--robots", "2", "--world", str(world),
+         "--zenoh-endpoint", free_endpoint(), str(ROBOT)],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )  # fmt: skip
+    assert result.returncode != 0
+    last = result.stderr.strip().splitlines()[-1]
+    assert "the supervisor's controller 'absent' is not at" in last, result.stderr
+    assert "controllers/absent/absent.py" in last and "Traceback" not in result.stderr
