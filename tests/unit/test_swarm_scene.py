@@ -60,3 +60,12 @@ def test_an_unknown_solid_is_a_key_error_and_a_bad_request_a_protocol_error() ->
         result(answer(scene, request("set_pose", "A", 1.0)), "test")
     with pytest.raises(ProtocolError, match="not JSON"):
         result(answer(scene, b"\xff"), "test")
+
+
+def test_a_bodiless_supervisors_node_is_named_by_its_name_field_unless_taken() -> None:
+    from ego.app.swarm import _node_name
+
+    assert _node_name("trainer", 0, ["epuck0", "epuck1"]) == "trainer"
+    assert _node_name("robot", 1, ["epuck0", "robot"]) == "supervisor1"  # a second "robot"
+    assert _node_name("epuck0", 0, ["epuck0"]) == "supervisor0"
+    assert _node_name("my robot(1)", 2, []) == "supervisor2"  # not a Zenoh name

@@ -100,10 +100,12 @@ class Swarm:
         self.worlds = backend.swarm_worlds(self.world, seeds)
         bodiless = backend.swarm_supervisors(self.world, self.worlds, self.seed)
         names = [robot_name(index) for index in range(self.count)]
-        self.supervisors = [
-            (_node_name(name, k, names), _controller_file(self.world, controller))
-            for k, (_, name, controller, _) in enumerate(bodiless)
-        ]
+        self.supervisors = []
+        for k, (_, name, controller, _) in enumerate(bodiless):
+            taken = [*names, *(n for n, _ in self.supervisors)]  # two unnamed: robot, robot
+            self.supervisors.append(
+                (_node_name(name, k, taken), _controller_file(self.world, controller))
+            )
         members = [*self.worlds, *(world for *_, world in bodiless)]
         scene_names = [*names, *(def_name for def_name, *_ in bodiless)]
         scenes = backend.swarm_scenes(members, scene_names, len(bodiless))
@@ -132,8 +134,8 @@ class Swarm:
         from ego.servers.dashboard.served import SwarmFeed
         from ego.servers.dashboard.server import DashboardServer
 
-        feed = SwarmFeed([robot_name(i) for i in range(self.count)],
-                         [node.watched for node in self.nodes])  # fmt: skip
+        feed = SwarmFeed([robot_name(i) for i in range(self.count)],  # the robots, not a
+                         [node.watched for node in self.nodes[: self.count]])  # supervisor's body
         host, port = parse_address(address)
         server = DashboardServer(feed, host, port, secret).start()
         feed.server = server
@@ -204,8 +206,8 @@ class Swarm:
 
 
 def _node_name(name: str, index: int, taken: Sequence[str]) -> str:
-    """A bodiless supervisor's node name: its own where Zenoh takes it and no robot has
-    it, else ``supervisorK``."""
+    """A bodiless supervisor's node name: its own where Zenoh takes it and no other
+    member has it yet, else ``supervisorK``."""
     from ego.zenoh_net.keys import check_name
 
     try:
