@@ -311,6 +311,22 @@ class SimBackend:
         return found
 
     @staticmethod
+    def swarm_channels(
+        spec: str | None, worlds: Sequence[World]
+    ) -> list[tuple[int | None, int | None]]:
+        """Each member's emitter and receiver channels as its world file sets them: the
+        robots' (``emitter_channel``, ``receiver_channel``; 1 where not given), then the
+        bodiless supervisors' (their Emitter's and Receiver's ``channel``; None for a
+        device it has not). Without a world file, every robot's are 1."""
+        first = worlds[0] if worlds else None
+        given = list(first.robot_radio) if spec and first is not None else []
+        robots: list[tuple[int | None, int | None]] = [
+            given[i] if i < len(given) else (1, 1) for i in range(len(worlds))
+        ]
+        supervisors = first.supervisors if spec and first is not None else []
+        return robots + [(b.emitter_channel, b.receiver_channel) for b in supervisors]
+
+    @staticmethod
     def swarm_scenes(
         worlds: Sequence[World], names: Sequence[str], bodiless: int = 0
     ) -> list[SwarmScene]:

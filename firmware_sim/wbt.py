@@ -54,7 +54,7 @@ from firmware_sim.floor import ImageFloor, Plain
 from firmware_sim.markers import Marker
 from firmware_sim.wbt_node import MAX_LENGTH_M, Node
 from firmware_sim.wbt_solids import MARKER_TYPES, block, box_shape, marker, yaw
-from firmware_sim.wbt_supervisor import MAX_SUPERVISORS, Bodiless, bodiless
+from firmware_sim.wbt_supervisor import MAX_SUPERVISORS, Bodiless, bodiless, epuck_channels
 from firmware_sim.world import Arena, Block, Lamp, Pose, World
 
 __all__ = [
@@ -261,6 +261,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     skipped: dict[str, int] = {}
     markers: list[Marker] = []
     robot_names: list[str | None] = []
+    radio: list[tuple[int, int]] = []
     supervisors: list[Bodiless] = []
     try:
         for node in nodes:
@@ -276,6 +277,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
             elif node.type == "E-puck":
                 starts.append(_pose(node))
                 robot_names.append(node.name)
+                radio.append(epuck_channels(node))
                 if start is None:
                     start, robot_name = starts[0], node.name
                     camera_size = _camera_size(node)
@@ -309,6 +311,7 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     world.robot_name = robot_name
     world.markers = markers
     world.robot_names = robot_names
+    world.robot_radio = radio
     world.supervisors = supervisors
     return WbtWorld(world, notes)
 

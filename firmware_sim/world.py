@@ -228,6 +228,8 @@ class World:
         self.robot_name: str | None = None
         #: Every E-puck's DEF name in a world file (a swarm's, in order; None: none given).
         self.robot_names: list[str | None] = []
+        #: Every E-puck's emitter and receiver channels in a world file (a swarm's).
+        self.robot_radio: list[tuple[int, int]] = []
         #: A world file's bodiless supervisors (firmware_sim.wbt_supervisor.Bodiless).
         self.supervisors: list[Any] = []
         self.battery_raw = BATTERY_RAW

@@ -41,3 +41,16 @@ def test_a_supervisor_without_a_controller_to_run_is_refused(tmp_path: Path) -> 
     path = _world(tmp_path, 'DEF S Robot { controller "<extern>" supervisor TRUE }\n')
     with pytest.raises(ValueError, match=r"w\.wbt: Robot S supervisor TRUE: its controller"):
         world_from_wbt(path)
+
+
+def test_the_radio_channels_come_from_the_file(tmp_path: Path) -> None:
+    path = tmp_path / "w.wbt"
+    path.write_text(HEADER + "E-puck { emitter_channel 2 }\nE-puck { receiver_channel 3 }\n"
+                    'Robot { controller "t" supervisor TRUE children [ Emitter { channel 1 } '
+                    "Receiver { } ] }\n"
+                    'Robot { controller "u" supervisor TRUE }\n')  # fmt: skip
+    world = world_from_wbt(path).world
+    assert world.robot_radio == [(2, 1), (1, 3)]
+    first, second = world.supervisors
+    assert (first.emitter_channel, first.receiver_channel) == (1, 0)  # Webots' default 0
+    assert (second.emitter_channel, second.receiver_channel) == (None, None)

@@ -109,6 +109,7 @@ class Swarm:
         members = [*self.worlds, *(world for *_, world in bodiless)]
         scene_names = [*names, *(def_name for def_name, *_ in bodiless)]
         scenes = backend.swarm_scenes(members, scene_names, len(bodiless))
+        channels = backend.swarm_channels(self.world, self.worlds)
         node_names = [*names, *(name for name, _ in self.supervisors)]
         settings = ZenohSettings.from_environment(
             read_environment(), listen=[self.endpoint], connect=[]
@@ -121,7 +122,7 @@ class Swarm:
                 self.opened.append(opened)
                 node = RobotNode(opened.channel, self.session, node_names[index],
                                  deadline_s=self.deadline_s, world=opened.ground_truth,
-                                 scene=scenes[index])  # fmt: skip
+                                 scene=scenes[index], radio=channels[index])  # fmt: skip
                 self.nodes.append(node.start())
         except BaseException:
             self.close()

@@ -98,6 +98,9 @@ class ZenohChannel(ChannelBase):
         self._info = info_from(fields)
         #: Whether the node serves its world's scene (an emulated swarm robot's).
         self.serves_scene = fields.get("scene") is True
+        #: The channels the node's world file starts its Emitter and Receiver on (None:
+        #: not set, each starts on the e-puck's 1).
+        self.radio_channels = _radio_channels(fields.get("radio"))
 
     @property
     def name(self) -> str:
@@ -247,6 +250,16 @@ class _Truth:
     @property
     def true_world(self) -> None:
         return None
+
+
+def _radio_channels(value: object) -> tuple[int | None, int | None] | None:
+    """The emitter's and receiver's channels a node's info gives, if well formed."""
+    if not (isinstance(value, list) and len(value) == 2):
+        return None
+    if not all(v is None or (isinstance(v, int) and not isinstance(v, bool) and v >= -1)
+               for v in value):  # fmt: skip
+        return None
+    return value[0], value[1]
 
 
 def node_names(session: zenoh.Session, pattern: str, timeout_s: float = 1.0) -> list[str]:

@@ -103,6 +103,7 @@ class RobotNode:
         world: GroundTruth | None = None,
         clock: Callable[[], float] = time.monotonic,
         scene: Scene | None = None,
+        radio: tuple[int | None, int | None] | None = None,
     ) -> None:
         self.name = check_name(name)
         self.session = session
@@ -113,6 +114,8 @@ class RobotNode:
         self.world = world
         #: The simulated world a Supervisor of this robot sees (``ego/NAME/scene``), if any.
         self.scene = scene
+        #: The channels its Emitter and Receiver start on, where its world file sets them.
+        self.radio = radio
         self._lock = threading.Lock()  # the lease: the intakes, the puts, the worker, the deadman
         self._closing = threading.Event()
         self._entities: list[Any] = []
@@ -259,7 +262,8 @@ class RobotNode:
     def _info(self, query: Any) -> None:
         info = {**firmware_fields(self.watched.info), "name": self.name,
                 "emulated": self.world is not None, "devices": self.watched.device_families(),
-                "battery": self.watched.battery, "scene": self.scene is not None}  # fmt: skip
+                "battery": self.watched.battery, "scene": self.scene is not None,
+                **({"radio": list(self.radio)} if self.radio is not None else {})}  # fmt: skip
         query.reply(query.key_expr, json.dumps(info).encode())
 
     # -- the controller's puts, and the deadman --------------------------------------------

@@ -1,14 +1,12 @@
 """The robots' side of a deepbots-shaped emitter/receiver pair (CSVRobot's scheme): each
 step, take the supervisor's action (``"left,right"`` wheel speeds, rad/s) off the
-Receiver and answer with an observation over the Emitter (``"NAME,PS0,PS7"``). It is a
+Receiver and answer with an observation over the Emitter (``"NAME,PS0,PS7"``), on the
+channel its world file gives it (``emitter_channel 2``: to the supervisor only). It is a
 Supervisor too, as a swarm robot may be: it names itself and finds the other robot."""
 
 import json
 
 from controller import Supervisor
-
-#: The channel the robots answer on (the supervisor's actions come on the e-puck's 1).
-OBSERVATIONS = 2
 
 
 class CSVRobot(Supervisor):
@@ -18,7 +16,6 @@ class CSVRobot(Supervisor):
         super().__init__()
         self.timestep = int(self.getBasicTimeStep())
         self.emitter = self.getDevice("emitter")
-        self.emitter.setChannel(OBSERVATIONS)  # to the supervisor only, not the other robot
         self.receiver = self.getDevice("receiver")
         self.receiver.enable(self.timestep)
         self.left = self.getDevice("left wheel motor")

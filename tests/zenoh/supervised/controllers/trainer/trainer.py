@@ -24,7 +24,6 @@ class CSVSupervisorEnv:
         self.timestep = int(self.supervisor.getBasicTimeStep())
         self.emitter = self.supervisor.getDevice("emitter")
         self.receiver = self.supervisor.getDevice("receiver")
-        self.receiver.setChannel(2)  # the robots' answers; the actions go out on 1
         self.receiver.enable(self.timestep)
         self.heard: dict[str, int] = {}
 
