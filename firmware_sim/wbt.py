@@ -34,7 +34,8 @@ the node and field: the emulator's world is flat and centred.
 Bounds (docs/bad_input.md): a file of at most :data:`MAX_WBT_BYTES`, at most
 :data:`MAX_NODES` nodes nested at most :data:`MAX_DEPTH` deep and :data:`MAX_TOKENS`
 tokens, at most :data:`MAX_BOXES` boxes, :data:`MAX_ROBOTS` e-pucks and 8 supervisor
-Robots (firmware_sim.wbt_supervisor.MAX_SUPERVISORS); every number finite, lengths and positions within +-:data:`MAX_LENGTH_M` m; a floor texture inside the
+Robots (firmware_sim.wbt_supervisor.MAX_SUPERVISORS); every number finite,
+lengths and positions within +-:data:`MAX_LENGTH_M` m; a floor texture inside the
 world's folder (see firmware_sim.floor for its own bounds). A ``USE`` is the node its
 ``DEF`` made, not a copy: a walk meets each node once.
 """
