@@ -35,6 +35,7 @@ from firmware_sim.epuck2.emulator import BLUETOOTH_SELECTOR, UART_BAUD, Epuck2Em
 from firmware_sim.faults import FaultSpec, FaultTimings
 from firmware_sim.scene import Scene
 from firmware_sim.server import Emulator
+from firmware_sim.swarm_scene import SwarmScene
 from firmware_sim.true_devices import device_values
 from firmware_sim.virtual_time import VirtualClock
 from firmware_sim.world import World
@@ -294,6 +295,53 @@ class SimBackend:
             world.start_at(pose)  # before they meet: nobody is in anybody's way yet
         Crowd(worlds)
         return worlds
+
+    @staticmethod
+    def swarm_supervisors(
+        spec: str | None, worlds: Sequence[World], seed: int | None
+    ) -> list[tuple[str, str, str, World]]:
+        """The bodiless supervisors (``Robot { supervisor TRUE }``) of a swarm's world
+        file: each one's DEF name (else its ``name`` field), its ``name`` field, its
+        controller field, and a world of its own where it stands at its pose, in no robot's crowd:
+        nobody senses it or bumps into it. None without a world file."""
+        found: list[tuple[str, str, str, World]] = []
+        if not spec or not worlds:
+            return found
+        for bodiless in worlds[0].supervisors:
+            world = load_world(spec, seed)
+            world.start_at(bodiless.pose)
+            named = bodiless.def_name or bodiless.name
+            found.append((named, bodiless.name, bodiless.controller, world))
+        return found
+
+    @staticmethod
+    def swarm_channels(
+        spec: str | None, worlds: Sequence[World]
+    ) -> list[tuple[int | None, int | None]]:
+        """Each member's emitter and receiver channels as its world file sets them: the
+        robots' (``emitter_channel``, ``receiver_channel``; 1 where not given), then the
+        bodiless supervisors' (their Emitter's and Receiver's ``channel``; None for a
+        device it has not). Without a world file, every robot's are 1."""
+        first = worlds[0] if worlds else None
+        given = list(first.robot_radio) if spec and first is not None else []
+        robots: list[tuple[int | None, int | None]] = [
+            given[i] if i < len(given) else (1, 1) for i in range(len(worlds))
+        ]
+        supervisors = first.supervisors if spec and first is not None else []
+        return robots + [(b.emitter_channel, b.receiver_channel) for b in supervisors]
+
+    @staticmethod
+    def swarm_scenes(
+        worlds: Sequence[World], names: Sequence[str], bodiless: int = 0
+    ) -> list[SwarmScene]:
+        """Each member's scene of a swarm (firmware_sim.swarm_scene): ``worlds`` the robots'
+        then the ``bodiless`` supervisors', ``names`` their names where the world file
+        gives a robot none (its DEF name comes first)."""
+        given = list(worlds[0].robot_names) if worlds else []
+        robots = len(worlds) - bodiless
+        named = [(given[i] if i < min(len(given), robots) else None) or name
+                 for i, name in enumerate(names)]  # fmt: skip
+        return [SwarmScene(worlds, named, me, bodiless) for me in range(len(worlds))]
 
     @staticmethod
     def main(argv: list[str], prog: str = "ego sim") -> int:

@@ -96,11 +96,13 @@ class Scene:
             return (0.0,) * 6
         return self.world.frame.velocity_to_file(*self.world.velocity())
 
-    def reset(self) -> None:
+    def reset(self, stop: bool = True) -> None:
         """Everything back where the world began, the robot standing still (Webots'
         motors stop at a reset); the controller's robot then stops its wheels and zeroes
-        its counters over the wire, as the dsPIC takes them."""
-        self.world.set_speeds(0, 0)
+        its counters over the wire, as the dsPIC takes them. Without ``stop`` the wheels
+        keep their speeds (a swarm's other robots: their controllers are not told)."""
+        if stop:
+            self.world.set_speeds(0, 0)
         self.world.place(self._start.robot)
         for index, (x, y, yaw) in enumerate(self._start.blocks):
             self.world.move_block(index, x, y, yaw)

@@ -14,6 +14,8 @@ numbers, strings, ``TRUE``/``FALSE``, a node, or a ``[ ... ]`` list of either, w
 * each ``E-puck``: ``translation`` and ``rotation`` (the start poses: a swarm's robots
   in order), and the first one's ``camera_width``/``camera_height`` fields (the camera
   size a Webots controller gets);
+* a ``Robot`` with ``supervisor TRUE``: a bodiless supervisor (firmware_sim.wbt_supervisor)
+  whose controller ``ego swarm`` runs beside the e-pucks; every E-puck's DEF name;
 * a ``PointLight``'s ``location``: the lamp the light sensors see;
 * any other ``Solid`` (``Transform``, ``Pose``, ``Group``) with a DEF name, whatever its
   shape (a flat marker, a Plane): its pose only (firmware_sim.markers), for a
@@ -34,8 +36,9 @@ flat.
 
 Bounds (docs/bad_input.md): a file of at most :data:`MAX_WBT_BYTES`, at most
 :data:`MAX_NODES` nodes nested at most :data:`MAX_DEPTH` deep and :data:`MAX_TOKENS`
-tokens, at most :data:`MAX_BOXES` boxes and :data:`MAX_ROBOTS` e-pucks; every number
-finite, lengths and positions within +-:data:`MAX_LENGTH_M` m; a floor texture inside the
+tokens, at most :data:`MAX_BOXES` boxes, :data:`MAX_ROBOTS` e-pucks and 8 supervisor
+Robots (firmware_sim.wbt_supervisor.MAX_SUPERVISORS); every number finite,
+lengths and positions within +-:data:`MAX_LENGTH_M` m; a floor texture inside the
 world's folder (see firmware_sim.floor for its own bounds). A ``USE`` is the node its
 ``DEF`` made, not a copy: a walk meets each node once.
 """
@@ -57,6 +60,7 @@ from firmware_sim.wbt_frame import carry, read_frame
 from firmware_sim.wbt_node import MAX_LENGTH_M, Node
 from firmware_sim.wbt_slots import slot_devices
 from firmware_sim.wbt_solids import MARKER_TYPES, block, box_shape, marker, yaw
+from firmware_sim.wbt_supervisor import MAX_SUPERVISORS, Bodiless, bodiless, epuck_channels
 from firmware_sim.world import Arena, Block, Lamp, Pose, World
 
 __all__ = [
@@ -263,6 +267,9 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     markers: list[Marker] = []
     mounts: dict[str, tuple[float, float, float]] = {}
     slot_notes: list[str] = []
+    robot_names: list[str | None] = []
+    radio: list[tuple[int, int]] = []
+    supervisors: list[Bodiless] = []
     try:
         for node in nodes:
             if node.type == "WorldInfo":
@@ -276,6 +283,8 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
                 blocks.append(block(node, *shape))
             elif node.type == "E-puck":
                 starts.append(_pose(node))
+                robot_names.append(node.name)
+                radio.append(epuck_channels(node))
                 if len(starts) == 1:
                     robot_name = node.name
                     camera_size = _camera_size(node)
@@ -283,11 +292,15 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
             elif node.type == "PointLight" and lamp is None:
                 x, y, z = node.numbers("location", 3, (0.0, 0.0, 0.0))
                 lamp = Lamp(x, y, max(z, 0.0))
+            elif (supervisor := bodiless(node)) is not None:
+                supervisors.append(supervisor)
             elif node.name and node.type in MARKER_TYPES:
                 markers.append(marker(node))
             else:
                 skipped[node.type] = skipped.get(node.type, 0) + 1
             _within_bounds(blocks, starts)
+            if len(supervisors) > MAX_SUPERVISORS:
+                raise ValueError(f"more than {MAX_SUPERVISORS} supervisor Robots")
     except ValueError as exc:
         raise ValueError(f"{where}: {exc}") from exc
     blocks, starts, markers, lamp = carry(frame, blocks, starts, markers, lamp)
@@ -307,6 +320,8 @@ def world_from_wbt(path: Path, seed: int | None = None) -> WbtWorld:
     )
     world.robot_name, world.markers = robot_name, markers
     world.frame, world.mounts = frame, mounts
+    world.robot_names, world.robot_radio = robot_names, radio
+    world.supervisors = supervisors
     return WbtWorld(world, notes)
 
 

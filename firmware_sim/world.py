@@ -132,6 +132,12 @@ class World:
         #: Where each ground-truth device sits on the robot (m, x forward, y left, z up):
         #: a .wbt world's E-puck slots (firmware_sim.wbt_slots); else at its centre.
         self.mounts: dict[str, tuple[float, float, float]] = {}
+        #: Every E-puck's DEF name in a world file (a swarm's, in order; None: none given).
+        self.robot_names: list[str | None] = []
+        #: Every E-puck's emitter and receiver channels in a world file (a swarm's).
+        self.robot_radio: list[tuple[int, int]] = []
+        #: A world file's bodiless supervisors (firmware_sim.wbt_supervisor.Bodiless).
+        self.supervisors: list[Any] = []
         self.battery_raw = BATTERY_RAW
         #: The motor driver: the clamp of a commanded speed (steps/s) and the rate a wheel
         #: then really steps at. The e-puck1's by default; another robot's firmware model

@@ -16,6 +16,7 @@ from ego.servers.zenoh_node.node import RobotNode
 from ego.zenoh_net.sessions import ZenohSettings, open_session
 from firmware_sim import Emulator
 from firmware_sim.ego_backend import EmulatorTruth
+from firmware_sim.scene import Scene
 
 
 def free_endpoint() -> str:
@@ -39,10 +40,11 @@ class Node:
 @contextmanager
 def served_node(
     name: str = "epuck", deadline_s: float = 0.5, settings: LinkSettings = FAST_LINK,
-    **emulator: Any,
+    scene: bool = False, **emulator: Any,
 ) -> Iterator[Node]:  # fmt: skip
     """An emulated robot served as the Zenoh node ``name``, listening on its own endpoint
-    (its serial link quick to recover, unless ``settings`` says otherwise)."""
+    (its serial link quick to recover, unless ``settings`` says otherwise); with
+    ``scene``, its world's scene served too (as ego swarm's nodes serve theirs)."""
     with ExitStack() as stack:
         emu = stack.enter_context(Emulator("webots", seed=1, **emulator))
         link = Link(SerialTransport(emu.path), settings=settings)
@@ -51,7 +53,8 @@ def served_node(
         session = open_session(ZenohSettings(listen=[endpoint], connect=[]))
         stack.callback(session.close)
         node = RobotNode(link, session, name, deadline_s=deadline_s,
-                         world=EmulatorTruth(emu.world, emu)).start()
+                         world=EmulatorTruth(emu.world, emu),
+                         scene=Scene(emu.world) if scene else None).start()
         stack.callback(node.close)
         yield Node(emu, node, endpoint)
 

@@ -73,7 +73,7 @@ def _cmd_replay(args: argparse.Namespace) -> int:
 
 
 def _cmd_swarm(args: argparse.Namespace) -> int:
-    from ego.app.swarm import Swarm, robot_name
+    from ego.app.swarm import Swarm
 
     if args.ros2:  # the robots in a ROS 2 graph: ROS drives them, no controller runs
         return _swarm_ros2(args)
@@ -87,11 +87,11 @@ def _cmd_swarm(args: argparse.Namespace) -> int:
             secret = _secret(args)
             url = swarm.serve_dashboard(args.dashboard, secret)
             print(f"ego swarm: dashboard at {url}", file=sys.stderr, flush=True)
-        print(f"ego swarm: {args.robots} emulated e-pucks "
-              f"({', '.join(robot_name(i) for i in range(args.robots))}) in one world, "
-              f"Zenoh on {args.zenoh_endpoint}", file=sys.stderr, flush=True)  # fmt: skip
+        print(f"ego swarm: {args.robots} emulated e-pucks, {', '.join(swarm.member_names)}, "
+              f"in one world, Zenoh on {args.zenoh_endpoint}",
+              file=sys.stderr, flush=True)  # fmt: skip
         statuses = swarm.run_controllers(args.controllers, args.args, args.duration)
-    failed = [robot_name(i) for i, status in enumerate(statuses) if status != 0]
+    failed = [swarm.member_names[i] for i, status in enumerate(statuses) if status != 0]
     if failed:
         print(f"ego swarm: the controllers of {', '.join(failed)} failed", file=sys.stderr)
         return 1

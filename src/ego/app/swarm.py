@@ -8,6 +8,16 @@ this process's Zenoh session; each runs its controller in a process of its own t
 Receiver work between them (their signal strength from the world). Given several
 controller files, robot K runs file ``K mod len(files)``.
 
+Every robot's controller may be a Webots Supervisor of the swarm's world: its node
+serves the world's scene (``ego/epuckK/scene``), where ``getFromDef`` reaches the other
+robots by their DEF names (``epuckK`` where the world file gives none), the boxes and
+the markers, and ``simulationReset`` puts them all back. A ``.wbt`` world's bodiless
+supervisors (``Robot { supervisor TRUE controller "NAME" }``) run beside the robots:
+each is served as a node of its own (its ``name`` field), its controller
+``controllers/NAME/NAME.py`` beside the world's folder (Webots' layout) run as the
+robots' are, its body in no robot's way (it carries the emulated e-puck's devices, of
+which a Robot node uses its Emitter and Receiver).
+
 Each robot's sensors have a noise stream of their own, seeded from the swarm's seed and
 the robot's index (:func:`robot_seed`): the same seed gives the same run, and no two
 robots read the same noise. What a controller prints reaches this process's standard
@@ -73,6 +83,8 @@ class Swarm:
     #: Which robot the emulator models: "epuck" (None) or "epuck2" (its own firmware,
     #: whatever ``firmware`` says).
     robot: str | None = None
+    #: The bodiless supervisors: each one's node name and controller file.
+    supervisors: list[tuple[str, str]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if not 1 <= self.count <= MAX_ROBOTS:
@@ -86,18 +98,31 @@ class Swarm:
         backend: Any = find_backend("sim")
         seeds = [robot_seed(self.seed, index) for index in range(self.count)]
         self.worlds = backend.swarm_worlds(self.world, seeds)
+        bodiless = backend.swarm_supervisors(self.world, self.worlds, self.seed)
+        names = [robot_name(index) for index in range(self.count)]
+        self.supervisors = []
+        for k, (_, name, controller, _) in enumerate(bodiless):
+            taken = [*names, *(n for n, _ in self.supervisors)]  # two unnamed: robot, robot
+            self.supervisors.append(
+                (_node_name(name, k, taken), _controller_file(self.world, controller))
+            )
+        members = [*self.worlds, *(world for *_, world in bodiless)]
+        scene_names = [*names, *(def_name for def_name, *_ in bodiless)]
+        scenes = backend.swarm_scenes(members, scene_names, len(bodiless))
+        channels = backend.swarm_channels(self.world, self.worlds)
+        node_names = [*names, *(name for name, _ in self.supervisors)]
         settings = ZenohSettings.from_environment(
             read_environment(), listen=[self.endpoint], connect=[]
         )  # the environment's EGO_ZENOH_CONFIG, if any
         self.session = open_session(settings)
         try:
-            for index, world in enumerate(self.worlds):
+            for index, world in enumerate(members):
                 firmware = None if self.robot == "epuck2" else Firmware(self.firmware)
                 opened = open_port("sim", firmware=firmware, world=world, robot=self.robot)
                 self.opened.append(opened)
-                node = RobotNode(opened.channel, self.session, robot_name(index),
-                                 deadline_s=self.deadline_s,
-                                 world=opened.ground_truth)  # fmt: skip
+                node = RobotNode(opened.channel, self.session, node_names[index],
+                                 deadline_s=self.deadline_s, world=opened.ground_truth,
+                                 scene=scenes[index], radio=channels[index])  # fmt: skip
                 self.nodes.append(node.start())
         except BaseException:
             self.close()
@@ -110,8 +135,8 @@ class Swarm:
         from ego.servers.dashboard.served import SwarmFeed
         from ego.servers.dashboard.server import DashboardServer
 
-        feed = SwarmFeed([robot_name(i) for i in range(self.count)],
-                         [node.watched for node in self.nodes])  # fmt: skip
+        feed = SwarmFeed([robot_name(i) for i in range(self.count)],  # the robots, not a
+                         [node.watched for node in self.nodes[: self.count]])  # supervisor's body
         host, port = parse_address(address)
         server = DashboardServer(feed, host, port, secret).start()
         feed.server = server
@@ -125,11 +150,16 @@ class Swarm:
             self._closers.pop()()
         for node in self.nodes:
             node.close()
-        for index, opened in enumerate(self.opened):
-            close_each(robot_name(index), [opened.close], log)
+        for name, opened in zip(self.member_names, self.opened, strict=False):
+            close_each(name, [opened.close], log)
         if self.session is not None:
             self.session.close()
         self.nodes, self.opened, self.session = [], [], None
+
+    @property
+    def member_names(self) -> list[str]:
+        """The robots' node names, then the bodiless supervisors'."""
+        return [*(robot_name(i) for i in range(self.count)), *(n for n, _ in self.supervisors)]
 
     def __enter__(self) -> Swarm:
         return self.start()
@@ -146,24 +176,27 @@ class Swarm:
     def run_controllers(
         self, files: Sequence[str], args: Sequence[str] = (), duration_s: float | None = None
     ) -> list[int]:
-        """Run each robot's controller in its own process until all end; their statuses.
+        """Run each robot's controller, then each bodiless supervisor's, in its own process
+        until all end; their statuses, in :attr:`member_names`' order.
 
-        Their output is relayed line by line, each line headed ``[epuckK] ``.
+        Their output is relayed line by line, each line headed ``[NAME] ``.
         """
         processes: list[subprocess.Popen[bytes]] = []
         relays: list[threading.Thread] = []
+        runs = [(robot_name(index), files[index % len(files)], list(args))
+                for index in range(self.count)]  # fmt: skip
+        runs += [(name, controller, []) for name, controller in self.supervisors]
         try:
-            for index in range(self.count):
-                command = [sys.executable, "-m", "ego", "run", "--port",
-                           f"zenoh://{robot_name(index)}"]  # fmt: skip
+            for name, file, arguments in runs:
+                command = [sys.executable, "-m", "ego", "run", "--port", f"zenoh://{name}"]
                 if duration_s is not None:
                     command += ["--duration", str(duration_s)]
-                command += [files[index % len(files)], *args]
+                command += [file, *arguments]
                 pipe = subprocess.PIPE
                 process = subprocess.Popen(command, env=self.controller_env(), stdout=pipe,
                                            stderr=pipe)  # fmt: skip
                 processes.append(process)
-                relays += _relay(process, f"[{robot_name(index)}] ")
+                relays += _relay(process, f"[{name}] ")
             return [process.wait() for process in processes]
         finally:
             _end_all(processes)
@@ -171,6 +204,33 @@ class Swarm:
                 relay.join(5)
                 if relay.is_alive():  # a child's own child still holds the pipe open
                     log.warning("%s: its output stays open after its process ended", relay.name)
+
+
+def _node_name(name: str, index: int, taken: Sequence[str]) -> str:
+    """A bodiless supervisor's node name: its own where Zenoh takes it and no other
+    member has it yet, else ``supervisorK``."""
+    from ego.zenoh_net.keys import check_name
+
+    try:
+        check_name(name)
+    except ValueError:
+        return f"supervisor{index}"
+    return name if name not in taken else f"supervisor{index}"
+
+
+def _controller_file(world: str | None, controller: str) -> str:
+    """Where Webots finds a world's controller NAME: ``controllers/NAME/NAME.py`` in the
+    project whose ``worlds`` folder holds the world file."""
+    from pathlib import Path
+
+    from ego.errors import WorldFileError
+
+    assert world is not None  # only a world file holds bodiless supervisors
+    path = Path(world).resolve().parent.parent / "controllers" / controller / f"{controller}.py"
+    if not path.is_file():
+        raise WorldFileError(f"{world}: the supervisor's controller {controller!r} is not at "
+                             f"{path} (Webots' layout: controllers/NAME/NAME.py)")  # fmt: skip
+    return str(path)
 
 
 def _relay(process: subprocess.Popen[bytes], prefix: str) -> list[threading.Thread]:

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, ClassVar, TypeVar
 
 from ego.backends.remote.channel import info_from
 from ego.backends.remote.connection import error_from_reply
+from ego.backends.zenoh_scene import RemoteScene
 from ego.core.backend import BackendOptions, Opened
 from ego.core.ground_truth import TruePose
 from ego.errors import FirmwareMismatchError, LinkLostError
@@ -93,8 +94,13 @@ class ZenohChannel(ChannelBase):
         self._truth_raw: bytes | None = None
         self._truth: list[float] | None = None
         self._keys: dict[str, str] = {}
-        fields = self._query("info", b"", timeout_s=QUERY_TIMEOUT_S, what="info")
-        self._info = info_from(json.loads(fields))
+        fields = json.loads(self._query("info", b"", timeout_s=QUERY_TIMEOUT_S, what="info"))
+        self._info = info_from(fields)
+        #: Whether the node serves its world's scene (an emulated swarm robot's).
+        self.serves_scene = fields.get("scene") is True
+        #: The channels the node's world file starts its Emitter and Receiver on (None:
+        #: not set, each starts on the e-puck's 1).
+        self.radio_channels = _radio_channels(fields.get("radio"))
 
     @property
     def name(self) -> str:
@@ -225,7 +231,8 @@ class ZenohBackend:
             raise FirmwareMismatchError(
                 f"{port} serves a robot with the {channel.info.firmware} firmware, not {firmware}"
             )
-        return Opened(channel, remote=True, ground_truth=_Truth(channel))
+        scene = RemoteScene(session, channel.robot) if channel.serves_scene else None
+        return Opened(channel, remote=True, ground_truth=_Truth(channel), scene=scene)
 
 
 class _Truth:
@@ -243,6 +250,16 @@ class _Truth:
     @property
     def true_world(self) -> None:
         return None
+
+
+def _radio_channels(value: object) -> tuple[int | None, int | None] | None:
+    """The emitter's and receiver's channels a node's info gives, if well formed."""
+    if not (isinstance(value, list) and len(value) == 2):
+        return None
+    if not all(v is None or (isinstance(v, int) and not isinstance(v, bool) and v >= -1)
+               for v in value):  # fmt: skip
+        return None
+    return value[0], value[1]
 
 
 def node_names(session: zenoh.Session, pattern: str, timeout_s: float = 1.0) -> list[str]:

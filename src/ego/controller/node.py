@@ -16,7 +16,7 @@ def no_simulation(what: str) -> NoReturn:
     """Refuse a call that supervises a simulation, where there is none."""
     raise UnsupportedDeviceError(
         f"{what} supervises a simulation, and a real e-puck has none to supervise "
-        "(on the emulator, --port sim, it works)"
+        "(on the emulator, --port sim, and in ego swarm, it works)"
     )
 
 

@@ -1,6 +1,7 @@
 """Webots' ``Emitter`` and ``Receiver``, over Zenoh (ego.zenoh_net.radio).
 
-Webots' e-puck model carries a radio emitter and receiver (channel 1, unlimited range);
+Webots' e-puck model carries a radio emitter and receiver (channel 1, unlimited range;
+a swarm node on a .wbt world says the channels its world file gives them);
 the real e-puck has none, so ego gives its controllers one over the network: Zenoh, on
 ``ego/radio/CHANNEL``. They exist (``getDevice("emitter")``) when eclipse-zenoh is
 installed (``pip install ego[zenoh]``) and ``EGO_RADIO`` is not ``none``; otherwise
@@ -90,6 +91,17 @@ def _true_pose(core: CoreRobot) -> list[float] | None:
     return None if pose is None else [pose.x_m, pose.y_m, pose.theta_rad]
 
 
+def _start_channel(core: CoreRobot, name: str) -> int:
+    """The channel a radio device starts on: its world file's, where the robot is a swarm
+    node that says it (``ego swarm`` on a .wbt world), else the e-puck's 1."""
+    given = getattr(core.channel, "radio_channels", None)
+    if isinstance(given, tuple) and len(given) == 2:
+        channel = given[0] if name == "emitter" else given[1]
+        if isinstance(channel, int):
+            return channel
+    return DEFAULT_CHANNEL
+
+
 def check_channel(channel: object) -> int:
     if isinstance(channel, bool) or not isinstance(channel, int) or channel < -1:
         raise OutOfRangeError(f"radio channel {channel!r} must be -1 (broadcast) or 0 and up")
@@ -113,7 +125,7 @@ class RadioDevice(Device):
             self._made_by_name(core)  # the robot's own, already set up
             return
         super().__init__(core, name, strict=strict)
-        self._channel = DEFAULT_CHANNEL
+        self._channel = _start_channel(core, name)
         #: The robot's radio, shared with its other radio device (None: one of its own).
         self._radio = radio if radio is not None else RobotRadio(core, read_environment())
 

@@ -1,5 +1,6 @@
-"""Webots' Supervisor for the e-puck: on the emulator, the subset learning and experiment
-controllers use, served from the emulated world (as GPS and compass are); on a real
+"""Webots' Supervisor for the e-puck: on the emulator (and an emulated swarm's robots and
+bodiless supervisors, over Zenoh), the subset learning and experiment controllers use,
+served from the emulated world (as GPS and compass are); on a real
 robot, which has no simulation to supervise, each such call says so."""
 
 from __future__ import annotations
@@ -102,7 +103,7 @@ class SceneNode(Node):
         return self._scene.kind(self._name)
 
     def getBaseTypeName(self) -> str:
-        return "Robot" if self._scene.kind(self._name) == "E-puck" else "Solid"
+        return "Robot" if self._scene.kind(self._name) in ("E-puck", "Robot") else "Solid"
 
     def getPosition(self) -> list[float]:
         """x, y, z in metres, in the world's frame."""
@@ -140,8 +141,9 @@ class SceneNode(Node):
 
 
 class Supervisor(Robot):
-    """Webots' Supervisor. On ``--port sim``: ``getSelf``, ``getFromDef``, the nodes'
-    poses and velocities, their ``translation``/``rotation`` fields, ``resetPhysics``,
+    """Webots' Supervisor. On ``--port sim`` and in ``ego swarm`` (whose nodes serve their
+    world's scene over Zenoh): ``getSelf``, ``getFromDef``, the nodes' poses and
+    velocities, their ``translation``/``rotation`` fields, ``resetPhysics``,
     ``simulationReset``, ``simulationSetMode``, ``getTime``. On a real robot the robot's
     API works and the simulation's raises UnsupportedDeviceError."""
 

@@ -1,8 +1,9 @@
 """What a simulated robot's world lets a Webots Supervisor see and move: a typed seam.
 
 A real robot has no scene to supervise; the emulator (a backend ego never imports) hands
-one in through :class:`~ego.backends.Opened`, and :attr:`ego.Robot.scene` is it, else
-None. Solids are named as in the world file (a box's DEF name; ``""`` for the robot).
+one in through :class:`~ego.backends.Opened`, as does the Zenoh backend for a swarm's
+node that serves its world (ego.backends.zenoh_scene), and :attr:`ego.Robot.scene` is
+it, else None. Solids are named as in the world file (a box's DEF name; ``""`` for the robot).
 """
 
 from __future__ import annotations

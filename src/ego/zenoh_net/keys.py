@@ -13,6 +13,8 @@ key                   kind         what
 ``ego/NAME/keepalive`` put         a controller's keepalive while it waits out a step
 ``ego/NAME/bye``      put          a controller lets go (the robot stops)
 ``ego/NAME/sensors``  publication  every step's sample (ego.core.telemetry's keys, JSON)
+``ego/NAME/scene``    queryable    an emulated robot's world, for a Supervisor
+                                   (scene_codec.py: JSON request, JSON reply)
 ====================  ===========  ========================================================
 
 Webots' radio: an Emitter on channel C puts on ``ego/radio/C`` (``ego/radio/all`` for
@@ -30,7 +32,9 @@ PREFIX = "ego"
 #: Webots' Emitter.CHANNEL_BROADCAST / Receiver.CHANNEL_BROADCAST.
 BROADCAST = -1
 _CHUNK = re.compile(r"[A-Za-z0-9_.\-]+")
-_LEAVES = frozenset({"alive", "info", "exchange", "ascii", "keepalive", "bye", "sensors"})
+_LEAVES = frozenset(
+    {"alive", "info", "exchange", "ascii", "keepalive", "bye", "sensors", "scene"}
+)
 
 
 def check_name(name: str, *, pattern: bool = False) -> str:

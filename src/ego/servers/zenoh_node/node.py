@@ -2,7 +2,9 @@
 
 The node answers its controller's batches on ``ego/NAME/exchange`` and ASCII commands
 on ``ego/NAME/ascii``, publishes every step's sample on ``ego/NAME/sensors``, answers
-``ego/NAME/info``, and keeps ``ego/NAME/alive`` while it runs. The rules are
+``ego/NAME/info``, and keeps ``ego/NAME/alive`` while it runs. An emulated robot of a
+swarm also answers a Supervisor's requests of its world on ``ego/NAME/scene``
+(ego.zenoh_net.scene_codec; anyone's, outside the lease). The rules are
 ``ego serve``'s:
 
 - one controller holds the robot (the lease of the
@@ -54,6 +56,7 @@ if TYPE_CHECKING:
     import zenoh
 
     from ego.core.ground_truth import GroundTruth
+    from ego.core.scene import Scene
     from ego.seam.batch import Batch
     from ego.seam.channel import Channel
 
@@ -98,6 +101,8 @@ class RobotNode:
         deadline_s: float = 0.5,
         world: GroundTruth | None = None,
         clock: Callable[[], float] = time.monotonic,
+        scene: Scene | None = None,
+        radio: tuple[int | None, int | None] | None = None,
     ) -> None:
         self.name = check_name(name)
         self.session = session
@@ -106,6 +111,10 @@ class RobotNode:
         self.lease: ControlSession[str] = ControlSession(deadline_s)
         self._clock = clock
         self.world = world
+        #: The simulated world a Supervisor of this robot sees (``ego/NAME/scene``), if any.
+        self.scene = scene
+        #: The channels its Emitter and Receiver start on, where its world file sets them.
+        self.radio = radio
         self._lock = threading.Lock()  # the lease: the intakes, the puts, the worker, the deadman
         self._closing = threading.Event()
         self._entities: list[Any] = []
@@ -144,6 +153,11 @@ class RobotNode:
             lambda: session.declare_subscriber(key("bye"), self._bye),
             lambda: session.liveliness().declare_token(key("alive")),
         ]
+        scene = self.scene
+        if scene is not None:  # anyone's: a Supervisor reads and moves the world, not the robot
+            declare.append(
+                lambda: Intake(session, key("scene"), lambda q: _answer(scene, q), self.threads)
+            )
         try:
             for entity in declare:
                 self._entities.append(entity())
@@ -260,7 +274,8 @@ class RobotNode:
     def _info(self, query: Any) -> None:
         info = {**firmware_fields(self.watched.info), "name": self.name,
                 "emulated": self.world is not None, "devices": self.watched.device_families(),
-                "battery": self.watched.battery}  # fmt: skip
+                "battery": self.watched.battery, "scene": self.scene is not None,
+                **({"radio": list(self.radio)} if self.radio is not None else {})}  # fmt: skip
         query.reply(query.key_expr, json.dumps(info).encode())
 
     # -- the controller's puts, and the deadman --------------------------------------------
@@ -309,3 +324,11 @@ class RobotNode:
 def _attachment(message: Any) -> bytes | None:
     attachment = message.attachment
     return attachment.to_bytes() if attachment is not None else None
+
+
+def _answer(scene: Scene, query: Any) -> None:
+    """A Supervisor's request of the scene (ego.zenoh_net.scene_codec), answered."""
+    from ego.zenoh_net.scene_codec import answer
+
+    payload = query.payload.to_bytes() if query.payload is not None else b""
+    query.reply(query.key_expr, answer(scene, payload))
