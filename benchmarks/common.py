@@ -8,6 +8,7 @@ thesis' figure printed beside ours with the ratio.
 from __future__ import annotations
 
 import csv
+import json
 import statistics
 import subprocess
 import sys
@@ -16,7 +17,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 __all__ = [
     "REPO",
@@ -300,3 +301,15 @@ def rss_kb() -> int:
             if line.startswith("VmRSS:"):
                 return int(line.split()[1])
     raise RuntimeError("no VmRSS in /proc/self/status")
+
+
+def flood_result(process: subprocess.Popen[str], timeout_s: float = 60.0) -> dict[str, float]:
+    """What a flooder process printed last as a JSON line when it ended (killed if it
+    outlives ``timeout_s``); {} if it printed none (the Zenoh and ROS 2 floods')."""
+    try:
+        out, _ = process.communicate(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        out, _ = process.communicate()
+    lines = [line for line in out.splitlines() if line.startswith("{")]
+    return cast(dict[str, float], json.loads(lines[-1])) if lines else {}

@@ -17,10 +17,11 @@ came, and how many log lines the flood wrote.
 
 from __future__ import annotations
 
-import json
 import subprocess
 import sys
 from typing import IO, cast
+
+from benchmarks.common import flood_result
 
 __all__ = ["flood_result", "start_floods", "twist_payload"]
 
@@ -92,14 +93,3 @@ def start_floods(count: int, endpoint: str, key: str, *, kind: str = "malformed"
         cast(IO[str], process.stdin).write("go\n")
         cast(IO[str], process.stdin).flush()
     return processes
-
-
-def flood_result(process: subprocess.Popen[str], timeout_s: float = 60.0) -> dict[str, float]:
-    """What a flooder printed when it ended (killed if it outlives ``timeout_s``)."""
-    try:
-        out, _ = process.communicate(timeout=timeout_s)
-    except subprocess.TimeoutExpired:
-        process.kill()
-        out, _ = process.communicate()
-    lines = [line for line in out.splitlines() if line.startswith("{")]
-    return cast(dict[str, float], json.loads(lines[-1])) if lines else {}

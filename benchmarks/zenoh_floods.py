@@ -7,10 +7,11 @@ alike. Each flooder is a peer session on loopback that connects to ``endpoint``.
 
 from __future__ import annotations
 
-import json
 import subprocess
 import sys
 from typing import IO, cast
+
+from benchmarks.common import flood_result
 
 __all__ = ["flood_result", "start_ascii_flood", "start_radio_flood"]
 
@@ -94,14 +95,3 @@ def start_radio_flood(
     """A peer listening on ``listen`` that puts packets of ``size`` bytes on the radio's
     ``channel`` as fast as it can for ``seconds``, then prints how many it sent."""
     return _start(_RADIO, listen, channel, size, seconds)
-
-
-def flood_result(process: subprocess.Popen[str], timeout_s: float = 30.0) -> dict[str, int]:
-    """What a flooder printed when it ended (it is killed if it outlives ``timeout_s``)."""
-    try:
-        out, _ = process.communicate(timeout=timeout_s)
-    except subprocess.TimeoutExpired:
-        process.kill()
-        out, _ = process.communicate()
-    lines = [line for line in out.splitlines() if line.startswith("{")]
-    return cast(dict[str, int], json.loads(lines[-1])) if lines else {}
