@@ -51,6 +51,15 @@ DEADLINE_S = 0.5
 BEGIN, END = "<!-- security:begin -->", "<!-- security:end -->"
 
 
+def _test_helpers_on_path() -> None:
+    """The test suite's relays and raw clients (tests/remote/remote_helpers.py, which
+    imports tests/helpers.py): both folders on the path, once."""
+    tests = Path(__file__).resolve().parents[1] / "tests"
+    for folder in (tests, tests / "remote"):
+        if str(folder) not in sys.path:
+            sys.path.insert(0, str(folder))
+
+
 @contextlib.contextmanager
 def _served(kind: str, **options: object) -> Iterator[tuple[Emulator, Server, str]]:
     with Emulator("webots", baud=THESIS_LINE_BAUD, seed=1) as emu:
@@ -198,7 +207,7 @@ def guessing_table(seconds: float, connections: int = 8) -> Table:
         answered = [0]
 
         def guess() -> None:
-            sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "remote"))
+            _test_helpers_on_path()
             from remote_helpers import RawClient
 
             while time.monotonic() < stop:
@@ -243,7 +252,7 @@ def _watch(emu: Emulator) -> Iterator[set[tuple[int, int]]]:
 
 def attacks_table() -> Table:
     """Each attack once, on a session in progress: did anything of it reach the robot?"""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "remote"))
+    _test_helpers_on_path()
     from remote_helpers import DatagramProxy, StreamRelay
 
     table = Table(
@@ -324,7 +333,7 @@ def attacks_table() -> Table:
 
 def pipelining_table(trials: int) -> Table:
     """A controller writes 3000 STEPs at once and closes its socket (issue 22)."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "remote"))
+    _test_helpers_on_path()
     from abuse import PIPELINED, pipeline_and_close
 
     table = Table(
@@ -356,7 +365,7 @@ def pipelining_table(trials: int) -> Table:
 
 def amplification_table() -> Table:
     """Every kind of datagram from a peer that never proved its address (issue 22)."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "remote"))
+    _test_helpers_on_path()
     from abuse import reflect_all
 
     table = Table(

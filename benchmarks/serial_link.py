@@ -74,8 +74,7 @@ def overhead_tables() -> list[Table]:
         "u": 14.3,
     }
     tables = []
-    for firmware in Firmware:
-        profile = PROFILES[firmware]
+    for firmware, profile in PROFILES.items():  # the firmwares a serial line speaks
         table = Table(
             key=f"command_overhead_{firmware.value}",
             title=f"Command overhead, {firmware.value} firmware (thesis Tables 4.1, 4.2)",
