@@ -8,8 +8,7 @@
 #   sudo tools/board_check.sh [armhf|arm64 ...]   (default: both)
 #
 #   armhf: the Gumstix Overo (ARMv7), docs/guide/overo.md
-#   arm64: the Pi-puck's Raspberry Pi Zero 2 W, docs/guide/pipuck.md (overo.md while that
-#          guide is not in the tree)
+#   arm64: the Pi-puck's Raspberry Pi Zero 2 W, docs/guide/pipuck.md
 #
 # Needs root (chroot, mounts), debootstrap, qemu-user-static and binfmt-support (installed
 # here with apt-get if missing) and the network to Debian's mirror and PyPI. The base
@@ -67,7 +66,7 @@ check_arch() {
     local arch=$1 guide
     case $arch in
         armhf) guide=docs/guide/overo.md ;;
-        arm64) guide=docs/guide/pipuck.md; [ -f "$guide" ] || guide=docs/guide/overo.md ;;
+        arm64) guide=docs/guide/pipuck.md ;;
         *) echo "board_check: unknown architecture $arch" >&2; return 2 ;;
     esac
     local base=$cache/rootfs-$arch root=$cache/work-$arch start

@@ -7,7 +7,7 @@ set -euo pipefail
 ego=~/ego/bin/ego
 py=~/ego/bin/python
 cd /root/src
-step() { echo "-- $*"; }
+step() { echo "-- [${SECONDS} s] $*"; }  # with the time since the checks began
 # A failed step leaves no emulator, server or controller running behind it.
 trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 
@@ -75,4 +75,5 @@ fi
 
 step "the unit and camera tests"
 ~/ego/bin/pip install --quiet pytest hypothesis
-$py -m pytest -q -p no:cacheprovider tests/unit tests/camera
+$py -m pytest -q -p no:cacheprovider -rs tests/unit tests/camera
+step "all checks passed"
