@@ -39,10 +39,13 @@ for handler in qemu-arm qemu-aarch64; do
         || { echo "board_check: binfmt_misc has no $handler handler" >&2; exit 2; }
 done
 
-# The wheel the guides copy to the board.
-rm -rf "$cache/dist" && mkdir -p "$cache/dist"
-python3 -m pip wheel --quiet --no-deps -w "$cache/dist" . >/dev/null
-wheel=$(ls "$cache/dist"/ego-*.whl)
+# The wheel the guides copy to the board, in a folder of this run's own (two runs, one a
+# board, may go side by side).
+mkdir -p "$cache"
+dist=$(mktemp -d "$cache/dist.XXXXXX")
+trap 'rm -rf "$dist"' EXIT
+python3 -m pip wheel --quiet --no-deps -w "$dist" . >/dev/null
+wheel=$(ls "$dist"/ego-*.whl)
 
 # The guide's install blocks: every ```sh block that installs into ~/ego with pip.
 install_blocks() {
