@@ -24,7 +24,13 @@ from ego.backends.serial_line import open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
 from ego.core.backend import BackendOptions, Opened, check
 from ego.core.ground_truth import Box, Layout, TruePose
-from ego.errors import CameraCaptureError, CameraError, OutOfRangeError, WorldFileError
+from ego.errors import (
+    CameraCaptureError,
+    CameraError,
+    LinkError,
+    OutOfRangeError,
+    WorldFileError,
+)
 from ego.i2c.bus import given_bus
 from ego.seam.profile import DEFAULT_BAUD, Firmware
 from ego.serial.link import LinkSettings
@@ -357,11 +363,20 @@ class SimBackend:
         long as the context lasts, and the environment of a child process that reaches it
         as ``ego run --port pipuck`` would a real one (this process's, with the shim, its
         socket and ``EGO_SYSFS``): ``ego demo --pipuck``. A Pi-puck's I2C is reached only
-        through a process started with it, never from this one."""
-        from firmware_sim.pipuck import PipuckEmulator
+        through a process started with it, never from this one. Its shim is compiled on
+        first use: with no C compiler (a board as its guide installs it) that is a
+        LinkError saying so, one line from ``ego``."""
+        from firmware_sim.pipuck import PipuckEmulator, ShimBuildError
 
         spec = load_world(world, seed) if world else None
-        with PipuckEmulator(robot or "epuck2", "current", spec, seed=seed) as emulator:
+        try:
+            emulator = PipuckEmulator(robot or "epuck2", "current", spec, seed=seed)
+        except ShimBuildError as exc:
+            raise LinkError(
+                f"the emulated Pi-puck cannot start: {exc} (it is compiled on first use: "
+                "install gcc, or try the demo on a PC)"
+            ) from exc
+        with emulator:
             sysfs = str(emulator.sysfs_root / "sys")
             yield {**os.environ, **emulator.environ(), "EGO_SYSFS": sysfs}
 

@@ -12,16 +12,20 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+import pytest
+
 import ego
 from firmware_sim import Emulator, World
 from firmware_sim.ego_backend import EmulatorTruth
 
 __all__ = [
+    "REPOSITORY",
     "SUBNORMALS",
     "assert_stopped",
     "ego_command",
     "emulator_of",
     "is_stopped",
+    "needs_source_tree",
     "run_async",
     "spawn",
     "wait_until",
@@ -37,6 +41,17 @@ __all__ = [
 with contextlib.suppress(ImportError):
     import yarl  # noqa: F401
 SUBNORMALS = math.ulp(0.0) != 0.0
+
+#: The checkout the tests belong to. Where ego under test is that checkout's own source
+#: (an editable install: development and every CI job) the tree's README, docs and src are
+#: there to be checked; on a board (tools/board_check.sh) ego is the wheel the guide
+#: installs and only the tests were copied over, so what reads the tree skips, saying so.
+REPOSITORY = Path(__file__).resolve().parents[1]
+needs_source_tree = pytest.mark.skipif(
+    Path(ego.__file__).resolve().parent != REPOSITORY / "src" / "ego",
+    reason="reads the repository (README, docs, src): ego under test is an installed wheel, "
+    "as on a board",
+)
 
 
 def emulator_of(robot: ego.Robot) -> Emulator:

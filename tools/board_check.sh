@@ -8,8 +8,7 @@
 #   sudo tools/board_check.sh [armhf|arm64 ...]   (default: both)
 #
 #   armhf: the Gumstix Overo (ARMv7), docs/guide/overo.md
-#   arm64: the Pi-puck's Raspberry Pi Zero 2 W, docs/guide/pipuck.md (overo.md while that
-#          guide is not in the tree)
+#   arm64: the Pi-puck's Raspberry Pi Zero 2 W, docs/guide/pipuck.md
 #
 # Needs root (chroot, mounts), debootstrap, qemu-user-static and binfmt-support (installed
 # here with apt-get if missing) and the network to Debian's mirror and PyPI. The base
@@ -40,10 +39,13 @@ for handler in qemu-arm qemu-aarch64; do
         || { echo "board_check: binfmt_misc has no $handler handler" >&2; exit 2; }
 done
 
-# The wheel the guides copy to the board.
-rm -rf "$cache/dist" && mkdir -p "$cache/dist"
-python3 -m pip wheel --quiet --no-deps -w "$cache/dist" . >/dev/null
-wheel=$(ls "$cache/dist"/ego-*.whl)
+# The wheel the guides copy to the board, in a folder of this run's own (two runs, one a
+# board, may go side by side).
+mkdir -p "$cache"
+dist=$(mktemp -d "$cache/dist.XXXXXX")
+trap 'rm -rf "$dist"' EXIT
+python3 -m pip wheel --quiet --no-deps -w "$dist" . >/dev/null
+wheel=$(ls "$dist"/ego-*.whl)
 
 # The guide's install blocks: every ```sh block that installs into ~/ego with pip.
 install_blocks() {
@@ -67,7 +69,7 @@ check_arch() {
     local arch=$1 guide
     case $arch in
         armhf) guide=docs/guide/overo.md ;;
-        arm64) guide=docs/guide/pipuck.md; [ -f "$guide" ] || guide=docs/guide/overo.md ;;
+        arm64) guide=docs/guide/pipuck.md ;;
         *) echo "board_check: unknown architecture $arch" >&2; return 2 ;;
     esac
     local base=$cache/rootfs-$arch root=$cache/work-$arch start

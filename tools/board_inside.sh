@@ -7,7 +7,7 @@ set -euo pipefail
 ego=~/ego/bin/ego
 py=~/ego/bin/python
 cd /root/src
-step() { echo "-- $*"; }
+step() { echo "-- [${SECONDS} s] $*"; }  # with the time since the checks began
 # A failed step leaves no emulator, server or controller running behind it.
 trap 'kill $(jobs -p) 2>/dev/null || true' EXIT
 
@@ -19,6 +19,17 @@ if $ego doctor --port /dev/ttyS0; then echo "doctor should fail without a robot"
 
 step "ego demo (3 s)"
 $ego demo --duration 3 --no-dashboard | tail -n 1
+
+step "ego demo --pipuck: with gcc it runs; without (the guides install none) one line says so"
+if command -v gcc >/dev/null; then
+    $ego demo --pipuck --duration 3 --no-dashboard | tail -n 1
+else
+    if $ego demo --pipuck --duration 1 --no-dashboard 2>/tmp/pipuck.err; then
+        echo "ego demo --pipuck should fail without a compiler"; exit 1
+    fi
+    cat /tmp/pipuck.err
+    [ "$(wc -l </tmp/pipuck.err)" -eq 1 ] || { echo "more than one line"; exit 1; }
+fi
 
 step "a controller on a pty emulator in another process"
 $ego sim >/tmp/sim.out 2>/tmp/sim.err &
@@ -75,4 +86,5 @@ fi
 
 step "the unit and camera tests"
 ~/ego/bin/pip install --quiet pytest hypothesis
-$py -m pytest -q -p no:cacheprovider tests/unit tests/camera
+$py -m pytest -q -p no:cacheprovider -rs tests/unit tests/camera
+step "all checks passed"

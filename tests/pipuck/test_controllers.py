@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
 from collections.abc import Callable
 from pathlib import Path
@@ -108,6 +109,21 @@ def test_ego_demo_runs_on_an_emulated_pipuck(robot: str) -> None:
     assert done.returncode == 0, done.stderr
     assert f"emulated {robot} on a Pi-puck" in done.stdout
     assert "motors stopped" in done.stdout
+
+
+def test_ego_demo_on_a_board_without_a_compiler_says_so_in_one_line(tmp_path: Path) -> None:
+    """The emulated Pi-puck's shim is compiled on first use; a board installed as its
+    guide says has no gcc (tools/board_check.sh found a traceback there)."""
+    env = {**os.environ, "PATH": str(tmp_path)}  # an empty folder: no gcc on the path
+    done = subprocess.run([*ego_command(), "demo", "--pipuck", "--duration", "1",
+                           "--no-dashboard"],
+                          capture_output=True, text=True, timeout=120, env=env)  # fmt: skip
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "Traceback" not in done.stderr, done.stderr
+    assert done.stderr.strip().splitlines() == [
+        "ego: error: the emulated Pi-puck cannot start: no C compiler (gcc) to build the I2C "
+        "shim (it is compiled on first use: install gcc, or try the demo on a PC)"
+    ]
 
 
 def test_a_pipuck_run_is_recorded_and_replayed_like_any_other(

@@ -9,11 +9,12 @@ from pathlib import Path
 import pytest
 
 import ego
+import firmware_sim
 from ego.core.robot_devices import FamilyAttribute
 from ego.devices.proximity import ProximitySensors
 
 ROOT = Path(ego.__file__).resolve().parent
-SIM = ROOT.parent.parent / "firmware_sim"
+SIM = Path(firmware_sim.__file__).resolve().parent
 
 
 def _stubs(path: Path) -> list[str]:

@@ -13,7 +13,10 @@ import ast
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 
-SOURCE = Path(__file__).resolve().parents[2] / "src"
+import ego
+
+#: Where ego is installed: the checkout's src, or on a board the wheel's site-packages.
+SOURCE = Path(ego.__file__).resolve().parents[1]
 
 
 def module_files(root: Path = SOURCE) -> dict[str, Path]:

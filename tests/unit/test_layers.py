@@ -17,9 +17,17 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import needs_source_tree
 
 ROOT = Path(__file__).resolve().parents[2]
 LINT_IMPORTS = Path(sys.executable).with_name("lint-imports")
+pytestmark = [
+    needs_source_tree,
+    pytest.mark.skipif(
+        not LINT_IMPORTS.exists(),
+        reason="lint-imports (import-linter, the dev extra) is not installed",
+    ),
+]
 
 
 def lint_imports(root: Path) -> subprocess.CompletedProcess[str]:

@@ -8,6 +8,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from helpers import needs_source_tree
+
+#: It counts the repository's trees, which a board (an installed wheel) does not have.
+pytestmark = needs_source_tree
 ROOT = Path(__file__).resolve().parents[2]
 TREES = ("src/ego", "firmware_sim", "benchmarks", "tests")
 LIMIT = 500

@@ -13,7 +13,9 @@ import re
 from pathlib import Path
 
 import pytest
+from helpers import REPOSITORY, needs_source_tree
 
+import ego
 from ego.controller import Robot as WebotsRobot
 from ego.core.environment import VARIABLES, Environment, read_environment
 from ego.core.robot import Robot
@@ -21,8 +23,9 @@ from ego.core.safety import OPEN_ROBOTS, OpenRobots, RobotKeeper
 from ego.faces.default_robot import FaceContext, activate
 from ego.faces.runtime import RunOptions
 
-ROOT = Path(__file__).resolve().parents[2]
-SRC = ROOT / "src" / "ego"
+ROOT = REPOSITORY
+#: ego as installed: the checkout's src/ego, or on a board the wheel's.
+SRC = Path(ego.__file__).resolve().parent
 #: The one reader, and the two modules that write a child process's environment.
 READER = SRC / "core" / "environment.py"
 CHILD_ENVIRONMENTS = {SRC / "app" / "swarm.py", SRC / "servers" / "supervisor.py"}
@@ -56,6 +59,7 @@ def test_only_the_environment_module_reads_the_environment() -> None:
     assert _reads_environment(READER)  # the check sees a reader
 
 
+@needs_source_tree
 def test_every_documented_variable_is_read_there() -> None:
     texts = [ROOT / "README.md", *(ROOT / "docs").rglob("*.md")]
     documented = {name for path in texts for name in re.findall(r"EGO_[A-Z_]+", path.read_text())}

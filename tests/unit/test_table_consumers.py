@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 
+import ego
 from ego.core import telemetry
 from ego.core.telemetry import Sampler, describe_firmware
 from ego.devices.base import ArraySensor, Device
@@ -31,7 +32,8 @@ from ego.serial.profiles import PROFILES
 from ego.servers.dashboard import control, served
 from ego.servers.dashboard.control import ControlDesk
 
-SRC = Path(__file__).resolve().parents[2] / "src" / "ego"
+#: ego as installed: the checkout's src/ego, or on a board the wheel's.
+SRC = Path(ego.__file__).resolve().parent
 #: The e-puck2's time-of-flight sensor: a Webots DistanceSensor, its range in mm.
 SONAR_ROW = ("sonar", "sonar", 0, "DistanceSensor", "mm", frozenset({"webots"}))
 WITH_SONAR = TABLE.extended(rows=[SONAR_ROW])
