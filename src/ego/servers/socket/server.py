@@ -182,30 +182,10 @@ class Server:
         loop = self._loop = asyncio.get_running_loop()
         loop.set_exception_handler(self._loop_error)
         for scheme, host, port in self._endpoints:
-            if scheme == "unix":
-                # Only this user may connect: the socket is created with mode 600.
-                with owner_only():
-                    server = await loop.create_unix_server(lambda: _TcpProtocol(self), host)
-                self._closers.append(server.close)
-                self.urls.append(f"unix://{host}")
-                continue
-            if scheme == "tcp":
-                server = await loop.create_server(lambda: _TcpProtocol(self), host, port)
-                sockname = server.sockets[0].getsockname()
-                self._closers.append(server.close)
-            else:
-                index = len(self.peers.datagrams)
-                transport, _ = await loop.create_datagram_endpoint(
-                    lambda index=index: _UdpProtocol(self, index),  # type: ignore[misc]
-                    local_addr=(host, port),
-                )
-                self.peers.datagrams.append(transport)
-                sockname = transport.get_extra_info("sockname")
-                self._closers.append(transport.close)
-            shown = f"[{sockname[0]}]" if ":" in sockname[0] else sockname[0]
-            self.urls.append(f"{scheme}://{shown}:{sockname[1]}")
+            await _bind(self, loop, scheme, host, port)
         self.deadman = self._tasks.start_timer(self._deadline_passed, name="ego-serve-deadman")
-        self._arm()
+        with self._lock:
+            self._arm(self.session.next_deadline())
         log.info(
             "serving %s (%s firmware) on %s%s",
             self.channel.name,
@@ -249,13 +229,11 @@ class Server:
         with self._lock:
             actions = method(*args)
             due = self.session.next_deadline()
-        if due is not None and self.deadman is not None:
-            self.deadman.arm(due)  # a no-op unless it brings the deadline closer
+        self._arm(due)
         self.feed(actions)
 
-    def _arm(self) -> None:
-        with self._lock:
-            due = self.session.next_deadline()
+    def _arm(self, due: float | None) -> None:
+        """Wake the deadman by ``due`` (a no-op unless it brings its deadline closer)."""
         if due is not None and self.deadman is not None:
             self.deadman.arm(due)
 
@@ -362,6 +340,33 @@ class Server:
                 log.warning("out of file descriptors: new connections wait (%s)", exc)
             return
         loop.default_exception_handler(context)
+
+
+async def _bind(
+    server: Server, loop: asyncio.AbstractEventLoop, scheme: str, host: str, port: int
+) -> None:
+    """Listen on one endpoint of ``server``: its closer and its URL (the port it got)."""
+    if scheme == "unix":
+        # Only this user may connect: the socket is created with mode 600.
+        with owner_only():
+            unix = await loop.create_unix_server(lambda: _TcpProtocol(server), host)
+        server._closers.append(unix.close)
+        server.urls.append(f"unix://{host}")
+        return
+    if scheme == "tcp":
+        tcp = await loop.create_server(lambda: _TcpProtocol(server), host, port)
+        sockname = tcp.sockets[0].getsockname()
+        server._closers.append(tcp.close)
+    else:
+        index = len(server.peers.datagrams)
+        transport, _ = await loop.create_datagram_endpoint(
+            lambda: _UdpProtocol(server, index), local_addr=(host, port)
+        )
+        server.peers.datagrams.append(transport)
+        sockname = transport.get_extra_info("sockname")
+        server._closers.append(transport.close)
+    shown = f"[{sockname[0]}]" if ":" in sockname[0] else sockname[0]
+    server.urls.append(f"{scheme}://{shown}:{sockname[1]}")
 
 
 def _receive_each(session: Session, peer: Peer, frames: list[Frame], now: float) -> list[Action]:
