@@ -155,3 +155,15 @@ def run_async(coroutine: Any, timeout_s: float = 20) -> Any:
     if failure:
         raise failure[0]
     return result[0]
+
+
+def message_matches(documented: str, actual: str) -> bool:
+    """Whether ``actual`` holds a table's documented message pieces, in order (``…``
+    skips any text): the guides' and docs/bad_input.md's rows are checked so."""
+    position = 0
+    for piece in (p.strip() for p in documented.split("…")):
+        found = actual.find(piece, position)
+        if found < 0:
+            return False
+        position = found + len(piece)
+    return True

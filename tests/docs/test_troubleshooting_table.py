@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from helpers import ego_command, wait_until
+from helpers import ego_command, message_matches, wait_until
 
 import ego
 from firmware_sim import Emulator
@@ -82,15 +82,6 @@ def parse_rows(text: str) -> list[Row]:
 ROWS = parse_rows(DOC.read_text(encoding="utf-8"))
 
 
-def message_matches(documented: str, actual: str) -> bool:
-    """Whether ``actual`` holds the documented pieces, in order (``…`` skips any text)."""
-    position = 0
-    for piece in (p.strip() for p in documented.split("…")):
-        found = actual.find(piece, position)
-        if found < 0:
-            return False
-        position = found + len(piece)
-    return True
 
 
 # -- what a user runs ----------------------------------------------------------------------

@@ -12,7 +12,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from helpers import ego_command, wait_until
+from helpers import ego_command, message_matches, wait_until
 from pipuck_support import EXAMPLES, env_of
 
 from firmware_sim.pipuck import PipuckEmulator
@@ -40,14 +40,6 @@ def rows() -> dict[str, tuple[str, str]]:
     return found
 
 
-def matches(documented: str, actual: str) -> bool:
-    position = 0
-    for piece in (p.strip() for p in documented.split("…")):
-        found = actual.find(piece, position)
-        if found < 0:
-            return False
-        position = found + len(piece)
-    return True
 
 
 def _run(emu: PipuckEmulator, controller: str, tmp: Path) -> str:
@@ -115,7 +107,9 @@ def test_each_row_is_what_ego_says(symptom: str, tmp_path: Path) -> None:
         raised = error if f"{error}:" in stderr else _raised_by_opening(emu)
     said = [line for line in stderr.splitlines() if line.startswith("ego: error:")]
     assert len(said) == 1, stderr
-    assert matches(documented, said[0]), f"the guide says\n  {documented}\nego said\n  {said[0]}"
+    assert message_matches(documented, said[0]), (
+        f"the guide says\n  {documented}\nego said\n  {said[0]}"
+    )
     assert raised == error
     if error not in ("ChecksumError", "UnsupportedDeviceError"):  # not the controller's own
         assert "Traceback" not in stderr, stderr

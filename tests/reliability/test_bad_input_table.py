@@ -29,7 +29,7 @@ from typing import Any
 
 import pytest
 from dashboard_probe import DashboardProbe, HttpAnswer
-from helpers import ego_command
+from helpers import ego_command, message_matches
 from hostile_files import make as make_hostile
 from reliability_helpers import echo_device, modem_device, silent_device
 from remote_probes import pipelined, udp_request
@@ -127,15 +127,6 @@ def parse_rows(text: str) -> list[Row]:
 ROWS = parse_rows(DOC.read_text(encoding="utf-8"))
 
 
-def message_matches(documented: str, actual: str) -> bool:
-    """Whether ``actual`` holds the documented pieces, in order (``…`` skips any text)."""
-    position = 0
-    for piece in (p.strip() for p in documented.split("…")):
-        found = actual.find(piece, position)
-        if found < 0:
-            return False
-        position = found + len(piece)
-    return True
 
 
 def error_class(name: str) -> type[BaseException]:
