@@ -5,8 +5,10 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import os
 import platform
 import sys
+import threading
 import time
 from datetime import datetime, timezone
 
@@ -112,7 +114,20 @@ def main(argv: list[str] | None = None) -> int:
         interrupted=interrupted,
     )
     print(f"\nreport: {path}")
+    if left := _threads_left():
+        # Python would wait for them at exit, for ever: say which, and end now.
+        print(f"error: the benchmarks left {len(left)} thread(s) running: {', '.join(left)}",
+              file=sys.stderr, flush=True)  # fmt: skip
+        sys.stdout.flush()
+        os._exit(1)
     return 130 if interrupted else 0
+
+
+def _threads_left() -> list[str]:
+    """The threads (not daemons: those Python does not wait for) still running once every
+    section has closed what it opened."""
+    main = threading.main_thread()
+    return [t.name for t in threading.enumerate() if t is not main and not t.daemon]
 
 
 if __name__ == "__main__":

@@ -113,7 +113,7 @@ def _bridge(robot: Any, endpoint: str, step_ms: int) -> tuple[Any, Any]:
     bridge = Ros2Bridge(robot, node, period_ms=step_ms).attach()
 
     def close() -> None:
-        bridge.detach()
+        bridge.close()  # unhooks the steps and joins the deadman's thread
         node.close()
         session.close()
 

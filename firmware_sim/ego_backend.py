@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import threading
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -24,6 +25,7 @@ from ego.backends.serial_line import open_link
 from ego.camera.source import GrantedFormat, PixelFormat, check_control_name
 from ego.core.backend import BackendOptions, Opened, check
 from ego.core.ground_truth import Box, Layout, TruePose
+from ego.core.safety import OPEN_ROBOTS
 from ego.errors import (
     CameraCaptureError,
     CameraError,
@@ -54,6 +56,13 @@ __all__ = [
     "WorldTruth",
     "load_world",
 ]
+
+# A program that exits with a Robot still open on an emulator: before Python waits for
+# the threads, the emulators are told to end (firmware_sim.threads) and the robots are
+# stopped (a finalizer, later). Here the robots are closed first, each stopping its
+# wheels on an emulator still serving, as a real robot would be. threading runs these
+# hooks last registered first, and this module always comes after firmware_sim.threads.
+threading._register_atexit(OPEN_ROBOTS.close_all)  # type: ignore[attr-defined]
 
 
 def load_world(spec: str, seed: int | None) -> World:

@@ -9,7 +9,10 @@ firmware itself has no watchdog: it keeps the last speeds it was given forever.
 Three mechanisms, each covering what the others cannot:
 
 - every open link carries a :func:`weakref.finalize` that sends the stop batch when its
-  ``Robot`` is garbage-collected, or at interpreter exit if it is still alive then;
+  ``Robot`` is garbage-collected; at interpreter exit, every robot still open is closed
+  (stopped, its threads ended) before Python waits for the threads that are not daemons,
+  where a finalizer would come only after that wait, and never if a robot's own reader
+  thread were what it waits for;
 - :func:`install_signal_handlers` turns every asynchronous signal whose default action
   ends the process into a :class:`SignalExit`, so that ``with`` blocks and finalizers run
   before the process ends with the conventional status 128 + signal number;
@@ -255,3 +258,5 @@ class RobotKeeper:
 
 #: The robots of this process and its active keepers: the one registry of robots.
 OPEN_ROBOTS = OpenRobots()
+# At exit, before Python joins the threads (threading's hook, as ego.nursery's).
+threading._register_atexit(OPEN_ROBOTS.close_all)  # type: ignore[attr-defined]

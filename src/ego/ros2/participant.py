@@ -35,7 +35,8 @@ from functools import cache
 from types import TracebackType
 from typing import Any
 
-from ego.errors import EgoError, FrameError
+from ego.errors import EgoError, FrameError, ThreadLeakError
+from ego.nursery import Nursery
 from ego.ros2.attachment import Attachment, decode_attachment, encode_attachment
 from ego.ros2.distros import Distro, distro_format
 from ego.ros2.gid import entity_gid
@@ -143,8 +144,7 @@ class Subscription:
         )
         # The handler, not the subscriber: its recv() ends when the subscriber goes.
         self._samples = self._subscriber.handler
-        self._thread = threading.Thread(target=self._run, name=f"ego-ros2-sub {topic}")
-        self._thread.start()
+        self._thread = node.nursery.start_thread(self._run, name=f"ego-ros2-sub {topic}")
         try:
             self._token = node.session.liveliness().declare_token(self.token_key)
         except BaseException:
@@ -189,7 +189,7 @@ class Subscription:
         if self._thread is not threading.current_thread():
             self._thread.join(5)
             if self._thread.is_alive():
-                log.error("%s: still alive 5 s after close", self._thread.name)
+                raise ThreadLeakError(f"{self._thread.name}: still running 5 s after close")
 
     def close(self) -> None:
         self._token.undeclare()
@@ -212,6 +212,9 @@ class Participant:
         self._entities: list[Publisher | Subscription] = []
         self._token = session.liveliness().declare_token(node_key)
         self._closed = False
+        #: The subscriptions' threads; a program that exits with the node open has it
+        #: closed first (their samples end), before Python waits for them.
+        self.nursery = Nursery(f"ego-ros2-node {name}", at_exit=self.close)
 
     def resolve(self, topic: str) -> str:
         """``topic`` fully qualified in this node's namespace (``ps0`` -> ``/robot/ps0``)."""
@@ -258,6 +261,7 @@ class Participant:
         while self._entities:
             self._entities.pop().close()
         self._token.undeclare()
+        self.nursery.close()
 
     def __enter__(self) -> Participant:
         return self

@@ -9,19 +9,21 @@ that a flood, a slow link or a busy machine can delay. ego's view of the wheels 
 at the next step (the guard takes the stop), and a step whose guard applied a Twist
 before the lapse but whose batch went after the stop is followed at once by another
 stop (:meth:`Deadman.after_step`). Each bridge has its own deadman, so one robot's flood
-never holds another's. :class:`Deadman` starts, stops and joins it.
+never holds another's. :class:`Deadman` owns the thread in a :class:`~ego.nursery.Nursery`:
+its close ends and joins it, and a program that exits with the bridge still open has it
+ended before Python waits for its threads (the nursery's ``at_exit``).
 """
 
 from __future__ import annotations
 
 import logging
-import threading
 import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from ego.core.safety import STOP_ATTEMPTS, stop_requests
 from ego.errors import EgoError, ProtocolError, RobotResetError
+from ego.nursery import Nursery
 from ego.serial.protocol import encode_batch
 
 if TYPE_CHECKING:
@@ -56,15 +58,18 @@ class Deadman:
                  clock: Callable[[], float] = time.monotonic) -> None:  # fmt: skip
         self.robot, self.commands = robot, commands
         self._clock = clock
-        self._thread = threading.Thread(target=self._run, name=f"ego-ros2-deadman {name}")
+        self._name = f"ego-ros2-deadman {name}"
+        self._nursery = Nursery(self._name, at_exit=commands.close)
+        self._started = False
         #: When the wheels were last confirmed stopped by the deadman (``clock``).
         self.stopped_at: float | None = None
         self.stops = 0
         self._seen_lapses = 0
 
     def start(self) -> Deadman:
-        if self._thread.ident is None:
-            self._thread.start()
+        if not self._started:
+            self._nursery.start_thread(self._run, name=self._name)
+            self._started = True
         return self
 
     def _run(self) -> None:
@@ -93,9 +98,7 @@ class Deadman:
             self._stop()
 
     def close(self) -> None:
-        """End the thread and join it; again does nothing."""
+        """End the thread and join it (ThreadLeakError if it outlives the nursery's
+        deadline); again does nothing."""
         self.commands.close()
-        if self._thread.ident is not None and self._thread is not threading.current_thread():
-            self._thread.join(5)
-            if self._thread.is_alive():
-                log.error("%s: still alive 5 s after close", self._thread.name)
+        self._nursery.close()
