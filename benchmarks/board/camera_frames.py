@@ -1,12 +1,16 @@
 """One camera frame's work, $EGO_BENCH_STEPS times: convert a WIDTHxHEIGHT frame of
 FORMAT (rgb565 or yuyv) to RGB888 with BACKEND (numpy or opencv), then encode it as JPEG
 (quality 90): python camera_frames.py FORMAT WIDTH HEIGHT BACKEND [PART]; PART ``convert``
-or ``encode`` does only that half (where a frame's instructions go)."""
+or ``encode`` does only that half (where a frame's instructions go). With $EGO_IMPORT_CV2
+set, OpenCV is imported first, whatever the backend (what the import alone costs)."""
 
 import os
 import sys
 
 import numpy as np
+
+if os.environ.get("EGO_IMPORT_CV2"):
+    import cv2  # noqa: F401
 
 from ego.camera import rgb565_to_rgb888, yuyv_to_rgb888
 from ego.camera.encode import encode_jpeg

@@ -19,12 +19,12 @@ from ego.camera import (
     rgb888_to_bgra,
     yuyv_to_rgb888,
 )
-from ego.camera.convert import cv2, opencv_is_exact
+from ego.camera.convert import opencv, opencv_is_exact
 from ego.errors import OutOfRangeError
 
 #: OpenCV is optional (the opencv extra; the Overo guide's "or nothing"): without it the
 #: numpy backend, which every test here runs too, is the one that converts.
-needs_opencv = pytest.mark.skipif(cv2 is None, reason="OpenCV is not installed (ego[opencv])")
+needs_opencv = pytest.mark.skipif(opencv() is None, reason="OpenCV is not installed (ego[opencv])")
 BACKENDS = [pytest.param("opencv", marks=needs_opencv), "numpy"]
 rng = np.random.default_rng(20240605)
 

@@ -29,13 +29,9 @@ from typing import Final
 import numpy as np
 import numpy.typing as npt
 
+from ego.camera.convert.opencv import opencv
 from ego.errors import ImageFormatError, OutOfRangeError
 from ego.seam.validate import check_int
-
-try:
-    import cv2
-except ImportError:  # pragma: no cover - opencv-python-headless is a dependency
-    cv2 = None  # type: ignore[assignment]
 
 __all__ = ["IMAGE_EXTENSIONS", "check_quality", "encode_jpeg", "encode_png", "save_image"]
 
@@ -66,12 +62,14 @@ def encode_jpeg(image: Image, quality: int = 90) -> bytes:
     """JPEG bytes of an RGB888 ``(h, w, 3)`` uint8 image; ``quality`` 1 (smallest) .. 100."""
     image = _check_image(image)
     quality = check_quality(quality)
+    cv2 = opencv()
     if cv2 is not None:
         bgr = cv2.cvtColor(np.ascontiguousarray(image), cv2.COLOR_RGB2BGR)
         ok, data = cv2.imencode(".jpg", bgr, [cv2.IMWRITE_JPEG_QUALITY, quality])
         if not ok:  # pragma: no cover - imencode fails only on impossible inputs
             raise ValueError("OpenCV could not encode the image as JPEG")
-        return data.tobytes()
+        jpeg: bytes = data.tobytes()
+        return jpeg
     return _pillow_encode(image, "JPEG", quality=quality)  # pragma: no cover
 
 
@@ -80,12 +78,14 @@ def encode_png(image: Image, *, compression: int = 1) -> bytes:
     image = _check_image(image)
     if not 0 <= compression <= 9:
         raise OutOfRangeError(f"PNG compression level {compression} is outside 0..9")
+    cv2 = opencv()
     if cv2 is not None:
         bgr = cv2.cvtColor(np.ascontiguousarray(image), cv2.COLOR_RGB2BGR)
         ok, data = cv2.imencode(".png", bgr, [cv2.IMWRITE_PNG_COMPRESSION, compression])
         if not ok:  # pragma: no cover
             raise ValueError("OpenCV could not encode the image as PNG")
-        return data.tobytes()
+        png: bytes = data.tobytes()
+        return png
     return _pillow_encode(image, "PNG", compress_level=compression)  # pragma: no cover
 
 

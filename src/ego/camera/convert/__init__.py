@@ -12,13 +12,13 @@ Working buffers are allocated once per (geometry, rotation, byte order, backend)
 touches a pixel.
 
 One job a module: ``frame_checks`` (geometry, buffer and ``out`` checks), ``buffers``,
-``opencv`` (the optional import and its constants), ``rgb565``, ``yuv_formulas``,
+``opencv`` (OpenCV, imported at first need, and its constants), ``rgb565``, ``yuv_formulas``,
 ``yuyv`` and ``bgra`` (RGB888 to Webots' BGRA).
 """
 
 from ego.camera.convert.bgra import rgb888_to_bgra
 from ego.camera.convert.frame_checks import Backend, ByteOrder, Image
-from ego.camera.convert.opencv import cv2
+from ego.camera.convert.opencv import opencv
 from ego.camera.convert.rgb565 import LUT5, LUT6, RGB565_TABLE, opencv_is_exact, rgb565_to_rgb888
 from ego.camera.convert.yuv_formulas import YuvFormula
 from ego.camera.convert.yuyv import yuyv_to_rgb888
@@ -34,7 +34,7 @@ __all__ = [
     "Image",
     "YuvFormula",
     "check_rotation",
-    "cv2",
+    "opencv",
     "opencv_is_exact",
     "rgb565_to_rgb888",
     "rgb888_to_bgra",

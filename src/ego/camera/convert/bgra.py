@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ego.camera.convert.frame_checks import Image, check_out
-from ego.camera.convert.opencv import cv2
+from ego.camera.convert.opencv import opencv
 
 __all__ = ["rgb888_to_bgra"]
 
@@ -15,6 +15,7 @@ def rgb888_to_bgra(image: Image, out: Image | None = None) -> Image:
     if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
         raise ValueError(f"expected a (h, w, 3) uint8 image, not {image.dtype} {image.shape}")
     dst = check_out(out, (image.shape[0], image.shape[1], 4))
+    cv2 = opencv()
     if cv2 is not None:
         cv2.cvtColor(np.ascontiguousarray(image), cv2.COLOR_RGB2BGRA, dst=dst)
     else:  # pragma: no cover

@@ -49,7 +49,7 @@ from ego.camera.convert.frame_checks import (
     check_out,
     rotated_shape,
 )
-from ego.camera.convert.opencv import CV_ROTATE, cv2
+from ego.camera.convert.opencv import cv_rotate, opencv
 from ego.seam.validate import check_rotation
 
 #: Each thread's RGB565 plans (``.rgb565``: a dict, the eight most recent kept).
@@ -82,6 +82,7 @@ _WIDENED_TO_TABLE: Final = np.diag([255.0 / 248.0, 255.0 / 252.0, 255.0 / 248.0]
 
 def _opencv_convert(codes: np.ndarray, dst: Image, tmp: Image) -> None:
     """Native little-endian codes (h, w) -> exact RGB888 in ``dst``; ``tmp`` same shape."""
+    cv2 = opencv()
     assert cv2 is not None
     pairs = codes.view(np.uint8).reshape(codes.shape[0], codes.shape[1], 2)
     cv2.cvtColor(pairs, cv2.COLOR_BGR5652RGB, dst=tmp)
@@ -94,7 +95,7 @@ def opencv_is_exact() -> bool:
 
     Two layouts are checked, 256 x 256 (vector code) and 65,536 x 1 (scalar tails).
     """
-    if cv2 is None:
+    if opencv() is None:
         return False
     all_codes = np.arange(65536, dtype="<u2")
     for shape in ((256, 256), (65536, 1)):
@@ -180,7 +181,7 @@ class _Rgb565Plan:
         oh, ow = rotated_shape(height, width, rotation)
         self.out_shape = (oh, ow, 3)
         self.k = rotation // 90
-        self.cv_rotation = CV_ROTATE.get(rotation)
+        self.cv_rotation = cv_rotate(rotation)
         self.numpy = chosen == "numpy"
         self.swap = byteorder == "big"
         if self.numpy:
@@ -198,6 +199,7 @@ class _Rgb565Plan:
             np.copyto(self.index, np.rot90(codes, self.k))
             np.take(_TABLE_V3, self.index, out=view, mode="clip")
             return
+        cv2 = opencv()
         assert cv2 is not None
         if self.swap or not codes.flags.aligned:
             # One numpy pass swaps (or aligns) the codes and rotates them at the same time.

@@ -20,7 +20,7 @@ from ego.camera.convert.frame_checks import (
     check_out,
     rotated_shape,
 )
-from ego.camera.convert.opencv import CV_ROTATE, ZERO, cv2
+from ego.camera.convert.opencv import ZERO, cv_rotate, opencv
 from ego.camera.convert.yuv_formulas import YuvFormula, itu_r_integer_chroma, yuv_tables
 from ego.errors import OutOfRangeError
 from ego.seam.validate import check_rotation
@@ -58,9 +58,9 @@ def yuyv_to_rgb888(
     dst = check_out(out, (oh, ow, 3))
 
     bufs = buffers(("yuyv", width, height, stride, rotation, formula, backend))
+    cv2 = None if backend == "numpy" else opencv()
     if (
         formula is YuvFormula.ITU_R_INTEGER
-        and backend != "numpy"
         and cv2 is not None
         and width * height >= _SHIFT_PATH_MIN_PIXELS
     ):
@@ -69,17 +69,17 @@ def yuyv_to_rgb888(
             return dst
         upright = bufs.get("upright", (height, width, 3), np.uint8)
         _yuyv_separable(quads, upright, bufs, False)
-        cv2.rotate(upright, CV_ROTATE[rotation], dst=dst)
+        cv2.rotate(upright, cv_rotate(rotation), dst=dst)
         return dst
     luma_t, cu_t, cv_t, shift = yuv_tables(formula)
     upright = dst if rotation == 0 else bufs.get("upright", (height, width, 3), np.uint8)
-    if backend != "numpy" and cv2 is not None:
+    if cv2 is not None:
         _yuyv_opencv(quads, upright, bufs, luma_t, cu_t, cv_t, shift)
     else:
         _yuyv_numpy(quads, upright, bufs, luma_t, cu_t, cv_t, shift)
     if rotation:
         if cv2 is not None:
-            cv2.rotate(upright, CV_ROTATE[rotation], dst=dst)
+            cv2.rotate(upright, cv_rotate(rotation), dst=dst)
         else:  # pragma: no cover
             np.copyto(dst, np.rot90(upright, rotation // 90))
     return dst
@@ -103,6 +103,7 @@ def _yuyv_separable(quads: np.ndarray, dst: Image, bufs: Buffers, turn: bool) ->
     saturating add here, so none is used. Turning by 180 degrees is done on the 4-byte
     pairs first (two thirds of the output's bytes), each pair's two pixels then swapping.
     """
+    cv2 = opencv()
     assert cv2 is not None
     height, half = quads.shape[:2]
     if turn:
@@ -149,6 +150,7 @@ def _yuyv_opencv(
     shift: int,
 ) -> None:
     """Planes out (Y0, U, Y1, V), per-byte terms by cv2.LUT, sums in numpy, pixels back in."""
+    cv2 = opencv()
     assert cv2 is not None
     height, half = quads.shape[:2]
     kind = luma_t.dtype
