@@ -18,7 +18,8 @@ closes the nursery: the nursery cannot interrupt a thread, it only makes sure no
 Python waits for every thread that is not a daemon before it exits, so a nursery whose
 owner may be left open by a program (a robot's heartbeat, its dashboard) is given
 ``at_exit``: how the owner ends its threads. At exit, before Python waits for them, every
-nursery still open runs its ``at_exit`` (as :mod:`concurrent.futures` ends its workers).
+nursery still open runs its ``at_exit`` (as :mod:`concurrent.futures` ends its workers),
+after the hooks given to :func:`before_owners_at_exit` (the open robots' stop).
 A thread or task that fails is logged with the nursery's name; the others go on (one bad
 request must not take a server down).
 
@@ -35,18 +36,20 @@ tasks once it is closing; a server wants neither, and ego still runs on 3.10.
 
 from __future__ import annotations
 
-import asyncio
 import logging
 import threading
 import time
 import weakref
 from collections.abc import Callable, Coroutine
 from types import TracebackType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ego.errors import ThreadLeakError
 
-__all__ = ["DEFAULT_JOIN_S", "DeadlineTimer", "Nursery"]
+if TYPE_CHECKING:  # imported where a task is started: `import ego` leaves asyncio out
+    import asyncio
+
+__all__ = ["DEFAULT_JOIN_S", "DeadlineTimer", "Nursery", "before_owners_at_exit"]
 
 log = logging.getLogger(__name__)
 
@@ -71,6 +74,17 @@ def _end_at_exit() -> None:
 # Run before the interpreter joins its threads; atexit handlers run only after that join.
 # (threading's own hook since 3.9, the one concurrent.futures uses.)
 threading._register_atexit(_end_at_exit)  # type: ignore[attr-defined]
+
+
+def before_owners_at_exit(hook: Callable[[], None]) -> None:
+    """Run ``hook`` at interpreter exit before every nursery's ``at_exit`` (and before
+    Python waits for the threads): what must be done while the owners' threads still run,
+    as a robot's stop sent over a link whose reader the link's ``at_exit`` ends.
+
+    threading runs its exit hooks last registered first, and this module registered its
+    own as it was imported, before anyone could call this.
+    """
+    threading._register_atexit(hook)  # type: ignore[attr-defined]
 
 
 class DeadlineTimer:
@@ -155,6 +169,7 @@ class Nursery:
         if at_exit is not None:
             _AT_EXIT.add(self)
         self._threads: list[threading.Thread] = []
+        self._starting: set[threading.Thread] = set()
         self._timers: list[DeadlineTimer] = []
         self._tasks: set[asyncio.Task[None]] = set()
         self._lock = threading.Lock()
@@ -185,8 +200,16 @@ class Nursery:
         with self._lock:
             if self._closed:
                 raise RuntimeError(f"{self.name} is closed: thread {name} not started")
+            # The ended ones are let go (an owner that starts a thread a step keeps only
+            # those still running); one still starting is not alive yet, and is kept.
+            self._threads = [t for t in self._threads if t in self._starting or t.is_alive()]
             self._threads.append(thread)
-        thread.start()
+            self._starting.add(thread)
+        try:
+            thread.start()
+        finally:
+            with self._lock:
+                self._starting.discard(thread)
         return thread
 
     def start_timer(
@@ -222,7 +245,7 @@ class Nursery:
             if thread is not me and thread.ident is not None:
                 thread.join(max(0.0, deadline - time.monotonic()))
         with self._lock:
-            self._threads = [t for t in self._threads if t.is_alive()]
+            self._threads = [t for t in self._threads if t in self._starting or t.is_alive()]
             alive = [t.name for t in self._threads if t is not me]
         if alive:
             raise ThreadLeakError(
@@ -249,6 +272,8 @@ class Nursery:
         if self._closed:
             work.close()
             return
+        import asyncio
+
         task = asyncio.get_running_loop().create_task(work)
         self._tasks.add(task)
         task.add_done_callback(self._finished)
@@ -261,6 +286,8 @@ class Nursery:
     async def aclose(self, join_s: float | None = None) -> None:
         """Take no more tasks, cancel the running ones and wait until all have ended, then
         :meth:`close` (its threads joined off the loop)."""
+        import asyncio
+
         self._closed = True
         while self._tasks:
             tasks = list(self._tasks)

@@ -34,6 +34,15 @@ def test_a_start_imports_no_heavy_optional_package(statement: str) -> None:
     assert not loaded_after(statement) & set(HEAVY)
 
 
+@pytest.mark.parametrize(
+    "statement",
+    ["import ego", "from ego.controller import Robot", "import ego.webots", "import ego.overo"],
+)
+def test_a_start_leaves_asyncio_to_the_servers(statement: str) -> None:
+    # ego.nursery, which every thread's owner imports, imports asyncio where a task starts.
+    assert "asyncio" not in loaded_after(statement)
+
+
 def test_import_ego_leaves_numpy_until_a_microphone_buffer_arrives() -> None:
     assert "numpy" not in loaded_after("import ego")
 

@@ -6,10 +6,15 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import re
+import signal
 import subprocess
+import threading
 from pathlib import Path
 
-from helpers import ego_command, run_async
+import pytest
+from helpers import ego_command, run_async, wait_until
 from zenoh_support import free_endpoint
 
 TALK = Path(__file__).parent / "controllers" / "swarm_talk.py"
@@ -100,8 +105,6 @@ def test_three_robots_talk_through_emitter_and_receiver_with_their_distances(
 
 
 def test_the_swarms_dashboard_shows_every_robot_and_stops_them_all(tmp_path: Path) -> None:
-    import threading
-
     import aiohttp
 
     from ego.app.swarm import Swarm
@@ -145,3 +148,37 @@ def test_the_swarms_dashboard_shows_every_robot_and_stops_them_all(tmp_path: Pat
     swarm_poses = sample["swarm"]
     assert isinstance(swarm_poses, list) and [p[0] for p in swarm_poses] == hello["robots"]
     assert all(speeds == (0, 0) for speeds in stopped), stopped
+
+
+def test_a_controllers_child_that_holds_its_output_open_is_a_thread_leak(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # Its relay cannot end while the child lives: run_controllers says so (issue 35),
+    # where it logged a warning and left Python waiting at exit without a word.
+    from ego.app.swarm import Swarm
+    from ego.errors import ThreadLeakError
+
+    controller = tmp_path / "spawn.py"
+    controller.write_text(
+        "import subprocess, sys\n"
+        "child = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(120)'])\n"
+        "print('CHILD', child.pid, flush=True)\n"
+    )
+
+    def relays() -> list[threading.Thread]:
+        return [t for t in threading.enumerate() if t.name == "ego-swarm-relay [epuck0]"]
+
+    leak = r"ego-swarm-relay \[epuck0\].*own child process"
+    try:
+        with (
+            Swarm(1, endpoint=free_endpoint()) as swarm,
+            pytest.raises(ThreadLeakError, match=leak),
+        ):
+            swarm.run_controllers([str(controller)])
+        assert relays()  # still running, still owned: nothing was dropped
+    finally:
+        out = capsys.readouterr().out
+        for pid in re.findall(r"\[epuck0\] CHILD (\d+)", out):
+            os.kill(int(pid), signal.SIGKILL)
+    assert "[epuck0] CHILD" in out
+    assert wait_until(lambda: not relays(), timeout_s=10)

@@ -4,6 +4,10 @@ A :class:`ReplayFeed` is a dashboard :class:`~ego.servers.dashboard.server.Feed`
 and camera frames come from a :class:`~ego.recording.reader.Recording`, paced by the
 samples' controller time at the chosen speed, with pause and seek from any page (there
 is no robot to harm: every page may steer the playback, none may act on a robot).
+
+The playing thread is the feed's, in a :class:`~ego.nursery.Nursery`: :meth:`ReplayFeed.close`
+ends and joins it (a thread still running 5 s later is a ThreadLeakError), and a program
+that exits with the feed still open has it closed before Python waits for its threads.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ from typing import Any
 from ego.backends.replay import SPEEDS
 from ego.devices.table import TABLE
 from ego.errors import RecordingError
+from ego.nursery import Nursery
 from ego.recording.reader import Recording
 from ego.servers.dashboard.control import Reply
 from ego.servers.dashboard.server import DashboardServer
@@ -39,7 +44,7 @@ class ReplayFeed:
         self._lock = threading.Lock()
         self._changed = threading.Event()
         self._closed = threading.Event()
-        self._thread: threading.Thread | None = None
+        self._nursery = Nursery("ego-replay", at_exit=self.close)
 
     # -- the Feed -----------------------------------------------------------------------
 
@@ -86,15 +91,14 @@ class ReplayFeed:
     # -- playing ------------------------------------------------------------------------
 
     def start(self) -> None:
-        # Not a daemon: close() (its owner's, in a finally) ends and joins it.
-        self._thread = threading.Thread(target=self._play, name="ego-replay")
-        self._thread.start()
+        self._nursery.start_thread(self._play, name="ego-replay")
 
     def close(self) -> None:
+        """End the playing thread and join it (ThreadLeakError if it is still running
+        5 s later); idempotent."""
         self._closed.set()
         self._changed.set()
-        if self._thread is not None:
-            self._thread.join(5)
+        self._nursery.close()
 
     def finished(self) -> bool:
         return self._index >= len(self._times) - 1 and not self.playing

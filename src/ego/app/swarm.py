@@ -30,7 +30,6 @@ import logging
 import os
 import subprocess
 import sys
-import threading
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -39,6 +38,8 @@ from typing import IO, Any
 from ego.core.backend import Opened
 from ego.core.closing import close_each
 from ego.core.registry import find_backend, open_port
+from ego.errors import ThreadLeakError
+from ego.nursery import Nursery
 from ego.seam.profile import Firmware
 
 __all__ = ["MAX_ROBOTS", "Swarm", "robot_name", "robot_seed"]
@@ -179,10 +180,12 @@ class Swarm:
         """Run each robot's controller, then each bodiless supervisor's, in its own process
         until all end; their statuses, in :attr:`member_names`' order.
 
-        Their output is relayed line by line, each line headed ``[NAME] ``.
+        Their output is relayed line by line, each line headed ``[NAME] ``, by threads of
+        a :class:`~ego.nursery.Nursery`: one still running 5 s after the processes ended (a
+        controller's own child process holding its output open) is a ThreadLeakError.
         """
         processes: list[subprocess.Popen[bytes]] = []
-        relays: list[threading.Thread] = []
+        relays = Nursery("ego swarm's output relays")
         runs = [(robot_name(index), files[index % len(files)], list(args))
                 for index in range(self.count)]  # fmt: skip
         runs += [(name, controller, []) for name, controller in self.supervisors]
@@ -196,14 +199,15 @@ class Swarm:
                 process = subprocess.Popen(command, env=self.controller_env(), stdout=pipe,
                                            stderr=pipe)  # fmt: skip
                 processes.append(process)
-                relays += _relay(process, f"[{name}] ")
+                _relay(relays, process, f"[{name}] ")
             return [process.wait() for process in processes]
         finally:
-            _end_all(processes)
-            for relay in relays:
-                relay.join(5)
-                if relay.is_alive():  # a child's own child still holds the pipe open
-                    log.warning("%s: its output stays open after its process ended", relay.name)
+            _end_all(processes)  # their pipes close: the relays end
+            try:
+                relays.close()
+            except ThreadLeakError as exc:
+                raise ThreadLeakError(f"{exc} (a controller's own child process still holds "
+                                      "its output open)") from exc  # fmt: skip
 
 
 def _node_name(name: str, index: int, taken: Sequence[str]) -> str:
@@ -233,18 +237,13 @@ def _controller_file(world: str | None, controller: str) -> str:
     return str(path)
 
 
-def _relay(process: subprocess.Popen[bytes], prefix: str) -> list[threading.Thread]:
-    """Threads that copy ``process``'s output and errors here, each line after ``prefix``."""
-    pairs = ((process.stdout, sys.stdout), (process.stderr, sys.stderr))
-    threads = [
-        threading.Thread(target=_copy_lines, args=(source, to, prefix),
-                         name=f"ego-swarm-relay {prefix.strip()}")
-        for source, to in pairs
-        if source is not None
-    ]  # fmt: skip
-    for thread in threads:
-        thread.start()
-    return threads
+def _relay(relays: Nursery, process: subprocess.Popen[bytes], prefix: str) -> None:
+    """Threads of ``relays`` that copy ``process``'s output and errors here, each line
+    after ``prefix``."""
+    for source, to in ((process.stdout, sys.stdout), (process.stderr, sys.stderr)):
+        if source is not None:
+            relays.start_thread(_copy_lines, source, to, prefix,
+                                name=f"ego-swarm-relay {prefix.strip()}")  # fmt: skip
 
 
 def _copy_lines(source: IO[bytes], to: IO[str], prefix: str) -> None:

@@ -16,8 +16,11 @@ While a step is in flight the interpreter switches threads every 0.5 ms instead 
 (:data:`STEP_SWITCH_INTERVAL_S`), so that the step thread gets the GIL as its reply
 bytes arrive while the controller computes in Python; ``stepEnd`` puts it back.
 
-The thread is the Robot's: ``end`` joins it, and so does the robot's close (a step in
-flight when the controller fails or the run ends is waited for, never left running).
+The thread is the Robot's, in a :class:`~ego.nursery.Nursery`: ``end`` joins it, and so
+does the robot's close (a step in flight when the controller fails or the run ends is
+waited for, never left running), as does a program's exit with the robot still open,
+before Python waits for its threads. Once closed, a step begun runs at once in the
+caller (the robot's step, closed, only says so).
 """
 
 from __future__ import annotations
@@ -25,6 +28,8 @@ from __future__ import annotations
 import sys
 import threading
 from collections.abc import Callable
+
+from ego.nursery import Nursery
 
 __all__ = ["STEP_SWITCH_INTERVAL_S", "StepOverlap"]
 
@@ -39,7 +44,10 @@ class StepOverlap:
 
     def __init__(self, step: Callable[[int | None], int]) -> None:
         self._step = step
+        self._nursery = Nursery("ego-step", at_exit=self.close)
         self._thread: threading.Thread | None = None
+        #: A step begun and not yet ended (in its thread, or run at once once closed).
+        self._begun = False
         self._result = 0
         self._error: BaseException | None = None
         self._saved_interval = sys.getswitchinterval()
@@ -50,13 +58,18 @@ class StepOverlap:
 
     def begin(self, duration: int | None) -> None:
         """Start a step of ``duration`` ms; one begun and not ended is ended first."""
-        if self._thread is not None:
+        if self._begun:
             self.end()
-        self._result, self._error = 0, None
+        self._result, self._error, self._begun = 0, None, True
         self._saved_interval = sys.getswitchinterval()
         sys.setswitchinterval(min(self._saved_interval, STEP_SWITCH_INTERVAL_S))
-        self._thread = threading.Thread(target=self._run, args=(duration,), name="ego-step")
-        self._thread.start()
+        try:
+            self._thread = self._nursery.start_thread(self._run, duration, name="ego-step")
+        except RuntimeError:
+            sys.setswitchinterval(self._saved_interval)
+            if not self._nursery.closed:
+                raise
+            self._run(duration)  # the robot closed: its step says so at once
 
     def _run(self, duration: int | None) -> None:
         try:
@@ -68,10 +81,12 @@ class StepOverlap:
         """Wait for the step begun, and give its result (its error raised here); 0 when
         none was begun."""
         thread, self._thread = self._thread, None
-        if thread is None:
+        begun, self._begun = self._begun, False
+        if not begun:
             return 0
-        thread.join()
-        sys.setswitchinterval(self._saved_interval)
+        if thread is not None:
+            thread.join()
+            sys.setswitchinterval(self._saved_interval)
         error, self._error = self._error, None
         if error is not None:
             raise error
@@ -85,3 +100,4 @@ class StepOverlap:
         if thread is not None and thread is not threading.current_thread():
             thread.join()
             sys.setswitchinterval(self._saved_interval)
+        self._nursery.close()

@@ -12,7 +12,8 @@ Three mechanisms, each covering what the others cannot:
   ``Robot`` is garbage-collected; at interpreter exit, every robot still open is closed
   (stopped, its threads ended) before Python waits for the threads that are not daemons,
   where a finalizer would come only after that wait, and never if a robot's own reader
-  thread were what it waits for;
+  thread were what it waits for (and before any :class:`~ego.nursery.Nursery`'s
+  ``at_exit`` ends a link the stop goes through);
 - :func:`install_signal_handlers` turns every asynchronous signal whose default action
   ends the process into a :class:`SignalExit`, so that ``with`` blocks and finalizers run
   before the process ends with the conventional status 128 + signal number;
@@ -35,6 +36,7 @@ import weakref
 from types import FrameType
 from typing import TYPE_CHECKING, Protocol
 
+from ego.nursery import before_owners_at_exit
 from ego.seam.batch import Request
 from ego.seam.profile import Command
 from ego.serial.protocol import encode_batch
@@ -258,5 +260,6 @@ class RobotKeeper:
 
 #: The robots of this process and its active keepers: the one registry of robots.
 OPEN_ROBOTS = OpenRobots()
-# At exit, before Python joins the threads (threading's hook, as ego.nursery's).
-threading._register_atexit(OPEN_ROBOTS.close_all)  # type: ignore[attr-defined]
+# At exit, before Python joins the threads, and before the nurseries' owners end theirs
+# (a WiFi link's reader, an I2C bus's worker): each robot's stop still gets through.
+before_owners_at_exit(OPEN_ROBOTS.close_all)

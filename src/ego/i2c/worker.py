@@ -7,9 +7,12 @@ shorten there. A step cannot wait that long (issue 32): each transfer runs on th
 worker thread and its caller waits until its own deadline; past it, the caller goes on
 without the reading (None: a late transfer, on a loaded board, is no fault). The transfer
 left running keeps the bus: later ones get None at once until it returns, and once it
-has held the bus for :data:`HUNG_S` it has hung: LinkTimeoutError. The worker is started
-at the first transfer and stopped and joined by :meth:`BusWorker.close` (which waits for
-a transfer still running: the kernel ends it).
+has held the bus for :data:`HUNG_S` it has hung: LinkTimeoutError. The worker is a
+thread of the bus's :class:`~ego.nursery.Nursery`, started at the first transfer and
+stopped and joined by :meth:`BusWorker.close` (which waits for a transfer still running:
+the kernel ends it; one still running :data:`~ego.nursery.DEFAULT_JOIN_S` later is a
+ThreadLeakError). A program that exits with the bus open has it closed before Python
+waits for its threads.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from collections.abc import Callable
 from typing import Generic, TypeVar
 
 from ego.errors import LinkTimeoutError
+from ego.nursery import Nursery
 
 __all__ = ["HUNG_S", "BusWorker"]
 
@@ -57,7 +61,8 @@ class BusWorker:
         #: When the transfer holding the bus was handed to the worker (time.monotonic()).
         self._held_since = 0.0
         self._stopping = False
-        self._thread: threading.Thread | None = None
+        self._nursery = Nursery(name, at_exit=self.close)
+        self._started = False
 
     def run(self, work: Callable[[], T], deadline_s: float, what: str) -> T | None:
         """``work()``'s result, or its error; None if it has not returned by ``deadline_s``
@@ -75,9 +80,9 @@ class BusWorker:
                         f"transfer that does not end (no answer within {HUNG_S:.0f} s)"
                     )
                 return None
-            if self._thread is None:
-                self._thread = threading.Thread(target=self._serve, name="ego-i2c-bus")
-                self._thread.start()
+            if not self._started:
+                self._nursery.start_thread(self._serve, name="ego-i2c-bus")
+                self._started = True
             self._job = job  # type: ignore[assignment]
             self._held_since = time.monotonic()
             self._cond.notify_all()
@@ -88,13 +93,12 @@ class BusWorker:
         return job.value
 
     def close(self) -> None:
-        """Stop the thread and join it (after a transfer still running ends); idempotent."""
+        """Stop the thread and join it (after a transfer still running ends; one still
+        running :data:`~ego.nursery.DEFAULT_JOIN_S` later is a ThreadLeakError); idempotent."""
         with self._cond:
             self._stopping = True
             self._cond.notify_all()
-            thread = self._thread
-        if thread is not None and thread is not threading.current_thread():
-            thread.join()
+        self._nursery.close()
 
     def _serve(self) -> None:
         while True:

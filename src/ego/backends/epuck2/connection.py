@@ -3,8 +3,11 @@
 The radio streams once commanded, whether or not anyone reads (ESP:socket_e-puck2.c:
 182-196), and its sends block (a client that stops reading stalls the robot's loop), so
 a connection is read all the time by its own thread, started by :class:`WifiConnection`
-and stopped and joined by its :meth:`~WifiConnection.close`. What the thread heard is
-kept as the newest of each kind, numbered, for the channel to wait on.
+in a :class:`~ego.nursery.Nursery` and stopped and joined by its
+:meth:`~WifiConnection.close` (a reader still running 5 s later is a ThreadLeakError); a
+program that exits with the connection open has it closed before Python waits for its
+threads. What the thread heard is kept as the newest of each kind, numbered, for the
+channel to wait on.
 
 A connection is never left without a valid command: the constructor sends its first
 command as soon as the TCP handshake is done, before anything else can fail, because a
@@ -29,6 +32,7 @@ from ego.backends.epuck2.wifi_packets import (
     SensorReply,
 )
 from ego.errors import EgoError, LinkError, LinkTimeoutError, PortNotFoundError
+from ego.nursery import Nursery
 
 __all__ = ["Heard", "WifiConnection", "connect"]
 
@@ -91,8 +95,8 @@ class WifiConnection:
         self.heard = Heard()
         self._stop = threading.Event()
         sock.settimeout(IO_TIMEOUT_S)
-        self._thread = threading.Thread(target=self._read, name="epuck2-wifi-reader")
-        self._thread.start()
+        self._nursery = Nursery(f"epuck2 WiFi {name}", at_exit=self.close)
+        self._nursery.start_thread(self._read, name="epuck2-wifi-reader")
 
     def send(self, command: bytes) -> None:
         """Send one 21-byte command; LinkError when the connection is gone."""
@@ -116,14 +120,16 @@ class WifiConnection:
             return self.heard
 
     def close(self) -> None:
-        """Stop the reader, join it, close the socket; idempotent."""
+        """Stop the reader, join it, close the socket; idempotent. ThreadLeakError (the
+        socket closed all the same) if the reader is still running 5 s later."""
         self._stop.set()
         with contextlib.suppress(OSError):
             self._sock.shutdown(socket.SHUT_RDWR)
-        if self._thread is not threading.current_thread():
-            self._thread.join()
-        self._sock.close()
-        self._end("closed")
+        try:
+            self._nursery.close()
+        finally:
+            self._sock.close()
+            self._end("closed")
 
     def _end(self, why: str) -> None:
         with self._changed:
