@@ -53,6 +53,15 @@ guest() {
     cat "$work"/insns.* | sed -n 's/^insns: //p' | paste -sd+ | bc
 }
 
+# The guest's resident kB (and its supervisor's) the longer run printed; "? ?" on a 64-bit
+# board, whose pages guest_memory.py cannot tell apart from QEMU's own.
+guest_rss() {
+    local rss
+    rss=$(sed -n 's/^rss_kb \([0-9]*\) parent_kb \([0-9]*\)$/\1 \2/p' "$work/out")
+    if [ "$qemu" = qemu-aarch64 ] || [ -z "$rss" ]; then rss="? ?"; fi
+    echo "$rss"
+}
+
 # per_step MODE STEPS COMMAND...: run with STEPS and 2 STEPS; print the difference over
 # STEPS (instructions a step), and the guest's resident memory at the end of the longer run
 # (the supervisor's added when there is one).
@@ -60,8 +69,8 @@ per_step() {
     local mode=$1 k=$2 one two rss; shift 2
     one=$(EGO_BENCH_STEPS=$k guest "$@")
     two=$(EGO_BENCH_STEPS=$((2 * k)) EGO_BENCH_RSS=1 guest "$@")
-    rss=$(sed -n 's/^rss_kb \([0-9]*\) parent_kb \([0-9]*\)$/\1 \2/p' "$work/out")
-    printf '%s %d %s\n' "$mode" $(( (two - one) / k )) "${rss:-? ?}"
+    rss=$(guest_rss)
+    printf '%s %d %s\n' "$mode" $(( (two - one) / k )) "$rss"
 }
 
 "$host_ego" sim --firmware gctronic >"$work/sim.out" 2>/dev/null &
@@ -111,18 +120,41 @@ if wants camera; then
 fi
 
 # The ROS 2 bridge (ego ros2) steps the robot every --period-ms for --duration: its steps
-# are the duration over the period (ros2_bridge_run.py prints the guest's memory at the
-# end of the longer run). Over a pty the stock firmware in Overo mode leaves the floor
+# are counted (ros2_bridge_run.py prints them, and the guest's memory at the end of the
+# longer run). Over a pty the stock firmware in Overo mode leaves the floor
 # sensors to the board's I2C, which epuck_ros2's topics need: the bridge drives the Webots
 # firmware's emulator instead.
+# The ROS machine's router (rmw_zenohd's part) runs on the host, outside the count.
+router=""
+start_router() {
+    local endpoint
+    endpoint=tcp/127.0.0.1:$("$host_python" -c 'import socket; s = socket.socket()
+s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+    "$host_python" -c 'import json, sys, threading, zenoh
+c = zenoh.Config()
+c.insert_json5("mode", json.dumps("router"))
+c.insert_json5("listen/endpoints", json.dumps([sys.argv[1]]))
+c.insert_json5("scouting/multicast/enabled", "false")
+session = zenoh.open(c)
+print("ready", flush=True)
+threading.Event().wait()' "$endpoint" >"$work/router.out" &
+    for _ in $(seq 300); do grep -q ready "$work/router.out" && break; sleep 0.1; done
+    router=$endpoint
+}
 # ros2_steps MODE PORT: the bridge's instructions a step and memory on PORT.
 ros2_steps() {
     local mode=$1 port=$2 one two rss
-    local bridge=("$work/ros2_bridge_run.py" ros2 --port "$port" --period-ms 64 --duration)
+    [ -n "$router" ] || start_router
+    local bridge=("$work/ros2_bridge_run.py" ros2 --port "$port" --router "$router"
+                  --period-ms 64 --duration)
     one=$(guest "${bridge[@]}" "$(echo "$n * 0.064" | bc)")
+    steps_one=$(sed -n 's/^steps //p' "$work/out")
     two=$(EGO_BENCH_RSS=1 guest "${bridge[@]}" "$(echo "2 * $n * 0.064" | bc)")
-    rss=$(sed -n 's/^rss_kb \([0-9]*\) parent_kb \([0-9]*\)$/\1 \2/p' "$work/out")
-    printf '%s %d %s\n' "$mode" $(( (two - one) / n )) "${rss:-? ?}"
+    steps_two=$(sed -n 's/^steps //p' "$work/out")
+    rss=$(guest_rss)
+    # Divided by the steps the robot made (ros2_bridge_run.py counts them), not assumed.
+    printf '%s %d %s\n' "$mode" $(( (two - one) / (steps_two - steps_one) )) "$rss"
+    echo "$mode: $steps_one and $steps_two steps in the two runs ($n and $((2 * n)) asked)" >&2
 }
 has_ros2() { has zenoh && has rosbags && has xxhash; }
 if wants ros2 && has_ros2; then

@@ -317,8 +317,8 @@ def _add_run(sub: Any) -> None:
     run.add_argument(
         "--supervised", action=argparse.BooleanOptionalAction, default=None,
         help="a supervisor process owns the port and stops the robot however the controller "
-        "ends (SIGKILL, out of memory, a loop that stops stepping); default: on for the "
-        "robot's own UART (/dev/ttyS*), off elsewhere",
+        "ends (SIGKILL, out of memory, a loop that stops stepping); default: on on the "
+        "robot's own computer (the Overo's UART /dev/ttyS*, a Pi-puck), off elsewhere",
     )  # fmt: skip
     run.add_argument("--supervisor-deadline-ms", type=deadline_ms, default=500, metavar="MS",
                      help="a supervised controller that does not step for this long has its "

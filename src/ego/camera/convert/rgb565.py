@@ -181,7 +181,7 @@ class _Rgb565Plan:
         oh, ow = rotated_shape(height, width, rotation)
         self.out_shape = (oh, ow, 3)
         self.k = rotation // 90
-        self.cv_rotation = cv_rotate(rotation)
+        self.cv_rotation = None if chosen == "numpy" else cv_rotate(rotation)
         self.numpy = chosen == "numpy"
         self.swap = byteorder == "big"
         if self.numpy:
