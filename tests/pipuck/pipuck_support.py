@@ -3,8 +3,10 @@ process whose environment loads the emulator's shim (and names its sysfs root)."
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import signal
 import subprocess
 import sys
 import textwrap
@@ -43,10 +45,11 @@ class Runner:
                               capture_output=True, text=True, timeout=timeout_s)  # fmt: skip
 
     def start_ego(self, *args: str) -> subprocess.Popen[str]:
-        """``ego ARGS``, started (ended by :meth:`close` if still running)."""
+        """``ego ARGS``, started in a session of its own (:meth:`close` ends the whole
+        session, the supervised controller with its supervisor)."""
         child = subprocess.Popen(
             [*ego_command(), *args], env=self.env, cwd=self.folder,
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
         )  # fmt: skip
         self.children.append(child)
         return child
@@ -66,7 +69,9 @@ class Runner:
         return json.loads(lines[-1])
 
     def close(self) -> None:
+        """Kill what is left of each child's session (a controller its killed supervisor
+        left behind still holds the pipes: communicate would wait for it for ever)."""
         for child in self.children:
-            if child.poll() is None:
-                child.kill()
-            child.communicate()
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(child.pid, signal.SIGKILL)
+            child.communicate(timeout=60)

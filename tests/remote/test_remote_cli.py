@@ -133,3 +133,29 @@ def test_running_out_of_file_descriptors_is_quiet_and_the_client_still_gets_in(
     noise = [line for line in err.splitlines() if "Traceback" in line or "Error" in line]
     assert noise == [], err[-2000:]
     assert len(err.splitlines()) < 40, err[-2000:]
+
+
+def test_a_controller_that_sends_nothing_ends_when_its_server_is_killed(tmp_path: Path) -> None:
+    # A supervised controller whose supervisor was killed stepped on blind for ever: its
+    # steps send nothing (no sensor enabled, speeds already set), and its heartbeat's
+    # failing pings were only logged. Now they end it after the reconnection window.
+    import ego
+
+    process = _serve(tmp_path, "--port", "sim", "--listen", f"unix://{tmp_path / 'robot.sock'}")
+    try:
+        (url,) = _urls(process)
+        with ego.Robot(url, handle_signals=False) as robot:
+            robot.motors.set_speed(200, 200)
+            assert robot.step(32) == 0
+            process.kill()  # nothing of the server runs again, its socket breaks
+            process.wait()
+            window_s = robot.channel.settings.reconnect_timeout_s
+            steps = 0
+            while robot.step(32) == 0:  # each step only waits: nothing to send
+                steps += 1
+                assert steps * 0.032 < 20 * window_s, "the controller never learnt it"
+            assert robot.step(32) == -1  # ended, as on a lost link
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()

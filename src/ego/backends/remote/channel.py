@@ -15,7 +15,11 @@ server's deadman stops the robot after ``deadline_s``. Before the first step not
 drives the robot, and the pings go on. A ping told that the server ended the session
 (its deadman stopped the robot, it shut down) ends the controller as a lost link does:
 the next step raises that LinkLostError (``Robot.step`` is -1), even a step that sends
-nothing. ``close`` says goodbye.
+nothing. So does a server gone without a word (killed: its socket refuses or breaks)
+whose pings have failed for the reconnection window, ``settings.reconnect_timeout_s``: a
+request would have tried to reconnect that long, and a step that sends nothing would
+otherwise step on blind for ever (a supervised controller whose supervisor was killed).
+``close`` says goodbye.
 
 >>> channel = RemoteChannel.from_url("udp://127.0.0.1:4242")   # doctest: +SKIP
 """
@@ -132,8 +136,11 @@ class RemoteChannel(ChannelBase):
         #: Until when the heartbeat may keep the session alive (time.monotonic()): no
         #: limit until the controller's first step, then the end of each step's wait.
         self._alive_until = math.inf
-        #: The end of the session, as a heartbeat heard the server announce it.
+        #: The end of the session, as a heartbeat heard the server announce it (or met
+        #: the server gone for the reconnection window).
         self._ended: LinkLostError | None = None
+        #: Since when the heartbeat's pings fail (time.monotonic()), or None.
+        self._failing_since: float | None = None
         self._conn: Connection | None = None
         self._beat: _Heartbeat | None = None
         self._connect()
@@ -283,18 +290,35 @@ class RemoteChannel(ChannelBase):
                 self.net.heartbeats += 1
                 self._last_activity = now
                 self._conn.call(MessageType.PING, b"", self._conn.deadline_s)
+            self._failing_since = None
         except LinkLostError as exc:
-            if not getattr(exc, "session_ended", False):
-                log.debug("%s: heartbeat failed: %s", self.name, exc)
-                return True
-            log.warning("%s", exc)
-            self._ended = exc
-            return False
+            if getattr(exc, "session_ended", False):
+                log.warning("%s", exc)
+                self._ended = exc
+                return False
+            return self._ping_failed(now, exc)
         except (EgoError, OSError) as exc:
-            log.debug("%s: heartbeat failed: %s", self.name, exc)
+            return self._ping_failed(now, exc)
         finally:
             self._call_lock.release()
         return True
+
+    def _ping_failed(self, now: float, exc: Exception) -> bool:
+        """A ping that got no answer: True while the server may still come back, False
+        (the session ended) once pings have failed for the reconnection window."""
+        log.debug("%s: heartbeat failed: %s", self.name, exc)
+        if self._failing_since is None:
+            self._failing_since = now
+        silent_s = now - self._failing_since
+        if silent_s < self.settings.reconnect_timeout_s:
+            return True
+        ended = LinkLostError(
+            f"{self.name}: the server has not answered for {silent_s:.1f} s "
+            f"(its last ping: {exc})"
+        )
+        log.warning("%s", ended)
+        self._ended = ended
+        return False
 
     def frame_source(self) -> RemoteFrameSource:
         """The robot's camera, fetched through this connection."""
