@@ -9,6 +9,7 @@ which tells its directory apart from another test run's).
 from __future__ import annotations
 
 import os
+import signal
 import tempfile
 import threading
 from collections.abc import Callable, Iterator
@@ -21,6 +22,22 @@ from helpers import ego_command, wait_until
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
 from firmware_sim import Emulator, World
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Give SIGINT and SIGQUIT back their defaults when the suite inherited them ignored.
+
+    A suite started in the background by a non-interactive shell (``.ci/busy``, a CI
+    runner's script) inherits both ignored, as POSIX has it, and so would every ego
+    process the tests start and then interrupt: ``ego run`` would go on after its Ctrl-C
+    and the tests of it would fail for the shell's reasons. A handler installed here is
+    reset to the default in each child, where an ignored signal stays ignored.
+    """
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    if signal.getsignal(signal.SIGQUIT) is signal.SIG_IGN:
+        signal.signal(signal.SIGQUIT, signal.SIG_DFL)
+
 
 #: The name of the emulator's serving thread and the prefix of its pty's directory.
 SIM_THREAD = "ego-sim"

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import signal
 import subprocess
 import sys
 import time
@@ -72,23 +71,12 @@ def world_of(robot: ego.Robot) -> World:
 
 @contextlib.contextmanager
 def spawn(args: list[str], cwd: Path) -> Iterator[subprocess.Popen[str]]:
-    """Start a process whose SIGINT raises KeyboardInterrupt, and never leave it behind.
-
-    A process started in the background by a non-interactive shell inherits SIGINT
-    ignored; a handler installed here while forking is reset to the default in the child.
-    """
-    saved = signal.signal(signal.SIGINT, signal.default_int_handler)
-    try:
-        proc = subprocess.Popen(
-            args,
-            cwd=cwd,
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-    finally:
-        signal.signal(signal.SIGINT, saved)
+    """Start a process and never leave it behind (its SIGINT raises KeyboardInterrupt
+    however the suite was started: tests/conftest.py's pytest_configure)."""
+    proc = subprocess.Popen(
+        args, cwd=cwd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True,
+    )  # fmt: skip
     try:
         yield proc
     finally:
