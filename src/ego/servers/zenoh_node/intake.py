@@ -4,12 +4,14 @@ A query waits in a bounded ring inside Zenoh (:data:`RING_CAPACITY`; when it is 
 Zenoh drops the oldest, and its querier's ``get`` times out) until the intake's thread
 takes it and hands it to ``handle``. So a flood on one key neither holds Zenoh's
 network threads on Python's GIL (where they would delay every other message, the
-controller's batches included) nor queues without end.
+controller's batches included) nor queues without end; and the thread offers the GIL
+after each query, so that its refusal loop does not hold the other threads of the node.
 """
 
 from __future__ import annotations
 
 import logging
+import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -64,6 +66,10 @@ class Intake:
             # is dropped: let go of it now, not when the next one arrives. A queued query is
             # held, and dropped, by its job.
             del query
+            # Under a flood this thread always has work: offer the GIL after each query,
+            # so that the controller's batches and the deadman's timer (threads of this
+            # process too) never wait a whole switch interval behind a refusal loop.
+            time.sleep(0)
 
     def undeclare(self) -> None:
         """Stop taking queries; the thread ends once the one in hand is handled (its
