@@ -13,7 +13,6 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
-import threading
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -34,6 +33,7 @@ from ego.errors import (
     WorldFileError,
 )
 from ego.i2c.bus import given_bus
+from ego.nursery import before_owners_at_exit
 from ego.seam.profile import DEFAULT_BAUD, Firmware
 from ego.serial.link import LinkSettings
 from ego.serial.transport import SerialTransport, check_baudrate
@@ -62,7 +62,7 @@ __all__ = [
 # stopped (a finalizer, later). Here the robots are closed first, each stopping its
 # wheels on an emulator still serving, as a real robot would be. threading runs these
 # hooks last registered first, and this module always comes after firmware_sim.threads.
-threading._register_atexit(OPEN_ROBOTS.close_all)  # type: ignore[attr-defined]
+before_owners_at_exit(OPEN_ROBOTS.close_all)
 
 
 def load_world(spec: str, seed: int | None) -> World:
