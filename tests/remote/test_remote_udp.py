@@ -5,13 +5,15 @@ Whatever the network does, each step gets its own reply and runs on the robot on
 
 from __future__ import annotations
 
+import threading
 import time
 
 import pytest
+from helpers import wait_until
 from remote_helpers import ConnectFactory, DatagramProxy, FakeCamera, ServeFactory
 
 from ego.backends.remote.channel import RemoteChannel
-from ego.errors import LinkTimeoutError
+from ego.errors import LinkTimeoutError, PortNotFoundError
 from ego.seam.batch import Request
 from ego.seam.profile import Command
 from ego.serial.link import LinkSettings
@@ -20,6 +22,7 @@ from ego.serial.protocol import encode_batch
 #: The client link must not retry on its own here: a retry runs the batch again,
 #: legitimately, and the test counts batches run.
 NO_LINK_RETRY = LinkSettings(retries=0)
+SECRET = b"udp handshake secret 0123456789"
 LOSSY = {"drop": 0.15, "duplicate": 0.15, "reorder": 0.25, "corrupt": 0.05}
 
 
@@ -110,3 +113,53 @@ def test_slow_step_is_waited_for_not_run_again(
     link.exchange(batch)  # 150 ms of processing: far beyond 5 + 10 + 20 ms of retries
     assert len(served.emu.history) - before == 1
     assert link.net.retransmits >= 2  # type: ignore[attr-defined]
+
+
+def test_the_handshake_is_retransmitted_until_the_connect_timeout_not_retries_times(
+    serve: ServeFactory,
+) -> None:
+    """A server busy with a flood of HELLOs (or a network losing them) answers late: a
+    client that asked to wait ``connect_timeout_s`` gets in within it, however many
+    retransmissions that takes (issue 35: PortNotFoundError after 8, in under a second)."""
+    served = serve(kinds=("udp",), secret=SECRET, require_secret=True)
+    with DatagramProxy(served.url, drop=1.0) as proxy:  # every datagram lost, at first
+        opened: list[RemoteChannel] = []
+        failed: list[BaseException] = []
+
+        def connect_now() -> None:
+            try:
+                opened.append(RemoteChannel.from_url(proxy.url, SECRET, retransmit_s=0.01,
+                                                     retries=3, heartbeat=False,
+                                                     connect_timeout_s=30.0))  # fmt: skip
+            except BaseException as exc:  # the test's thread reports it
+                failed.append(exc)
+
+        client = threading.Thread(target=connect_now)
+        client.start()
+        try:
+            # Beyond the step's three retransmissions, and still trying.
+            assert wait_until(lambda: len(proxy.up) > 3 + 3 or failed)
+            assert not failed, failed
+            proxy.drop = 0.0  # the server's answers come through now
+        finally:
+            client.join(35)
+        assert not failed, failed
+        channel = opened[0]
+        try:
+            batch = encode_batch([Request(Command.GET_SPEED)], channel.profile)
+            assert channel.exchange(batch) == bytes(4)
+        finally:
+            channel.close()
+
+
+def test_a_silent_server_is_reported_once_the_connect_timeout_is_up(
+    serve: ServeFactory,
+) -> None:
+    served = serve(kinds=("udp",), secret=SECRET, require_secret=True)
+    with DatagramProxy(served.url, drop=1.0) as proxy:
+        start = time.monotonic()
+        with pytest.raises(PortNotFoundError, match="no ego server answers"):
+            RemoteChannel.from_url(proxy.url, SECRET, retransmit_s=0.01, retries=3,
+                                   heartbeat=False, connect_timeout_s=0.6)  # fmt: skip
+        assert time.monotonic() - start >= 0.6  # it kept trying as long as it was told
+        assert len(proxy.up) > 3 + 1

@@ -34,11 +34,12 @@ class RemoteOptions(BackendOptions):
     timeout_s: float | None = None
     #: Whether a thread keeps the session alive between steps (None: yes).
     heartbeat: bool | None = None
-    #: How long connecting may take, in seconds (None: 2).
+    #: How long connecting may take, in seconds (None: 2); over UDP the handshake is sent
+    #: again until then.
     connect_timeout_s: float | None = None
     #: How long a UDP request waits before it is sent again, in seconds (None: 0.02).
     retransmit_s: float | None = None
-    #: How many times a UDP request is sent again (None: 8).
+    #: How many times a UDP step's request is sent again (None: 8).
     retries: int | None = None
 
     def with_environment(self, environment: Environment) -> RemoteOptions:

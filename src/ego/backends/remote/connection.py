@@ -183,7 +183,8 @@ class Connection:
         self.session = reply.session
         proof = shake.answer(self._payload(reply, MessageType.HELLO), self.session)
         self._key = self._reader.key = shake.key  # the welcome is the first sealed frame
-        welcome = unpack_json(self.call(MessageType.AUTH, proof, timeout_s))
+        auth = self._roundtrip(MessageType.AUTH, proof, time.monotonic() + timeout_s, True)
+        welcome = unpack_json(self._payload(auth, MessageType.AUTH))
         self._seal = shake.key
         self.deadline_s = float(welcome.get("deadline_s", self.deadline_s))
         return welcome
@@ -192,7 +193,7 @@ class Connection:
         payload = shake.hello()
         if self.protocol == "udp" and len(payload) < HELLO_PADDING:
             payload = payload[:-1] + b',"pad":"' + b"-" * (HELLO_PADDING - len(payload)) + b'"}'
-        return self._roundtrip(MessageType.HELLO, payload, time.monotonic() + timeout_s)
+        return self._roundtrip(MessageType.HELLO, payload, time.monotonic() + timeout_s, True)
 
     # -- requests ----------------------------------------------------------------------------
 
@@ -208,8 +209,10 @@ class Connection:
             raise FrameError(f"{self.name}: unexpected {reply.type.name} reply to {mtype.name}")
         return reply.payload
 
-    def _roundtrip(self, mtype: MessageType, payload: bytes, deadline: float) -> Frame:
-        reply = self._exchange(mtype, payload, deadline)
+    def _roundtrip(
+        self, mtype: MessageType, payload: bytes, deadline: float, connecting: bool = False
+    ) -> Frame:
+        reply = self._exchange(mtype, payload, deadline, connecting)
         if reply.type is MessageType.PART:
             reply = self._fetch_rest(reply, deadline)
         return reply
@@ -232,8 +235,13 @@ class Connection:
             buf += data2
         return Frame(kind, first.seq, bytes(buf), first.session)
 
-    def _exchange(self, mtype: MessageType, payload: bytes, deadline: float) -> Frame:
-        """Send one request frame (again, over UDP, until answered); its reply frame."""
+    def _exchange(
+        self, mtype: MessageType, payload: bytes, deadline: float, connecting: bool = False
+    ) -> Frame:
+        """Send one request frame (again, over UDP, until answered); its reply frame.
+        A step's request is sent ``retries`` more times at most; the handshake's
+        (``connecting``) until the connect timeout the caller gave: a server busy with a
+        flood of HELLOs answers ours late, and getting in is what was asked."""
         self._seq = seq = next_seq(self._seq)
         data = encode_frame(mtype, seq, payload, self.session, self._seal)
         self.stats.requests += 1
@@ -254,7 +262,7 @@ class Connection:
                 # may be retrying): keep waiting, up to the request timeout.
                 wait, attempts = self.retransmit_s, 0
                 continue
-            if attempts >= self.retries:
+            if attempts >= self.retries and not connecting:
                 raise LinkTimeoutError(
                     f"{self.name}: no reply to {mtype.name} {seq} after {attempts} retransmissions"
                 )
