@@ -30,7 +30,7 @@ def session(endpoint, listen):
 
 _ASCII = _SESSION + r"""
 endpoint, node, payload, who = sys.argv[1], sys.argv[2], sys.argv[3].encode(), sys.argv[4]
-seconds, threads = float(sys.argv[5]), int(sys.argv[6])
+seconds, threads, rate = float(sys.argv[5]), int(sys.argv[6]), float(sys.argv[7])
 s = session(endpoint, "tcp/127.0.0.1:0")
 while not any(r.ok is not None for r in s.get(f"ego/{node}/info", timeout=1)):
     time.sleep(0.05)
@@ -39,7 +39,12 @@ end = time.monotonic() + seconds
 counts = {"ok": 0, "err": 0, "none": 0}
 lock = threading.Lock()
 def flood():
+    gap = threads / rate if rate > 0 else 0.0  # each thread's share of the rate
+    due = time.monotonic()
     while time.monotonic() < end:
+        due += gap
+        if due > time.monotonic():
+            time.sleep(due - time.monotonic())
         got = "none"
         for reply in s.get(f"ego/{node}/ascii", payload=payload, attachment=who.encode(),
                            timeout=2):
@@ -82,11 +87,12 @@ def _start(script: str, *args: object) -> subprocess.Popen[str]:
 
 def start_ascii_flood(
     endpoint: str, node: str, *, payload: str = "V,1000", who: str = "flooder",
-    seconds: float = 5.0, threads: int = 16,
+    seconds: float = 5.0, threads: int = 16, rate: float = 0.0,
 ) -> subprocess.Popen[str]:  # fmt: skip
     """A peer that, once node ``node`` answers, sends ASCII queries ``payload`` with the
-    id ``who`` from ``threads`` threads for ``seconds``, then prints its replies' count."""
-    return _start(_ASCII, endpoint, node, payload, who, seconds, threads)
+    id ``who`` from ``threads`` threads for ``seconds``, then prints its replies' count;
+    as fast as the replies come, or at most ``rate`` queries a second in all."""
+    return _start(_ASCII, endpoint, node, payload, who, seconds, threads, rate)
 
 
 def start_radio_flood(

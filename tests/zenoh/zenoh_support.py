@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import socket
+import sys
 from collections.abc import Iterator
 from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass
 from typing import Any
 
 from fakes import FAST_LINK
+from helpers import REPOSITORY, spawn
 
 from ego.serial.link import Link, LinkSettings
 from ego.serial.transport import SerialTransport
@@ -57,6 +59,35 @@ def served_node(
                          scene=Scene(emu.world) if scene else None).start()
         stack.callback(node.close)
         yield Node(emu, node, endpoint)
+
+
+@dataclass
+class NodeApart:
+    node: RobotNode
+    endpoint: str
+
+
+@contextmanager
+def served_node_apart(name: str, deadline_s: float, settings: LinkSettings) -> Iterator[NodeApart]:
+    """The Zenoh node ``name`` serving an emulated robot whose dsPIC runs in a process of
+    its own (``python -m firmware_sim``), as a robot's does: a flood at the node then
+    competes for the node's interpreter, not the dsPIC's. What the robot did is known
+    from the node's side only (its confirmed stops, :attr:`RobotNode.stops`)."""
+    with ExitStack() as stack:
+        emulator = stack.enter_context(
+            spawn([sys.executable, "-m", "firmware_sim", "--seed", "1"], REPOSITORY)
+        )
+        assert emulator.stdout is not None
+        path = emulator.stdout.readline().strip()
+        assert path, "the emulator printed no pty path"
+        link = Link(SerialTransport(path), settings=settings)
+        stack.callback(link.close)
+        endpoint = free_endpoint()
+        session = open_session(ZenohSettings(listen=[endpoint], connect=[]))
+        stack.callback(session.close)
+        node = RobotNode(link, session, name, deadline_s=deadline_s).start()
+        stack.callback(node.close)
+        yield NodeApart(node, endpoint)
 
 
 def client_session(endpoint: str) -> Any:

@@ -24,7 +24,7 @@ from ego.backends.remote.connection import error_from_reply
 from ego.backends.zenoh_scene import RemoteScene
 from ego.core.backend import BackendOptions, Opened
 from ego.core.ground_truth import TruePose
-from ego.errors import FirmwareMismatchError, LinkLostError
+from ego.errors import FirmwareMismatchError, LinkLostError, LinkTimeoutError
 from ego.nursery import Nursery
 from ego.seam.channel import ChannelBase
 from ego.zenoh_net.keys import check_name, robot_key
@@ -45,6 +45,9 @@ T = TypeVar("T")
 SCHEME = "zenoh"
 #: How long one batch may take (the node may retry its serial line meanwhile).
 QUERY_TIMEOUT_S = 2.0
+#: The error Zenoh itself replies to a query whose replies did not all come in time (a
+#: node's own errors are JSON, ego.net.payloads.pack_error).
+ZENOH_TIMEOUT = b"Timeout"
 #: A keepalive goes out at most this often while the controller waits.
 KEEPALIVE_EVERY_S = 0.1
 
@@ -132,7 +135,11 @@ class ZenohChannel(ChannelBase):
                     self._truth_raw = attachment.to_bytes()
                 return reply.ok.payload.to_bytes()
             if reply.err is not None:
-                raise error_from_reply(reply.err.payload.to_bytes(), self.name)
+                error = reply.err.payload.to_bytes()
+                if error == ZENOH_TIMEOUT:  # Zenoh's own reply: no node answered in time
+                    raise LinkTimeoutError(f"{self.name}: the robot node did not answer "
+                                           f"{what} within {timeout_s} s")  # fmt: skip
+                raise error_from_reply(error, self.name)
         raise LinkLostError(f"{self.name}: no robot node answered {what} within {timeout_s} s "
                             "(is ego serve --zenoh running, and reachable?)")  # fmt: skip
 

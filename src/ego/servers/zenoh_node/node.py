@@ -30,6 +30,7 @@ import json
 import logging
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -39,7 +40,7 @@ from ego.net.payloads import error_fields, pack_error
 from ego.nursery import DeadlineTimer, Nursery
 from ego.servers.dashboard.served import WatchedChannel
 from ego.servers.service import firmware_fields
-from ego.servers.sessions.control import ControlSession
+from ego.servers.sessions.control import ControlSession, Lapsed
 from ego.servers.zenoh_node.admission import (
     MAX_BATCH_BYTES,
     check_ascii,
@@ -109,6 +110,9 @@ class RobotNode:
         self.watched = WatchedChannel(channel, on_sample=self._publish, world=world)
         #: The lease, the deadman, one query in flight: held by the controller's id.
         self.lease: ControlSession[str] = ControlSession(deadline_s)
+        #: The deadman's firings, newest last (the last 64): whose, and after how long a
+        #: silence on the node's own clock (what the stop's promise is measured on).
+        self.lapses: deque[Lapsed[str]] = deque(maxlen=64)
         self._clock = clock
         self.world = world
         #: The simulated world a Supervisor of this robot sees (``ego/NAME/scene``), if any.
@@ -305,6 +309,7 @@ class RobotNode:
             lapsed = self.lease.tick(now)
             due = self.lease.due_at()
         if lapsed is not None:
+            self.lapses.append(lapsed)
             log.warning("robot %s: its controller went silent; stopping it", self.name)
             why = f"its controller was {lapsed.why}"
             self._stop_for(lapsed.holder, f"robot {self.name} was stopped before this "
