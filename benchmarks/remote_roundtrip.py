@@ -21,7 +21,6 @@ import re
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 from typing import Any
 
@@ -29,6 +28,7 @@ from benchmarks.common import REPO, THESIS_LINE_BAUD, Table, interleaved
 from ego.backends.remote.channel import RemoteChannel
 from ego.net.frames import MessageType, decode_frame, encode_frame
 from ego.net.sequence import SequenceGuard
+from ego.nursery import Nursery
 from ego.seam.batch import Request
 from ego.seam.channel import Channel
 from ego.seam.profile import Command, Firmware
@@ -93,6 +93,8 @@ class _ServeProcess:
             env={**os.environ, "EGO_CAMERA": "none"},
         )
         self.url = ""
+        #: The thread that keeps its log flowing once it serves.
+        self.threads = Nursery("a benchmark's ego serve log")
 
     def wait_ready(self) -> _ServeProcess:
         """Read its log until it says where it listens (all start at once, then this)."""
@@ -105,7 +107,7 @@ class _ServeProcess:
         if not self.url:
             raise RuntimeError(f"ego serve exited with {self.process.wait()} before serving")
         # Keep its log flowing so that the pipe never fills and stalls it.
-        threading.Thread(target=self.process.stderr.read, daemon=True).start()
+        self.threads.start_thread(self.process.stderr.read, name="bench-serve-log")
         return self
 
     def stop(self) -> None:
@@ -115,6 +117,7 @@ class _ServeProcess:
         except subprocess.TimeoutExpired:
             self.process.kill()
             self.process.wait()
+        self.threads.close()  # its log ended with it
 
 
 def roundtrip_table(steps: int) -> Table:

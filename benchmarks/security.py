@@ -35,6 +35,7 @@ from ego.backends.remote.channel import RemoteChannel
 from ego.net.frames import HEADER, MAGIC, PROTOCOL_VERSION, MessageType, encode_frame
 from ego.net.messages import pack_step
 from ego.net.payloads import pack_json
+from ego.nursery import Nursery
 from ego.seam.batch import Request
 from ego.seam.profile import Command
 from ego.serial.link import Link
@@ -241,13 +242,12 @@ def _watch(emu: Emulator) -> Iterator[set[tuple[int, int]]]:
             seen.add(emu.world.speeds)
             time.sleep(0.0005)
 
-    thread = threading.Thread(target=sample, daemon=True)
-    thread.start()
-    try:
-        yield seen
-    finally:
-        done.set()
-        thread.join()
+    with Nursery("the benchmark's speed watch") as threads:
+        threads.start_thread(sample, name="bench-watch")
+        try:
+            yield seen
+        finally:
+            done.set()
 
 
 def attacks_table() -> Table:

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from benchmarks.common import Table, progress, thesis_csv
+from ego.nursery import Nursery
 
 __all__ = [
     "attribution_table",
@@ -63,13 +64,12 @@ def _background(work: Callable[[threading.Event], None] | None) -> Iterator[None
         yield
         return
     stop = threading.Event()
-    thread = threading.Thread(target=work, args=(stop,), daemon=True)
-    thread.start()
-    try:
-        yield
-    finally:
-        stop.set()
-        thread.join()
+    with Nursery("the benchmark's background work") as threads:
+        threads.start_thread(work, stop, name="bench-background")
+        try:
+            yield
+        finally:
+            stop.set()
 
 
 def measure(condition: str, lo_ms: int, hi_ms: int, samples: int, seed: int = 1) -> list[float]:

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import IO, Any
 
 import ego
+from ego.nursery import Nursery
 from ego.servers.dashboard.live import RobotDashboard
 from tests.helpers import world_of
 
@@ -68,14 +69,14 @@ def served_robot(
         except BaseException as exc:  # reported by the test
             failures.append(exc)
 
-    thread = threading.Thread(target=loop, name="test-controller", daemon=True)
-    thread.start()
+    threads = Nursery("the test's controller", join_s=10)
+    threads.start_thread(loop, name="test-controller")
     try:
         assert dashboard.server is not None
         yield Served(robot, dashboard.server.url, dashboard)
     finally:
         stop.set()
-        thread.join(10)
+        threads.close()
         dashboard.close()
         robot.close()
         dashboard.out.close()
@@ -84,12 +85,13 @@ def served_robot(
 
 class LineReader:
     """A child's output, drained line by line by a thread of its own (so that it never
-    fills its pipe, and no line waits in a buffer that select cannot see)."""
+    fills its pipe, and no line waits in a buffer that select cannot see). The thread
+    ends with the stream (the child's exit): :meth:`rest` joins it."""
 
     def __init__(self, stream: IO[str]) -> None:
         self.lines: queue.Queue[str] = queue.Queue()
-        self.thread = threading.Thread(target=self._drain, args=(stream,), daemon=True)
-        self.thread.start()
+        self.threads = Nursery("a child's output")
+        self.threads.start_thread(self._drain, stream, name="test-line-reader")
 
     def _drain(self, stream: IO[str]) -> None:
         for line in stream:
@@ -113,9 +115,13 @@ class LineReader:
                 break
         raise AssertionError(f"no {pattern!r} in {seen}")
 
+    def close(self, timeout_s: float = 10) -> None:
+        """Join the thread, once the child's exit has ended the stream."""
+        self.threads.close(timeout_s)
+
     def rest(self, timeout_s: float = 10) -> str:
         """Every line not yet found, once the stream has ended."""
-        self.thread.join(timeout_s)
+        self.close(timeout_s)
         lines = []
         while not self.lines.empty():
             lines.append(self.lines.get())

@@ -48,8 +48,9 @@ def _visit_during(command: list[str], cwd: Path, stream: str) -> tuple[Any, str]
         seen = run_async(_visit(url))
     finally:
         proc.wait(timeout=60)
-    assert proc.returncode == 0, err.rest()
-    return seen, out.rest()
+        errors, printed = err.rest(), out.rest()
+    assert proc.returncode == 0, errors
+    return seen, printed
 
 
 def test_ego_demo_serves_its_dashboard_by_default_and_prints_the_url(tmp_path: Path) -> None:

@@ -164,8 +164,9 @@ def _running(
     proc = subprocess.Popen([*ego_command(), *args], stdout=subprocess.DEVNULL,
                             stderr=stderr, text=True, cwd=cwd,
                             env={**os.environ, **(env or {})})  # fmt: skip
+    reader = LineReader(proc.stderr) if proc.stderr is not None else None
     try:
-        yield LineReader(proc.stderr) if proc.stderr is not None else None
+        yield reader
     finally:
         proc.terminate()
         try:
@@ -173,6 +174,8 @@ def _running(
         except subprocess.TimeoutExpired:
             proc.kill()
             proc.wait()
+        if reader is not None:
+            reader.close()
 
 
 @contextmanager

@@ -14,6 +14,7 @@ from typing import Any
 from ego.app.swarm import robot_seed
 from ego.core.registry import find_backend, open_port
 from ego.errors import RobotResetError
+from ego.nursery import Nursery
 from ego.seam.batch import Request
 from ego.seam.profile import Command, Firmware
 from ego.serial.protocol import encode_batch
@@ -72,16 +73,11 @@ def swarm_dashboard(tmp_path: Path) -> Iterator[tuple[str, list[Any]]]:
         feed.server = server
         feed.start()
         stack.callback(feed.close)
-        threads = [threading.Thread(target=_spin, args=(c, 100 * (k + 1), stop), daemon=True)
-                   for k, c in enumerate(channels)]  # fmt: skip
-        for thread in threads:
-            thread.start()
-        try:
-            yield server.url, worlds
-        finally:
-            stop.set()
-            for thread in threads:
-                thread.join(5)
+        threads = stack.enter_context(Nursery("the test's spinning robots", join_s=5))
+        stack.callback(stop.set)  # first: then the nursery joins them
+        for k, channel in enumerate(channels):
+            threads.start_thread(_spin, channel, 100 * (k + 1), stop, name=f"test-spin-{k}")
+        yield server.url, worlds
 
 
 def _open(page: Any, url: str) -> None:

@@ -90,9 +90,10 @@ def test_under_a_webots_controller_rad_per_s_shows_beside_steps_per_s(
          "127.0.0.1:0", str(controller)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
     )  # fmt: skip
+    assert proc.stderr is not None
+    reader = LineReader(proc.stderr)
     try:
-        assert proc.stderr is not None
-        url = LineReader(proc.stderr).find(r"dashboard at (\S+)", timeout_s=20)
+        url = reader.find(r"dashboard at (\S+)", timeout_s=20)
         _open(page, url)
         page.wait_for_function("document.getElementById('speed-left').textContent !== '0'")
         steps = page.inner_text("#speed-left")
@@ -102,6 +103,7 @@ def test_under_a_webots_controller_rad_per_s_shows_beside_steps_per_s(
     finally:
         proc.kill()
         proc.wait()
+        reader.close()
     assert steps == "477" and rad == "3.00"  # setVelocity(3.0): 477 steps/s, 3.00 rad/s
     assert unit == "steps/s (rad/s)"
     assert speed["units"] == "steps/s | rad/s"

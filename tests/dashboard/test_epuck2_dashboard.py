@@ -16,6 +16,7 @@ from helpers import ego_command
 
 import ego
 from ego.core.telemetry import describe_robot
+from ego.nursery import Nursery
 from ego.recording.reader import Recording
 from ego.servers.dashboard.live import RobotDashboard
 
@@ -42,14 +43,14 @@ def served_epuck2(controller: Callable[[ego.Robot], None]) -> Iterator[tuple[ego
         except BaseException as exc:  # reported by the test
             failures.append(exc)
 
-    thread = threading.Thread(target=loop, name="test-controller", daemon=True)
-    thread.start()
+    threads = Nursery("the test's controller", join_s=10)
+    threads.start_thread(loop, name="test-controller")
     try:
         assert dashboard.server is not None
         yield robot, dashboard.server.url
     finally:
         stop.set()
-        thread.join(10)
+        threads.close()
         dashboard.close()
         robot.close()
         dashboard.out.close()

@@ -17,6 +17,7 @@ from fakes import FAST_LINK
 from helpers import run_async, wait_until
 
 import ego
+from ego.nursery import Nursery
 from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
 from ego.servers.dashboard.access import socket_url
@@ -50,10 +51,9 @@ def served() -> Iterator[tuple[Emulator, DashboardServer, list[tuple[int, int]]]
                 while not stop.is_set() and robot.step(32) != -1:
                     robot.motors.set_speed(*speeds[0])
 
-        client = threading.Thread(target=controller, daemon=True)
-        client.start()
-        stack.callback(client.join, 10)
-        stack.callback(stop.set)
+        threads = stack.enter_context(Nursery("the test's controller", join_s=10))
+        stack.callback(stop.set)  # first: then the nursery joins it
+        threads.start_thread(controller, name="test-controller")
         assert wait_until(lambda: emu.world.speeds == (500, 500), 5)
         yield emu, board, speeds
 

@@ -32,6 +32,7 @@ import pytest
 from helpers import ego_command, message_matches, wait_until
 
 import ego
+from ego.nursery import Nursery
 from firmware_sim import Emulator
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -169,13 +170,13 @@ def pty_answering(answer: bytes | None) -> Iterator[str]:
             if answer is not None and b"\n" in data:
                 os.write(master, answer * data.count(b"\n"))
 
-    thread = threading.Thread(target=serve, daemon=True)
-    thread.start()
+    threads = Nursery("the test's pty")
+    threads.start_thread(serve, name="test-pty")
     try:
         yield path
     finally:
         stop.set()
-        thread.join()
+        threads.close()
         os.close(master)
 
 

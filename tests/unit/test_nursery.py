@@ -188,6 +188,30 @@ def test_no_thread_of_ego_or_its_emulator_is_a_daemon() -> None:
     assert found == []
 
 
+def _made_daemons(root: Path) -> list[str]:
+    """Where ``root``'s code makes a thread a daemon (reading ``.daemon`` is allowed)."""
+    found = []
+    for path in root.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            made = (
+                (isinstance(node, ast.keyword) and node.arg == "daemon")
+                or (isinstance(node, ast.Assign)
+                    and any(isinstance(t, ast.Attribute) and t.attr == "daemon"
+                            for t in node.targets))
+                or (isinstance(node, ast.Attribute) and node.attr == "setDaemon")
+            )  # fmt: skip
+            if made:
+                found.append(f"{path.relative_to(root.parent)}:{node.lineno}")
+    return found
+
+
+def test_no_thread_of_the_tests_or_benchmarks_is_a_daemon_either() -> None:
+    repository = Path(__file__).resolve().parents[2]
+    found = [d for name in ("tests", "benchmarks", "tools") for d in
+             _made_daemons(repository / name)]  # fmt: skip
+    assert found == []
+
+
 def test_a_nursery_lets_its_ended_threads_go() -> None:
     # An owner that starts a thread a step (stepBegin) must not keep every one it started.
     nursery = Nursery("test")
