@@ -27,6 +27,7 @@ __all__ = [
     "needs_source_tree",
     "run_async",
     "spawn",
+    "wait_for_more",
     "wait_until",
     "world_of",
 ]
@@ -104,6 +105,19 @@ def wait_until(
             return bool(condition())
         time.sleep(interval_s)
     return True
+
+
+def wait_for_more(count: Callable[[], int], more: int, timeout_s: float = 20.0) -> bool:
+    """Wait until ``count()`` has grown by ``more`` from now; whether it did (``assert
+    wait_for_more(...), why``).
+
+    ``count`` tallies events that would make a bug show: the batches the emulator
+    received, the steps the controller took, the samples a page got. "Nothing happened"
+    is then asserted over that many real chances for it to happen, not over a time that
+    a loaded machine may fill with nothing at all.
+    """
+    start = count()
+    return wait_until(lambda: count() >= start + more, timeout_s)
 
 
 def is_stopped(world: World) -> bool:

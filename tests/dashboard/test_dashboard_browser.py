@@ -3,12 +3,12 @@ the world, and what the page does reaches the robot (or, for a viewer, does not)
 
 from __future__ import annotations
 
-import time
+import math
 from pathlib import Path
 from typing import Any
 
 from dashboard_support import OPEN_WORLD, served_robot
-from helpers import wait_until
+from helpers import wait_for_more, wait_until
 
 import ego
 
@@ -43,7 +43,9 @@ def test_the_ray_nearest_the_wall_grows_as_the_robot_drives_up_to_it(
         page.wait_for_function("document.getElementById('ray-0').dataset.value !== ''")
         front, back = [_ray(page, 0)], [_ray(page, 3)]
         assert wait_until(lambda: served.world.speeds == (0, 0) and served.robot.steps > 10, 15)
-        time.sleep(0.3)  # the page's next samples
+        # The page's next samples, taken with the robot at the wall, drawn.
+        stopped_at = served.robot.steps
+        page.wait_for_function(f"view.sample.step >= {stopped_at + 3} && !view.dirty")
         front.append(_ray(page, 0))
         back.append(_ray(page, 3))
         x_end = served.world.snapshot().x_m
@@ -81,7 +83,8 @@ def test_the_stop_button_stops_the_robot_whatever_the_controller_asks(
         page.click("#stop")
         assert wait_until(lambda: served.world.speeds == (0, 0), 0.5)
         x = served.world.snapshot().x_m
-        time.sleep(0.5)  # the controller keeps asking for 500: the stop holds
+        # The controller keeps asking for 500: the stop holds over 15 of its steps.
+        assert wait_for_more(lambda: served.robot.steps, 15), "the controller stopped stepping"
         assert served.world.speeds == (0, 0)
         assert abs(served.world.snapshot().x_m - x) < 0.002
         page.click("#resume")
@@ -105,15 +108,19 @@ def test_a_viewer_without_control_cannot_drive_or_stop(
             other.wait_for_function("document.getElementById('take').disabled === true")
             assert other.is_disabled("#stop")
             start = served.world.snapshot().x_m
+            # The key held while the page's 100 ms drive repeat has fired 8 times (a
+            # counter beside it) and the controller has stepped 25 times.
+            other.evaluate("window.ticks = 0; setInterval(() => { window.ticks += 1; }, 100)")
             other.keyboard.down("ArrowUp")
-            time.sleep(0.8)
+            other.wait_for_function("window.ticks >= 8")
+            assert wait_for_more(lambda: served.robot.steps, 25)
             other.keyboard.up("ArrowUp")
             # Around the page's buttons: its own socket, straight to the server.
             other.evaluate("send({type: 'drive', left: 800, right: 800})")
             toast = "document.getElementById('toast').textContent"
             other.wait_for_function(f"{toast}.includes('only views')")
             other.evaluate("send({type: 'stop'})")
-            time.sleep(0.5)
+            assert wait_for_more(lambda: served.robot.steps, 15)  # steps a drive would move
             assert abs(served.world.snapshot().x_m - start) < 0.001  # never moved
             speeds[0] = (300, 300)  # the controller still drives: no stop was latched
             assert wait_until(lambda: served.world.speeds == (300, 300), 2)
@@ -141,7 +148,17 @@ def test_the_camera_image_on_the_page_changes_as_the_robot_turns(
             f"document.getElementById('camera').naturalHeight === {camera.height}"
         )
         first = page.locator("#camera").screenshot()
-        time.sleep(1.0)
+        # The robot turns a good way, then the page shows frames taken since.
+        heading = served.world.snapshot().theta_rad
+
+        def turned() -> float:
+            return abs(math.remainder(served.world.snapshot().theta_rad - heading, math.tau))
+
+        assert wait_until(lambda: turned() > 0.5, 10)
+        frames = int(page.get_attribute("#camera", "data-frames") or 0)
+        page.wait_for_function(
+            f"Number(document.getElementById('camera').dataset.frames) >= {frames + 2}"
+        )
         second = page.locator("#camera").screenshot()
     assert first != second
 
