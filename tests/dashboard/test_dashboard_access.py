@@ -5,7 +5,6 @@ capped, and a command nested too deep is answered, not raised."""
 
 from __future__ import annotations
 
-import asyncio
 import logging
 import socket
 from pathlib import Path
@@ -14,7 +13,7 @@ from typing import Any
 import aiohttp
 import pytest
 from dashboard_support import served_robot
-from helpers import run_async
+from helpers import run_async, wait_until
 
 import ego
 from ego.servers.dashboard.access import Gate, socket_url
@@ -155,6 +154,8 @@ def test_every_response_forbids_framing_sniffing_and_referrers(tmp_path: Path) -
 def test_the_pages_are_capped_and_a_closed_one_frees_its_place(tmp_path: Path) -> None:
     with served_robot(tmp_path, _idle) as served:
         ws_url = socket_url(served.url)
+        board = served.dashboard.server
+        assert board is not None
 
         async def flood() -> tuple[int, str]:
             async with aiohttp.ClientSession() as session:
@@ -162,7 +163,8 @@ def test_the_pages_are_capped_and_a_closed_one_frees_its_place(tmp_path: Path) -
                 with pytest.raises(aiohttp.WSServerHandshakeError) as refused:
                     await session.ws_connect(ws_url)
                 await sockets.pop().close()
-                await asyncio.sleep(0.1)
+                # The server's count of pages (what its cap reads) gives the place back.
+                assert wait_until(lambda: board._admitted < MAX_PAGES)
                 async with session.ws_connect(ws_url) as ws:
                     again = (await ws.receive_json())["type"]
                 for ws in sockets:

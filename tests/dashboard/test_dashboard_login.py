@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import socket
 import subprocess
-import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -17,7 +16,7 @@ from urllib.parse import urlsplit
 
 import pytest
 from dashboard_support import LineReader, served_robot
-from helpers import ego_command, wait_until
+from helpers import ego_command, wait_for_more, wait_until
 
 import ego
 
@@ -59,7 +58,8 @@ def test_a_dns_rebinding_page_cannot_move_the_robot(
             response = page.goto(f"http://evil.test:{port}/")
             start = served.world.snapshot()
             outcome = page.evaluate(ATTACK, f"ws://evil.test:{port}/ws")
-            time.sleep(0.3)
+            # The controller's next 10 steps: each would apply a drive that got in.
+            assert wait_for_more(lambda: served.robot.steps, 10)
             end = served.world.snapshot()
         finally:
             context.close()

@@ -4,7 +4,6 @@ and a stopped robot shows a banner on every page until it is resumed."""
 
 from __future__ import annotations
 
-import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -71,8 +70,7 @@ def test_stop_is_on_screen_and_stops_the_robot_on_a_phone(
         page.wait_for_function("document.getElementById('role').textContent === 'in control'")
         assert wait_until(lambda: served.world.speeds == (300, 300), 3)
         page.evaluate("window.scrollTo(0, document.body.scrollHeight)")  # down at the plot
-        time.sleep(0.2)
-        assert page.evaluate("window.scrollY") > 300
+        page.wait_for_function("window.scrollY > 300")
         assert _on_screen(page, "#stop")  # the header, and STOP in it, stay on screen
         page.tap("#stop")  # a real tap where STOP is drawn: nothing covers it
         assert wait_until(lambda: served.world.speeds == (0, 0), 1)
@@ -112,7 +110,7 @@ def test_the_cards_fit_the_screen_at_any_width(
     with served_robot(tmp_path, _drive_on) as served, phone(browser, width, height) as page:
         _open(page, served.url)
         page.wait_for_function("document.getElementById('h-time').textContent !== '–'")
-        time.sleep(0.2)  # drawn
+        page.wait_for_function("!view.dirty && !view.mapDirty")  # drawn since
         boxes = page.evaluate(
             "[...document.querySelectorAll('.card, header, header *, canvas, svg, select')]"
             ".filter((e) => e.getBoundingClientRect().width > 0).map((e) => "

@@ -12,7 +12,7 @@ from typing import Any
 import aiohttp
 import pytest
 from dashboard_support import served_robot
-from helpers import run_async, wait_until
+from helpers import run_async, wait_for_more, wait_until
 
 import ego
 from ego.errors import InsecureSecretError
@@ -134,7 +134,7 @@ def test_a_controlling_page_that_vanishes_mid_drive_leaves_the_robot_stopped(
             await ws.send_json({"type": "take"})
             for _ in range(5):
                 await ws.send_json({"type": "drive", "left": 600, "right": 600})
-                await asyncio.sleep(0.1)
+                await asyncio.sleep(0.1)  # a page's pace of drives, not a wait
             # Gone without a word: the socket is cut, not closed.
             ws._response.connection.transport.abort()  # type: ignore[union-attr]
             await session.close()
@@ -143,7 +143,8 @@ def test_a_controlling_page_that_vanishes_mid_drive_leaves_the_robot_stopped(
         assert served.world.speeds == (600, 600) or served.world.snapshot().x_m > 0.2
         assert wait_until(lambda: served.world.speeds == (0, 0), 1.0)
         x = served.world.snapshot().x_m
-        time.sleep(0.3)
+        # The controller's next 10 steps: each would apply a drive left behind.
+        assert wait_for_more(lambda: served.robot.steps, 10)
         assert served.world.snapshot().x_m == pytest.approx(x, abs=1e-4)
         assert served.dashboard.feed.desk.holder is None  # type: ignore[union-attr]
 

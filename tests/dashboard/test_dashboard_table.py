@@ -63,7 +63,7 @@ def test_the_page_plots_a_family_it_was_told_of(page: Any) -> None:
                 readings={"sonar": [float(100 + step)], "proximity": [1.0] * 8},
                 speed=[0, 0], leds=[0] * 10, battery=None, truth=None, stats=LinkStats(),
             ))  # fmt: skip
-            time.sleep(0.05)
+            time.sleep(0.05)  # the pace of a controller's 50 ms samples, not a wait
         page.wait_for_function("document.getElementById('plot-legend').children.length > 0")
         legend = page.eval_on_selector_all("#plot-legend li",
                                            "(li) => li.map((i) => i.textContent)")

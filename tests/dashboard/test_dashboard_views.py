@@ -8,7 +8,6 @@ from __future__ import annotations
 import json
 import re
 import subprocess
-import time
 from pathlib import Path
 from typing import Any
 
@@ -36,7 +35,9 @@ def _plot(page: Any, series: str) -> dict[str, Any]:
         f"document.getElementById('plot-legend').children.length > 0 && "
         f"document.getElementById('plot-series').value === '{series}'"
     )
-    time.sleep(0.3)  # a few samples drawn
+    # A few samples more, drawn.
+    seen = page.evaluate("view.sample.step")
+    page.wait_for_function(f"view.sample.step >= {seen + 3} && !view.dirty")
     return {
         "legend": page.eval_on_selector_all(
             "#plot-legend li", "(li) => li.map((i) => i.textContent)"
@@ -131,8 +132,7 @@ def _hold_still(robot: ego.Robot) -> None:
 def test_the_floor_stripe_is_drawn_unlike_a_wall(tmp_path: Path, page: Any) -> None:
     with served_robot(tmp_path, _hold_still) as served:  # the default floor: a stripe at y 0.2
         _open(page, served.url)
-        page.wait_for_function("view.floorImage !== null")
-        time.sleep(0.3)
+        page.wait_for_function("view.floorImage !== null && !view.mapDirty")  # and drawn
         stripe = _pixel(page, -0.3, 0.2)
         floor = _pixel(page, -0.3, 0.1)
         wall = _pixel(page, 0.5, 0.0, dx_px=3)  # the east wall, drawn just outside the floor
