@@ -78,7 +78,7 @@ def test_a_robot_that_does_not_come_back_is_a_clear_link_lost_error(
     try:
         relay.accepting = False
         relay.cut()
-        time.sleep(0.1)  # the reader sees the connection end
+        assert wait_until(lambda: opened.channel.heard.lost is not None)  # the reader saw it
         batch = encode_batch([Request(Command.SET_SPEED, (100, 100))], WIFI_PROFILE)
         with pytest.raises(LinkLostError, match=rf"{relay_url}: lost, and not back within 0.3 s"):
             opened.channel.exchange(batch)
@@ -94,7 +94,7 @@ def test_a_robot_step_after_the_link_is_lost_says_so(
         assert robot.step(16) == 0
         relay.accepting = False
         relay.cut()
-        time.sleep(0.1)  # the reader sees the connection end
+        assert wait_until(lambda: robot.channel.heard.lost is not None)  # the reader saw it
         robot.motors.set_speed(100, 100)
         assert robot.step(16) == -1  # Webots' step: the link is gone
     finally:
