@@ -4,14 +4,50 @@ a valid one, the second client in the backlog, and the stop lost at close."""
 
 from __future__ import annotations
 
+import fcntl
 import socket
+import struct
+import termios
+import threading
 import time
 
 from epuck2_wire import WifiClient, command
+from helpers import wait_for_more, wait_until
 
 from firmware_sim.epuck2 import Epuck2Emulator
+from firmware_sim.epuck2.radio import Radio
 
 ACCEPT, READ = 2, 3
+
+
+def _unread(sock: socket.socket) -> int:
+    """The bytes waiting in ``sock``'s receive queue (FIONREAD)."""
+    return int(struct.unpack("i", fcntl.ioctl(sock.fileno(), termios.FIONREAD, b"\0" * 4))[0])
+
+
+def _unsent(sock: socket.socket) -> int:
+    """The bytes ``sock`` has queued to send that its peer has not taken (TIOCOUTQ)."""
+    return int(struct.unpack("i", fcntl.ioctl(sock.fileno(), termios.TIOCOUTQ, b"\0" * 4))[0])
+
+
+class _Loops(threading.Event):
+    """Put in place of a radio's stop event: counts socket_task's loops, each of which
+    waits on it for its 10 ms delay (what a test waits on, instead of a time)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.count = 0
+
+    def wait(self, timeout: float | None = None) -> bool:
+        self.count += 1
+        return super().wait(timeout)
+
+
+def _radio_took_all(radio: Radio) -> bool:
+    """Whether the radio has read every byte its client sent so far (ground truth: its
+    end of the connection holds none unread)."""
+    client = radio._client
+    return client is not None and _unread(client) == 0
 
 
 def test_a_peer_that_leaves_before_a_valid_command_wedges_the_radio(
@@ -31,7 +67,12 @@ def test_a_peer_that_leaves_before_a_valid_command_wedges_the_radio(
         assert (radio.accepted, radio.state) == (1, READ)
     finally:
         late.close()
-    time.sleep(0.1)
+    # 20 more of its loops, each one a chance to go back to accept() and take a client.
+    loops = _Loops()
+    radio._stop = loops
+    assert wait_for_more(lambda: loops.count, 20), (
+        f"the radio stopped looping: state {radio.state}, accepted {radio.accepted}"
+    )
     assert radio.accepted == 1, "it never goes back to accept()"
 
 
@@ -39,7 +80,8 @@ def test_a_split_first_command_never_counts(wifi: Epuck2Emulator, client: WifiCl
     # 174-178: a short read is completed with MSG_WAITALL but valid_cmd_received stays 0.
     packet = command(0, left=300, right=300)
     client.send(packet[:10])
-    time.sleep(0.1)
+    assert wifi.radio is not None
+    assert wait_until(lambda: _radio_took_all(wifi.radio))  # a short read of the first part
     client.send(packet[10:])
     assert client.nothing_within(0.3)
     assert wifi.world.speeds == (0, 0)
@@ -90,12 +132,13 @@ def test_a_stop_sent_just_before_closing_is_lost(wifi: Epuck2Emulator) -> None:
         c = WifiClient(address)
         c.send(command(0, left=400 + trial, right=400 + trial))
         c.reply()
-        time.sleep(0.15)  # the 0x03 replies pile up unread: closing resets the connection
+        # The 0x03 replies pile up unread: closing resets the connection.
+        assert wait_until(lambda c=c: _unread(c.sock) >= 3)
         c.send(command(0))
         c.close()
         assert radio.wait_for(ACCEPT, 5.0)
         assert wifi.world.speeds == (400 + trial, 400 + trial)
-        time.sleep(0.013 * trial)  # meet the radio's 10 ms loop at another phase
+        time.sleep(0.013 * trial)  # a pace: meet the radio's 10 ms loop at another phase
 
 
 def test_a_stop_answered_before_closing_stops_the_robot(wifi: Epuck2Emulator) -> None:
@@ -121,7 +164,7 @@ def test_closing_frees_a_radio_stuck_in_a_split_command() -> None:
     try:
         c.send(command(0)[:5])  # the radio now blocks in recv(..., MSG_WAITALL)
         assert emu.radio.wait_for(READ, 5.0)
-        time.sleep(0.05)
+        assert wait_until(lambda: _radio_took_all(emu.radio))  # and read what came
         emu.close()  # must stop and join its thread (the autouse check looks)
     finally:
         c.close()
@@ -136,7 +179,10 @@ def test_closing_frees_a_radio_stuck_sending_to_a_client_that_does_not_read() ->
     c = WifiClient(emu.wifi_address)
     try:
         c.send(command(0x01))  # images stream while nobody reads: the send blocks
-        time.sleep(0.3)
+        assert emu.radio is not None
+        # The client's window is full: the radio holds images it cannot hand over.
+        assert wait_until(lambda: emu.radio._client is not None
+                          and _unsent(emu.radio._client) > 0, 20)  # fmt: skip
         emu.close()
     finally:
         c.close()

@@ -5,10 +5,9 @@ speeds with their sign, the LEDs' bytes."""
 from __future__ import annotations
 
 import struct
-import time
 
 import pytest
-from helpers import wait_until
+from helpers import wait_for_more, wait_until
 
 import ego
 from ego.backends.epuck2.requests import WIFI_PROFILE
@@ -35,7 +34,10 @@ def test_a_one_shot_sound_plays_once(wifi: Epuck2Emulator, url: str) -> None:
         opened.channel.exchange(batch(Request(Command.ALL_ACTUATORS, arguments)))
         for _ in range(10):  # steps go on; the radio loops many times meanwhile
             opened.channel.exchange(batch(Request(Command.PROXIMITY)))
-        time.sleep(0.1)
+        # And 20 more of the radio's loops: each passes the main processor the command
+        # in force, and would play the sound again had the one-shot not been cleared.
+        assert wifi.radio is not None
+        assert wait_for_more(lambda: len(wifi.radio.polls()), 20)
     finally:
         opened.close()
     assert wifi.robot.sound_names().count("mario") == 1, wifi.robot.sound_names()

@@ -6,9 +6,9 @@ the next client."""
 from __future__ import annotations
 
 import socket
-import time
 
 import pytest
+from helpers import wait_until
 from wifi_relay import Relay
 
 import ego
@@ -16,7 +16,7 @@ from ego.backends.epuck2 import probe
 from ego.errors import LinkTimeoutError
 from firmware_sim.epuck2 import Epuck2Emulator
 
-ACCEPT = 2
+ACCEPT, READ = 2, 3
 
 
 def takes_a_next_client(emu: Epuck2Emulator, url: str) -> bool:
@@ -34,7 +34,9 @@ def test_the_check_sees_a_wedge(wifi: Epuck2Emulator, url: str) -> None:
     # below notices it.
     assert wifi.wifi_address is not None
     socket.create_connection(wifi.wifi_address).close()
-    time.sleep(0.1)
+    assert wifi.radio is not None
+    assert wait_until(lambda: wifi.radio.accepted == 1)  # it took that peer
+    assert wifi.radio.wait_for(READ, 5.0)  # and reads it: the wedge, if any, is there
     assert not takes_a_next_client(wifi, url)
 
 
