@@ -76,8 +76,15 @@ def test_heartbeat_keeps_an_idle_controller_in_control(
     served = serve(kinds=(kind,), deadline_s=DEADLINE_S)
     link = connect(served.url)  # heartbeat on: a controller with a 1 s step
     _drive(link, 250, 250, 1)
-    # Three deadlines: a deadman that fires within 10 % of one (README) would have by now.
-    time.sleep(1.0)
+    # A timeout, so a time: three deadlines on the clock the server's deadman reads
+    # (time.monotonic), a deadman that fires within 10 % of one (README) would have by
+    # then; and, however slow the machine, three heartbeats sent meanwhile.
+    sent, since = link.net.heartbeats, time.monotonic()  # type: ignore[attr-defined]
+    assert wait_until(
+        lambda: time.monotonic() - since > 3 * DEADLINE_S
+        and link.net.heartbeats >= sent + 3,  # type: ignore[attr-defined]
+        10,
+    )
     assert served.emu.world.speeds == (250, 250)
     assert served.server.stats.deadman_stops == 0
     assert link.net.heartbeats >= 3  # type: ignore[attr-defined]
