@@ -43,6 +43,9 @@ from firmware_sim import Emulator
 #: Far more than one request in flight: what a pipelining controller writes at once.
 PIPELINED = 3000
 GO = pack_step((Request(Command.SET_SPEED, (300, 300)), Request(Command.GET_SPEED)))
+#: A step that only reads the proximity sensors: its batch (letter N) is told apart from
+#: GO's (D and E) in the emulator's history.
+PROBE = pack_step((Request(Command.PROXIMITY),))
 
 
 def drive(url: str, emu: Emulator, secret: str) -> RawClient:
@@ -61,17 +64,28 @@ def pipeline_and_close(
     budget_s: float = 1.0,
 ) -> tuple[float, int]:  # fmt: skip
     """Write ``count`` STEPs at once and close: (seconds until the wheels stood still,
-    at most ``budget_s``; batches the robot saw after the close)."""
+    at most ``budget_s``; batches the robot saw after the close, before the first step
+    of the next controller, which the server runs after anything left queued: one more
+    in its ``stats.steps``)."""
     raw = drive(url, emu, secret)
     raw.send_raw(b"".join(raw.frame(MessageType.STEP, GO) for _ in range(count)))
     closed_at, seen = time.monotonic(), len(emu.history)
     raw.close()
     assert wait_until(lambda: emu.world.speeds == (0, 0), budget_s, 0.001)
     stopped_s = time.monotonic() - closed_at
-    # Whatever was still queued would run now: give it the time a few batches take.
     assert wait_until(lambda: server.controller is None)
-    time.sleep(0.2)
-    return stopped_s, len(emu.history) - seen
+    # Whatever was still queued would run before the next controller's first step (the
+    # robot runs one step at a time, in the order they came): a probe's step ends the
+    # count, however long the queue would take to run.
+    probe = RawClient(url, timeout_s=5.0)
+    assert probe.handshake(secret.encode()).type is MessageType.OK
+    probe.send(MessageType.STEP, PROBE)
+    assert probe.receive().type is MessageType.OK
+    probe.send(MessageType.BYE)
+    probe.close()
+    after = [record.commands for record in list(emu.history)[seen:]]
+    assert any("N" in letters for letters in after), after
+    return stopped_s, next(i for i, letters in enumerate(after) if "N" in letters)
 
 
 MARKER_SEQ = 0xFFFF0000
