@@ -12,6 +12,7 @@ from pathlib import Path
 
 import serial
 from epuck2_wire import WifiClient, ask_serial, batch, command, parse_sensors, read_quiet, say
+from helpers import wait_until
 
 import firmware_sim.epuck2
 from firmware_sim.epuck2 import Epuck2Emulator
@@ -111,7 +112,9 @@ def test_usb_replies_wait_for_a_host_that_reads_late(
     # e_uart_char.c:69-74: chSequentialStreamWrite on the USB port waits for the host,
     # so the firmware stalls instead of losing bytes.
     port.write(batch("I") * 40)
-    time.sleep(0.5)  # far more than the pty holds piles up meanwhile
+    # Replies pile up unread: Linux's line discipline buffer fills (4095 bytes; the rest of
+    # the 128 kB waits in the pty's and the firmware's buffers, the firmware stalled).
+    assert wait_until(lambda: port.in_waiting >= 4095)
     port.timeout = 5.0
     data = port.read(40 * 3203)
     assert len(data) == 40 * 3203

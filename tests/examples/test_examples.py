@@ -45,7 +45,7 @@ def watch(proc: subprocess.Popen[str], world: World) -> Iterator[Any]:
     """The robot's true pose every 50 ms while ``proc`` runs."""
     while proc.poll() is None:
         yield world.snapshot()
-        time.sleep(0.05)
+        time.sleep(0.05)  # a pace: the watch's 50 ms samples, not a wait for anything
 
 
 def test_every_example_is_listed_in_the_examples_readme() -> None:

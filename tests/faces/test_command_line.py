@@ -316,7 +316,7 @@ log = []
 while robot.step(64) != -1:
     log.append(wheel.getValue())
     if sys.argv[1] == "slow" and len(log) % 8 == 0:
-        time.sleep(0.2)
+        time.sleep(0.2)  # the subject: a loaded machine's pause, recorded then replayed
 json.dump(log, open(sys.argv[2], "w"))
 """
 

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import pytest
 from fakes import ScriptedTransport
+from helpers import wait_until
 
 from ego.errors import LinkError, LinkTimeoutError, PortNotFoundError
 from ego.serial.transport import SerialTransport, Transport
@@ -142,12 +143,14 @@ def test_drain_returns_what_came(far: FarEnd) -> None:
 def test_pending_returns_waiting_bytes_without_blocking(far: FarEnd) -> None:
     assert far.transport.pending() == b""
     expected = far.send4()
-    got = b""
-    deadline = time.monotonic() + 5.0
-    while len(got) < len(expected) and time.monotonic() < deadline:
-        got += far.transport.pending()
-        time.sleep(0.001)
-    assert got == expected
+    got = bytearray()
+
+    def all_came() -> bool:
+        got.extend(far.transport.pending())
+        return len(got) >= len(expected)
+
+    assert wait_until(all_came, interval_s=0.001), bytes(got)
+    assert bytes(got) == expected
 
 
 def test_read_line_returns_one_line(far: FarEnd) -> None:
