@@ -44,18 +44,23 @@ def served() -> Iterator[tuple[Emulator, DashboardServer, list[tuple[int, int]]]
         thread = stack.enter_context(ServerThread(Server(watched, listen=["tcp://127.0.0.1:0"])))
         speeds = [(500, 500)]
         stop = threading.Event()
+        failures: list[BaseException] = []
 
         def controller() -> None:
-            with ego.Robot(thread.url) as robot:
-                robot.proximity.enable(32)
-                while not stop.is_set() and robot.step(32) != -1:
-                    robot.motors.set_speed(*speeds[0])
+            try:
+                with ego.Robot(thread.url) as robot:
+                    robot.proximity.enable(32)
+                    while not stop.is_set() and robot.step(32) != -1:
+                        robot.motors.set_speed(*speeds[0])
+            except BaseException as exc:  # reported by the test
+                failures.append(exc)
 
         threads = stack.enter_context(Nursery("the test's controller", join_s=10))
         stack.callback(stop.set)  # first: then the nursery joins it
         threads.start_thread(controller, name="test-controller")
         assert wait_until(lambda: emu.world.speeds == (500, 500), 5)
         yield emu, board, speeds
+        assert not failures, failures  # the controller ran until the test ended it
 
 
 async def _page(board: DashboardServer, script: list[dict[str, Any]]) -> dict[str, Any]:
@@ -103,10 +108,25 @@ def test_its_stop_holds_the_robot_while_the_controller_keeps_driving(served: Any
     assert wait_until(lambda: emu.world.speeds == (0, 0), 0.5)
     # The PC's controller goes on stepping: the stop holds over 15 of its batches
     # reaching the robot, however long they take. (Its 500 went out once: ego sends a
-    # speed only when it changes, and asking another one here would be refused as
-    # implausible, the dsPIC reading 0 while stopped.)
+    # speed only when it changes.)
     assert wait_for_more(lambda: len(emu.history), 15), "the controller stopped stepping"
     assert emu.world.speeds == (0, 0)
     run_async(_page(board, [{"type": "take"}, {"type": "resume"}]))
     assert wait_until(lambda: emu.world.speeds == tuple(speeds[0]), 2)
+
+
+def test_a_controller_that_changes_speed_while_stopped_runs_on(served: Any) -> None:
+    """The stop holds a new speed too, and the controller is not told its D went wrong:
+    the speed echo confirming it says what it asked (before, the echo said 0, 0, the
+    controller asked again three times and ended with a ProtocolError)."""
+    emu, board, speeds = served
+    run_async(_page(board, [{"type": "take"}, {"type": "stop"}]))
+    assert wait_until(lambda: emu.world.speeds == (0, 0), 0.5)
+    asked = len(emu.history)
+    speeds[0] = (-300, 200)  # the controller sends it at its next step
+    assert wait_until(lambda: any("D" in r.commands for r in list(emu.history)[asked:]))
+    assert wait_for_more(lambda: len(emu.history), 15), "the controller stopped stepping"
+    assert emu.world.speeds == (0, 0)  # held
+    run_async(_page(board, [{"type": "take"}, {"type": "resume"}]))
+    assert wait_until(lambda: emu.world.speeds == (-300, 200), 2)  # what it asked last
 

@@ -179,6 +179,19 @@ def test_the_accelerometer_brings_the_packet_and_the_rest_ride_in_it() -> None:
     assert echo == (300, -300)
 
 
+def test_a_routed_batchs_own_values_are_rewritten_and_the_packets_are_refused() -> None:
+    """Batch.with_values (a served robot held stopped answers the speed echo as asked)."""
+    requests = [Request(Command.SET_SPEED, (300, -300)), Request(Command.PROXIMITY),
+                Request(Command.ACCELEROMETER_RAW), Request(Command.GET_SPEED)]  # fmt: skip
+    batch = encode_batch(requests, EPUCK2_USB)
+    reply = packet(v0=-3) + struct.pack("<hh", 0, 0)
+    rewritten = batch.with_values(reply, 3, (300, -300))
+    assert batch.decode(rewritten)[3] == (300, -300)
+    assert batch.decode(rewritten)[:3] == batch.decode(reply)[:3]  # the rest as it was
+    with pytest.raises(ValueError, match="cannot be rewritten"):
+        batch.with_values(reply, 1, (0,) * 8)  # the proximity rides in the packet
+
+
 def test_families_only_the_packet_serves_share_one_packet() -> None:
     requests = [Request(Command.ALL_SENSORS), Request(Command.ALL_SENSORS),
                 Request(Command.LIGHT)]  # fmt: skip

@@ -79,3 +79,23 @@ class Batch:
         if not self._routes:
             return values
         return [values[i] if take is None else take(values[i]) for i, take in self._routes]
+
+    def with_values(self, reply: bytes, index: int, values: Sequence[int]) -> bytes:
+        """``reply`` (checked as :meth:`decode` checks it) with request ``index``'s values
+        replaced by ``values``, packed as its wire format packs them: what a server that
+        holds the robot for its client answers (ego.servers.dashboard.served).
+
+        Raises ValueError for a request whose values are taken out of another's reply
+        or checked on the wire (the e-puck2's sensor packet): they cannot be rewritten
+        alone.
+        """
+        self.decode(reply)
+        wire, take = self._routes[index] if self._routes else (index, None)
+        fmt = self._formats[wire]
+        if take is not None or fmt.check is not None:
+            raise ValueError(f"request {index}'s values cannot be rewritten in its reply")
+        offset = sum(f.prefix.size for f in self._formats)
+        offset += sum(f.reply.size for f in self._formats[:wire])
+        out = bytearray(reply)
+        fmt.reply.pack_into(out, offset, *values)
+        return bytes(out)

@@ -91,10 +91,29 @@ class WatchedChannel(ChannelWrapper):
         for request in batch.requests:
             if request.command is Command.SET_SPEED:
                 self._asked = (int(request.arguments[0]), int(request.arguments[1]))
-        if self.halted:
-            batch = self._stopped(batch)
-        reply = self.inner.exchange(batch)
-        self._take(batch, reply)
+        if not self.halted:
+            reply = self.inner.exchange(batch)
+            self._take(batch, reply)
+            return reply
+        held = self._stopped(batch)
+        reply = self.inner.exchange(held)
+        self._take(held, reply)
+        return self._as_asked(batch, reply)
+
+    @staticmethod
+    def _as_asked(batch: Batch, reply: bytes) -> bytes:
+        """The reply to ``batch`` whose speeds the stop held at (0, 0): the ``E`` that
+        confirms a speed the client set says that speed, which the server holds for it
+        (and applies at :meth:`resume`); otherwise its controller would take the 0, 0 for
+        a misread command, ask again and end with a ProtocolError. An ``E`` read on its
+        own says the truth: 0, 0."""
+        asked: tuple[int, ...] | None = None
+        for index, request in enumerate(batch.requests):
+            if request.command is Command.SET_SPEED:
+                asked = request.arguments
+            elif request.command is Command.GET_SPEED and asked is not None:
+                reply = batch.with_values(reply, index, asked)
+                asked = None
         return reply
 
     @property
