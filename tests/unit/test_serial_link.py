@@ -210,6 +210,43 @@ def test_banner_after_a_short_reply_is_still_a_restart(letters: str) -> None:
         link.exchange(batch)
 
 
+class LateBanner(ScriptedTransport):
+    """The dsPIC resets on the first write: the banner's first ``cut`` bytes come at once,
+    the rest only when the link reads again after its trailing guard (a loaded machine)."""
+
+    def __init__(self, cut: int) -> None:
+        super().__init__([BANNER[:cut], b"", bytes(16)])  # then the re-detection's
+        self.held = BANNER[cut:]
+        self.empty_reads = 0
+
+    def read(self, size: int, timeout_s: float) -> bytes:
+        if not self.incoming and self.held and self.writes:
+            self.empty_reads += 1
+            if self.empty_reads == 2:  # the first is the trailing guard's
+                self.incoming += self.held
+                self.held = b""
+        return super().read(size, timeout_s)
+
+
+def test_a_banner_whose_rest_is_late_after_a_short_reply_is_a_restart_at_once() -> None:
+    """Beside the suite and two busy loops, a reset during a 4-byte E gave the step the
+    banner's first bytes as speeds (1804, 17751) and was found one batch later, as stale
+    bytes. A reply that ends as the banner begins waits for the banner's rest."""
+    fake = LateBanner(cut=4)
+    link = Link(fake, firmware="webots", settings=INSTANT_LINK)
+    batch = encode_batch([Request(Command.GET_SPEED)], link.profile)
+    assert batch.reply_size == 4
+    with pytest.raises(RobotResetError):
+        link.exchange(batch)
+    assert link.stats.restarts == 1
+
+
+def test_a_reply_that_merely_ends_like_the_banner_is_taken() -> None:
+    link, _ = make_link([b"\x00\x00\x0c\x07"])  # two bytes of it: too common to wait on
+    batch = encode_batch([Request(Command.GET_SPEED)], link.profile)
+    assert batch.decode(link.exchange(batch)) == [(0, 0x070C)]
+
+
 def test_banner_in_a_timed_out_reply_is_a_restart() -> None:
     link, _ = make_link([BANNER])
     batch = encode_batch([Request(Command.MIC_BUFFER)], link.profile)  # 601 bytes > banner

@@ -36,7 +36,15 @@ from ego.serial.probe import probe_firmware
 from ego.serial.profiles import BANNER_END, BANNER_MARKER, PROFILES, wire_time_s
 from ego.serial.transport import Transport
 
-__all__ = ["Link", "LinkSettings", "LinkStats", "drain_line", "read_lines", "reply_timeout_s"]
+__all__ = [
+    "Link",
+    "LinkSettings",
+    "LinkStats",
+    "banner_rest",
+    "drain_line",
+    "read_lines",
+    "reply_timeout_s",
+]
 
 log = logging.getLogger(__name__)
 
@@ -107,6 +115,19 @@ def read_lines(transport: Transport, lines: int, timeout_s: float) -> list[str]:
         if text:
             replies.append(text)
     return replies
+
+
+#: How both firmwares' banner begins (docs/protocol.md): form feed, bell, the marker.
+BANNER_START = b"\x0c\x07" + BANNER_MARKER
+
+
+def banner_rest(data: bytes) -> bytes:
+    """What is still to come of the banner's start when ``data`` ends with at least its
+    first three bytes (fewer are too common in sensor values to wait on); else b""."""
+    for size in range(len(BANNER_START) - 1, 2, -1):
+        if data.endswith(BANNER_START[:size]):
+            return BANNER_START[size:]
+    return b""
 
 
 def drain_line(transport: Transport, settings: LinkSettings, until: bytes = b"") -> bytes:
@@ -320,6 +341,12 @@ class Link(ChannelBase):
             self._check_banner(getattr(exc, "partial", b""))
             raise
         extra = self.transport.trailing(self.settings.trailing_guard_at(self._line_baud()))
+        rest = banner_rest(self._tail + reply + extra)
+        if rest:
+            # The reply ends as the banner begins: a dsPIC reset cut it short, and the rest
+            # of its banner is late (a loaded machine, a USB hub). Wait for it here, or
+            # this step would take the banner's first bytes for its values.
+            extra += self._drain(until=rest)
         self._check_banner(reply + extra)
         if extra:
             raise ExtraBytesError(
