@@ -123,7 +123,10 @@ BANNER_START = b"\x0c\x07" + BANNER_MARKER
 
 def banner_rest(data: bytes) -> bytes:
     """What is still to come of the banner's start when ``data`` ends with at least its
-    first three bytes (fewer are too common in sensor values to wait on); else b""."""
+    first three bytes (fewer are too common in sensor values to wait on); else b"".
+    A reply that ends so was cut short by a dsPIC reset whose banner is late (a loaded
+    machine, a USB hub): read as it is, its step would take the banner's first bytes
+    for its values."""
     for size in range(len(BANNER_START) - 1, 2, -1):
         if data.endswith(BANNER_START[:size]):
             return BANNER_START[size:]
@@ -342,10 +345,7 @@ class Link(ChannelBase):
             raise
         extra = self.transport.trailing(self.settings.trailing_guard_at(self._line_baud()))
         rest = banner_rest(self._tail + reply + extra)
-        if rest:
-            # The reply ends as the banner begins: a dsPIC reset cut it short, and the rest
-            # of its banner is late (a loaded machine, a USB hub). Wait for it here, or
-            # this step would take the banner's first bytes for its values.
+        if rest:  # a reset cut the reply short and its banner is late: wait for it here
             extra += self._drain(until=rest)
         self._check_banner(reply + extra)
         if extra:
