@@ -76,6 +76,8 @@ class Radio:
         self.state = 2
         #: Connections accepted so far.
         self.accepted = 0
+        #: socket_task's loops so far (ground truth: each is a chance to send or accept).
+        self.loops = 0
         self._polls: deque[bytes] = deque(maxlen=10_000)
         self._polls_lock = threading.Lock()
         self._valid = False
@@ -125,6 +127,7 @@ class Radio:
         try:
             while not self._stop.is_set():
                 steps[self.state]()
+                self.loops += 1
                 if self._stop.wait(LOOP_DELAY_S):
                     break
         except Exception:

@@ -6,6 +6,7 @@ eshjordan/esp-idf@18f3ae6)."""
 
 from __future__ import annotations
 
+import select
 import socket
 import struct
 import time
@@ -149,16 +150,11 @@ class WifiClient:
         assert header == 0x02, f"expected a sensor packet, got id {header:#x}"
         return parse_sensors(payload)
 
-    def nothing_within(self, seconds: float) -> bool:
-        """True if no byte arrives within ``seconds`` (the connection staying open)."""
-        self.sock.settimeout(seconds)
-        try:
-            self.sock.recv(1)
-        except TimeoutError:
-            return True
-        finally:
-            self.sock.settimeout(5.0)
-        return False  # a byte, or the end of the stream
+    def nothing_pending(self) -> bool:
+        """True if no byte has arrived and the connection is still open; does not wait
+        (the caller waits for the events that would have sent something)."""
+        readable, _, _ = select.select([self.sock], [], [], 0)
+        return not readable  # readable: a byte, or the end of the stream
 
     def drain(self, seconds: float) -> bytes:
         """Read everything arriving within ``seconds``."""

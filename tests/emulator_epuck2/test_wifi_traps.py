@@ -8,7 +8,6 @@ import fcntl
 import socket
 import struct
 import termios
-import threading
 import time
 
 from epuck2_wire import WifiClient, command
@@ -28,19 +27,6 @@ def _unread(sock: socket.socket) -> int:
 def _unsent(sock: socket.socket) -> int:
     """The bytes ``sock`` has queued to send that its peer has not taken (TIOCOUTQ)."""
     return int(struct.unpack("i", fcntl.ioctl(sock.fileno(), termios.TIOCOUTQ, b"\0" * 4))[0])
-
-
-class _Loops(threading.Event):
-    """Put in place of a radio's stop event: counts socket_task's loops, each of which
-    waits on it for its 10 ms delay (what a test waits on, instead of a time)."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.count = 0
-
-    def wait(self, timeout: float | None = None) -> bool:
-        self.count += 1
-        return super().wait(timeout)
 
 
 def _radio_took_all(radio: Radio) -> bool:
@@ -63,17 +49,14 @@ def test_a_peer_that_leaves_before_a_valid_command_wedges_the_radio(
     late = WifiClient(address)  # the listen backlog still completes the handshake
     try:
         late.send(command(0))
-        assert late.nothing_within(0.5)
-        assert (radio.accepted, radio.state) == (1, READ)
+        # 40 of its loops, each one a chance to answer or to go back to accept().
+        assert wait_for_more(lambda: radio.loops, 40), (
+            f"the radio stopped looping: state {radio.state}, accepted {radio.accepted}"
+        )
+        assert late.nothing_pending()
+        assert (radio.accepted, radio.state) == (1, READ), "it never goes back to accept()"
     finally:
         late.close()
-    # 20 more of its loops, each one a chance to go back to accept() and take a client.
-    loops = _Loops()
-    radio._stop = loops
-    assert wait_for_more(lambda: loops.count, 20), (
-        f"the radio stopped looping: state {radio.state}, accepted {radio.accepted}"
-    )
-    assert radio.accepted == 1, "it never goes back to accept()"
 
 
 def test_a_split_first_command_never_counts(wifi: Epuck2Emulator, client: WifiClient) -> None:
@@ -83,7 +66,8 @@ def test_a_split_first_command_never_counts(wifi: Epuck2Emulator, client: WifiCl
     assert wifi.radio is not None
     assert wait_until(lambda: _radio_took_all(wifi.radio))  # a short read of the first part
     client.send(packet[10:])
-    assert client.nothing_within(0.3)
+    assert wait_for_more(lambda: wifi.radio.loops, 20)  # 20 chances to answer
+    assert client.nothing_pending()
     assert wifi.world.speeds == (0, 0)
     client.send(packet)
     assert client.reply() == (0x03, b"")
@@ -103,14 +87,16 @@ def test_after_a_valid_command_a_wrong_id_is_applied(
 
 
 def test_a_second_client_waits_in_the_backlog(wifi: Epuck2Emulator, client: WifiClient) -> None:
-    address = wifi.wifi_address
+    address, radio = wifi.wifi_address, wifi.radio
     assert address is not None
     client.send(command(0))
     client.reply()
     second = WifiClient(address)  # not refused: it waits in the backlog
     try:
         second.send(command(0, left=123, right=123))
-        assert second.nothing_within(0.3)
+        assert radio is not None
+        assert wait_for_more(lambda: radio.loops, 20)  # 20 chances to take it
+        assert second.nothing_pending()
         client.send(command(0))
         client.drain(0.1)
         client.close()
