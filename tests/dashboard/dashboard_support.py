@@ -16,8 +16,12 @@ from typing import IO, Any
 
 import ego
 from ego.nursery import Nursery
+from ego.serial.link import LinkSettings
 from ego.servers.dashboard.live import RobotDashboard
 from tests.helpers import world_of
+
+#: The served robot's link: 250 ms for a reply, as the remote tests' served robots.
+PATIENT_LINK = LinkSettings(reply_timeout_s=0.25)
 
 #: An empty walled arena: the robot starts facing the east wall, 25 cm from it.
 OPEN_WORLD = """
@@ -54,7 +58,9 @@ def served_robot(
     block ends; its dashboard at ``address``."""
     path = tmp_path / "world.toml"
     path.write_text(world)
-    robot = ego.Robot("sim", world=str(path), seed=1)
+    # The emulator answers from a thread of this process, beside Chromium's driver and
+    # the dashboard: a reply late by scheduling is not what these tests look at.
+    robot = ego.Robot("sim", world=str(path), seed=1, link_settings=PATIENT_LINK)
     dashboard = RobotDashboard(address, secret, out=open(os.devnull, "w"))  # noqa: SIM115
     dashboard.attach(robot)
     stop = threading.Event()

@@ -67,6 +67,7 @@ def _swarm(tmp_path: Path, robots: int, world: str) -> dict[str, dict[str, objec
         [*ego_command(), "swarm", "--robots", str(robots), "--world", str(path),
          "--zenoh-endpoint", free_endpoint(), str(TALK)],
         capture_output=True, text=True, timeout=120, cwd=tmp_path,
+        env={**os.environ, "SWARM_TALK_OTHERS": str(robots - 1)},
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
     # Each line is headed by its robot's name: "[epuck0] RESULT {...}".

@@ -3,6 +3,7 @@ broadcasts its name over its Emitter every step, and counts what its Receiver ge
 the others, with the signal strength of each sender."""
 
 import json
+import os
 
 from controller import Robot
 
@@ -17,6 +18,17 @@ receiver.enable(32)
 closest = 0.0
 heard = {}
 strength = {}
+# The controllers start one by one: each first waits until it hears every other robot
+# (the test says how many there are), so that all count over the same 40 steps.
+others = int(os.environ["SWARM_TALK_OTHERS"])
+started = set()
+for _ in range(1000):
+    if len(started) == others or robot.step(32) == -1:
+        break
+    emitter.send(me)
+    while receiver.getQueueLength() > 0:
+        started.add(receiver.getString())
+        receiver.nextPacket()
 for _ in range(40):
     if robot.step(32) == -1:
         break
