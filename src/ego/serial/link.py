@@ -33,7 +33,7 @@ from ego.seam.batch import Batch
 from ego.seam.channel import ChannelBase, FirmwareInfo, LinkStats, reconnect_within
 from ego.seam.profile import DEFAULT_BAUD, Firmware, Profile
 from ego.serial.probe import probe_firmware
-from ego.serial.profiles import BANNER_END, BANNER_MARKER, PROFILES, wire_time_s
+from ego.serial.profiles import BANNER_END, BANNER_MARKER, BANNER_START, PROFILES, wire_time_s
 from ego.serial.transport import Transport
 
 __all__ = [
@@ -115,10 +115,6 @@ def read_lines(transport: Transport, lines: int, timeout_s: float) -> list[str]:
         if text:
             replies.append(text)
     return replies
-
-
-#: How both firmwares' banner begins (docs/protocol.md): form feed, bell, the marker.
-BANNER_START = b"\x0c\x07" + BANNER_MARKER
 
 
 def banner_rest(data: bytes) -> bytes:

@@ -19,6 +19,7 @@ from ego.serial.asercom2 import SensorLayout, decode_sensors
 __all__ = [
     "BANNER_END",
     "BANNER_MARKER",
+    "BANNER_START",
     "BITS_PER_BYTE",
     "EPUCK2_ACC_ZERO",
     "EPUCK2_BLUETOOTH",
@@ -39,6 +40,8 @@ MAX_SPEED_STEPS = 1000
 #: Every welcome banner of the firmwares we know contains this; its arrival mid-stream
 #: means the dsPIC restarted.
 BANNER_MARKER = b"WELCOME"
+#: How both firmwares' banner begins (docs/protocol.md): form feed, bell, the marker.
+BANNER_START = b"\x0c\x07" + BANNER_MARKER
 #: How the banner ends, for every firmware we know (docs/protocol.md: Asercom.c:117-126,
 #: Asercom2.c:153-160): once it is in, nothing of the banner is left to come.
 BANNER_END = b'"H" for help\r\n'
