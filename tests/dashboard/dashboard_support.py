@@ -16,12 +16,8 @@ from typing import IO, Any
 
 import ego
 from ego.nursery import Nursery
-from ego.serial.link import LinkSettings
 from ego.servers.dashboard.live import RobotDashboard
 from tests.helpers import world_of
-
-#: The served robot's link: 250 ms for a reply, as the remote tests' served robots.
-PATIENT_LINK = LinkSettings(reply_timeout_s=0.25)
 
 #: An empty walled arena: the robot starts facing the east wall, 25 cm from it.
 OPEN_WORLD = """
@@ -59,8 +55,8 @@ def served_robot(
     path = tmp_path / "world.toml"
     path.write_text(world)
     # The emulator answers from a thread of this process, beside Chromium's driver and
-    # the dashboard: a reply late by scheduling is not what these tests look at.
-    robot = ego.Robot("sim", world=str(path), seed=1, link_settings=PATIENT_LINK)
+    # the dashboard: the sim backend's link allows for replies a busy host holds up.
+    robot = ego.Robot("sim", world=str(path), seed=1)
     dashboard = RobotDashboard(address, secret, out=open(os.devnull, "w"))  # noqa: SIM115
     dashboard.attach(robot)
     stop = threading.Event()

@@ -194,6 +194,10 @@ def port_busy_error(port: str) -> PortBusyError:
 #: How long a write may wait for the line to take it before the line counts as lost.
 WRITE_TIMEOUT_S = 2.0
 
+#: The most latency a serial transport may add to each reply timeout: beyond it a lost
+#: reply would hold the controller for longer than a step can mean anything.
+MAX_LATENCY_S = 60.0
+
 #: Sleep through this share of the time the bytes cannot be here sooner than: the rest of
 #: it covers a sleep that wakes late.
 _EARLY = 0.85
@@ -202,8 +206,13 @@ _EARLY = 0.85
 class SerialTransport(Transport):
     """Any pyserial port or URL, 8N1 without flow control (docs/protocol.md: Line)."""
 
-    def __init__(self, url: str, baudrate: int = DEFAULT_BAUD) -> None:
+    def __init__(self, url: str, baudrate: int = DEFAULT_BAUD, latency_s: float = 0.0) -> None:
         self.baudrate: int = check_baudrate(baudrate)
+        if not 0.0 <= latency_s <= MAX_LATENCY_S:
+            raise OutOfRangeError(
+                f"{url}: a reply latency of {latency_s} s is outside 0..{MAX_LATENCY_S:g} s"
+            )
+        self.latency_s = latency_s
         self.name = url
         self._port: serial.SerialBase | None = None
         self._timeout: float | None = None
