@@ -15,7 +15,7 @@ import pytest
 
 import ego
 from firmware_sim import Emulator, World
-from firmware_sim.ego_backend import EmulatorTruth
+from firmware_sim.ego_backend import IN_PROCESS_SLACK_S, EmulatorTruth
 
 __all__ = [
     "REPOSITORY",
@@ -51,6 +51,16 @@ needs_source_tree = pytest.mark.skipif(
     Path(ego.__file__).resolve().parent != REPOSITORY / "src" / "ego",
     reason="reads the repository (README, docs, src): ego under test is an installed wheel, "
     "as on a board",
+)
+
+
+#: A robot's link to an emulator the test started in its own process, on a real pty: the
+#: emulator's banner is 4 ms of line time, so 20 ms of quiet after it is plenty (the
+#: default 100 ms suits a real robot); and it answers from threads beside the test's, so
+#: a reply may be held up as long as the sim backend allows its own (IN_PROCESS_SLACK_S).
+#: Tests of the line's own timing keep a strict link (tests/fakes.py FAST_LINK).
+IN_PROCESS_LINK = ego.LinkSettings(
+    resync_quiet_s=0.02, reply_timeout_s=ego.LinkSettings().reply_timeout_s + IN_PROCESS_SLACK_S
 )
 
 

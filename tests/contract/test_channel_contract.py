@@ -24,6 +24,7 @@ from pathlib import Path
 
 import pytest
 import zenoh
+from helpers import IN_PROCESS_LINK
 
 from ego.backends.remote.channel import RemoteChannel
 from ego.backends.zenoh_remote import ZenohChannel
@@ -41,7 +42,7 @@ from ego.recording.writer import Recorder
 from ego.seam.batch import Batch, Request
 from ego.seam.channel import Channel, ChannelBase, TappedChannel
 from ego.seam.profile import Command, Firmware, Profile
-from ego.serial.link import Link, LinkSettings
+from ego.serial.link import Link
 from ego.serial.profiles import PROFILES
 from ego.serial.protocol import encode_batch
 from ego.serial.transport import SerialTransport
@@ -53,7 +54,7 @@ from firmware_sim import Emulator
 from firmware_sim.ego_backend import EmulatorTruth
 
 SECRET = "contract-secret-0123"
-FAST = LinkSettings(resync_quiet_s=0.02, reconnect_timeout_s=0.5)
+FAST = dataclasses.replace(IN_PROCESS_LINK, reconnect_timeout_s=0.5)
 Factory = Callable[[str], contextlib.AbstractContextManager[tuple[Channel, Emulator]]]
 AnyFactory = Callable[[str], contextlib.AbstractContextManager[tuple[Channel, Emulator | None]]]
 #: How many READ batches a replay's recording holds: more than any one test asks.

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 import pytest
-from helpers import assert_stopped
+from helpers import IN_PROCESS_LINK, assert_stopped
 
 import ego
 from firmware_sim import Emulator
@@ -14,9 +14,6 @@ from tests.helpers import world_of
 
 #: One seed for every emulator here, so that a failure replays with the same sensor noise.
 SEED = 7
-#: The emulator's banner is 4 ms of line time: 20 ms of quiet after it is plenty, where the
-#: default 100 ms suits a real robot. Robots on an external pty open 5x faster with it.
-FAST_OPEN = ego.LinkSettings(resync_quiet_s=0.02)
 
 
 @pytest.fixture
@@ -29,7 +26,7 @@ def emulator() -> Iterator[Emulator]:
 @pytest.fixture
 def sim_robot(emulator: Emulator) -> Iterator[ego.Robot]:
     """A robot on the emulator's pty (firmware detected); checks the safe stop afterwards."""
-    robot = ego.Robot(emulator.path, link_settings=FAST_OPEN)
+    robot = ego.Robot(emulator.path, link_settings=IN_PROCESS_LINK)
     try:
         yield robot
     finally:
@@ -58,7 +55,7 @@ def overo_emulator() -> Iterator[Emulator]:
 
 @pytest.fixture
 def overo_robot(overo_emulator: Emulator) -> Iterator[ego.Robot]:
-    robot = ego.Robot(overo_emulator.path, link_settings=FAST_OPEN)
+    robot = ego.Robot(overo_emulator.path, link_settings=IN_PROCESS_LINK)
     try:
         yield robot
     finally:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 import pytest
+from helpers import IN_PROCESS_LINK
 
 import ego
 from ego.errors import (
@@ -21,8 +22,7 @@ STEP_MS = 32
 @pytest.fixture(scope="module")
 def idle_robot() -> Iterator[ego.Robot]:
     """One robot for the checks that refuse before any I/O: nothing here enables anything."""
-    settings = ego.LinkSettings(resync_quiet_s=0.02)  # the emulator's banner is short
-    with Emulator("webots") as emu, ego.Robot(emu.path, link_settings=settings) as robot:
+    with Emulator("webots") as emu, ego.Robot(emu.path, link_settings=IN_PROCESS_LINK) as robot:
         yield robot
         assert robot.channel.stats.batches == 0, "a refused call reached the wire"
 

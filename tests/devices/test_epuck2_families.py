@@ -9,6 +9,7 @@ import math
 from collections.abc import Iterator
 
 import pytest
+from helpers import IN_PROCESS_LINK
 
 import ego
 from ego.devices.sound import Melody
@@ -16,8 +17,6 @@ from ego.errors import OutOfRangeError, UnknownDeviceError, UnsupportedDeviceErr
 from ego.seam.profile import Firmware
 from firmware_sim.epuck2 import Epuck2Emulator
 from firmware_sim.world import Pose, World
-
-FAST_OPEN = ego.LinkSettings(resync_quiet_s=0.02)
 
 
 def _stopped(emu: Epuck2Emulator) -> bool:
@@ -48,7 +47,7 @@ def usb() -> Iterator[Epuck2Emulator]:
 def _open(emulator: Epuck2Emulator) -> ego.Robot:
     assert emulator.pty_path is not None
     baud = 115200 if emulator.firmware.use_bt else 230400
-    return ego.Robot(emulator.pty_path, baudrate=baud, link_settings=FAST_OPEN)
+    return ego.Robot(emulator.pty_path, baudrate=baud, link_settings=IN_PROCESS_LINK)
 
 
 @pytest.fixture

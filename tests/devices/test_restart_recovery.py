@@ -90,7 +90,7 @@ def test_a_reset_whose_banner_comes_in_two_pieces_is_not_taken_for_the_firmware_
     until the line was quiet, stopped between them and took what came next for the
     answer to its V ("reply 'on robot type "H" for help' to 'V' does not start with 'v'",
     or no answer at all). It drains until the banner's last line is in."""
-    from fakes import FAST_LINK
+    from helpers import IN_PROCESS_LINK
 
     from ego.errors import RobotResetError
     from ego.seam.batch import Request
@@ -101,7 +101,7 @@ def test_a_reset_whose_banner_comes_in_two_pieces_is_not_taken_for_the_firmware_
     from firmware_sim import Emulator, FaultTimings
 
     with Emulator("webots", seed=1, timings=FaultTimings(banner_gap_s=0.15)) as emu:
-        link = Link(SerialTransport(emu.path), settings=FAST_LINK)  # a 20 ms quiet line
+        link = Link(SerialTransport(emu.path), settings=IN_PROCESS_LINK)  # a 20 ms quiet line
         try:
             batch = encode_batch([Request(Command.PROXIMITY)], link.profile)
             link.exchange(batch)

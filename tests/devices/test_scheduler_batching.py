@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 
 import pytest
+from helpers import IN_PROCESS_LINK
 
 import ego
 from firmware_sim import Emulator
@@ -126,7 +127,7 @@ def test_a_step_with_nothing_due_sends_no_bytes(sim_robot: ego.Robot) -> None:
 
 
 def test_step_returns_zero_and_minus_one_once_closed(emulator: Emulator) -> None:
-    robot = ego.Robot(emulator.path, link_settings=ego.LinkSettings(resync_quiet_s=0.02))
+    robot = ego.Robot(emulator.path, link_settings=IN_PROCESS_LINK)
     robot.proximity.enable(STEP_MS)
     assert robot.step(STEP_MS) == 0
     robot.close()

@@ -29,7 +29,7 @@ from typing import Any
 
 import pytest
 from dashboard_probe import DashboardProbe, HttpAnswer
-from helpers import ego_command, message_matches
+from helpers import IN_PROCESS_LINK, ego_command, message_matches
 from hostile_files import make as make_hostile
 from reliability_helpers import echo_device, modem_device, silent_device
 from remote_probes import pipelined, udp_request
@@ -44,7 +44,7 @@ from ego.camera.config import parse_configuration
 from ego.controller import DifferentialWheels
 from ego.faces import default_robot, runtime
 from ego.recording.reader import Recording
-from ego.serial.link import Link, LinkSettings
+from ego.serial.link import Link
 from ego.serial.transport import SerialTransport
 from ego.servers.dashboard.live import RobotFeed
 from ego.servers.socket.server import Server
@@ -57,8 +57,6 @@ HEADER = ["call", "raises", "message"]
 PENDING_HEADING = "awaiting a fix"
 #: The shared secret of the served robot.
 SECRET = "s3cret-s3cret-s3cret"
-#: The emulator's banner is 4 ms of line time: 20 ms of quiet after it is plenty.
-FAST_OPEN = LinkSettings(resync_quiet_s=0.02)
 
 # -- the table -----------------------------------------------------------------------------
 
@@ -211,8 +209,8 @@ def namespace() -> Iterator[Namespace]:
 
         emu = stack.enter_context(Emulator("webots", seed=3))
         overo_emu = stack.enter_context(Emulator("gctronic", seed=3))
-        robot = stack.enter_context(ego.Robot(emu.path, link_settings=FAST_OPEN))
-        overo_robot = stack.enter_context(ego.Robot(overo_emu.path, link_settings=FAST_OPEN))
+        robot = stack.enter_context(ego.Robot(emu.path, link_settings=IN_PROCESS_LINK))
+        overo_robot = stack.enter_context(ego.Robot(overo_emu.path, link_settings=IN_PROCESS_LINK))
 
         # The faces: a Webots controller's Robot and the C faces' default robot, each on
         # its own built-in emulator ("sim"), so that the camera is the emulator's.
@@ -240,14 +238,14 @@ def namespace() -> Iterator[Namespace]:
 
         # A served robot that wants a secret, and one that does not, driven by remote_robot.
         served_emu = stack.enter_context(Emulator("webots", seed=3))
-        served_link = Link(SerialTransport(served_emu.path), settings=FAST_OPEN)
+        served_link = Link(SerialTransport(served_emu.path), settings=IN_PROCESS_LINK)
         stack.callback(served_link.close)
         server = Server(
             served_link, listen=["tcp://127.0.0.1:0", "udp://127.0.0.1:0"], secret=SECRET
         )
         served = stack.enter_context(ServerThread(server))
         open_emu = stack.enter_context(Emulator("webots", seed=3))
-        open_link = Link(SerialTransport(open_emu.path), settings=FAST_OPEN)
+        open_link = Link(SerialTransport(open_emu.path), settings=IN_PROCESS_LINK)
         stack.callback(open_link.close)
         open_server = stack.enter_context(
             ServerThread(
