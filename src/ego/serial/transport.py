@@ -204,7 +204,11 @@ _EARLY = 0.85
 
 
 class SerialTransport(Transport):
-    """Any pyserial port or URL, 8N1 without flow control (docs/protocol.md: Line)."""
+    """Any pyserial port or URL, 8N1 without flow control (docs/protocol.md: Line).
+
+    ``latency_s`` (0 for a real port) is added to every reply timeout: the sim backend
+    gives its in-process emulator the host's scheduling and a modelled radio's delay.
+    """
 
     def __init__(self, url: str, baudrate: int = DEFAULT_BAUD, latency_s: float = 0.0) -> None:
         self.baudrate: int = check_baudrate(baudrate)
