@@ -24,7 +24,7 @@ from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-__all__ = ["FAULT_KINDS", "FaultPlan", "FaultSpec", "FaultTimings", "parse_fault"]
+__all__ = ["FAULT_KINDS", "FaultPlan", "FaultSpec", "FaultTimings", "Mangled", "parse_fault"]
 
 FAULT_KINDS = ("drop", "corrupt", "garble", "delay", "extra", "stall", "disconnect", "reset")
 #: Faults drawn when a batch ends (``corrupt`` is drawn per chunk received instead).
@@ -150,14 +150,32 @@ class FaultPlan:
         data[self.rng.randrange(len(data))] ^= 1 << self.rng.randrange(8)
         return bytes(data), True
 
-    def mangle_reply(self, kinds: list[str], reply: bytes) -> bytes:
+    def mangle_reply(self, kinds: list[str], reply: bytes) -> Mangled:
         """Apply drop / extra / garble to a reply's bytes."""
         data = bytearray(reply)
         if "drop" in kinds and data:
             del data[self.rng.randrange(len(data))]
+        together_from = None
         if "extra" in kinds:
             pos = self.rng.randrange(len(data) + 1)
             data[pos:pos] = bytes(self.rng.randrange(256) for _ in range(self.rng.randint(1, 4)))
+            together_from = max(0, pos - 1)
         if "garble" in kinds and data:
             data[self.rng.randrange(len(data))] ^= 1 << self.rng.randrange(8)
-        return bytes(data)
+        return Mangled(bytes(data), len(data) if together_from is None else together_from)
+
+
+@dataclass(frozen=True, slots=True)
+class Mangled:
+    """A reply's bytes after drop / extra / garble, and which of them travel together.
+
+    Stray bytes come on the wire amid a reply the dsPIC sends without a pause: the byte
+    before them, they and the reply's tail follow each other at the line rate. An
+    emulator that paces its writes in chunks must not let a host's scheduling put a gap
+    there, or the host's trailing guard (a few bytes' time) misses the tail and takes
+    the stray bytes for the reply's (seen on a busy 2-core machine). So the bytes from
+    ``together_from`` on go out in one write; ``len(data)`` when none need it.
+    """
+
+    data: bytes
+    together_from: int

@@ -231,11 +231,16 @@ class Emulator:
             except BlockingIOError:  # nobody reads: a real UART's FIFO would overflow too
                 log.debug("emulator: output overflow, %d bytes lost", len(chunk))
 
-    def _schedule(self, data: bytes, ready: float) -> None:
+    def _schedule(self, data: bytes, ready: float, together_from: int | None = None) -> None:
+        """Send ``data`` from ``ready`` on, each chunk once its last byte has crossed the
+        wire; the bytes from ``together_from`` on in one write (faults.Mangled)."""
         start = max(ready, self._out_free)
-        for i in range(0, len(data), CHUNK):
-            chunk = data[i : i + CHUNK]
+        cut = len(data) if together_from is None else together_from
+        for i in range(0, cut, CHUNK):
+            chunk = data[i : min(i + CHUNK, cut)]
             self._out.append((start + (i + len(chunk)) * self.byte_s, chunk))
+        if cut < len(data):
+            self._out.append((start + len(data) * self.byte_s, data[cut:]))
         self._out_free = start + len(data) * self.byte_s
 
     def _receive(self, data: bytes, now: float) -> None:
@@ -282,6 +287,6 @@ class Emulator:
             return
         if "delay" in kinds:
             ready += self.plan.timings.delay_s
-        data = self.plan.mangle_reply(kinds, emission.data)
-        if data:
-            self._schedule(data, ready)
+        mangled = self.plan.mangle_reply(kinds, emission.data)
+        if mangled.data:
+            self._schedule(mangled.data, ready, mangled.together_from)

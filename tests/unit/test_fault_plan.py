@@ -74,24 +74,37 @@ REPLY = bytes(range(40))
 
 
 def test_drop_loses_exactly_one_byte() -> None:
-    out = FaultPlan(seed=1).mangle_reply(["drop"], REPLY)
+    out = FaultPlan(seed=1).mangle_reply(["drop"], REPLY).data
     assert len(out) == len(REPLY) - 1
 
 
 def test_extra_inserts_one_to_four_bytes() -> None:
     plan = FaultPlan(seed=1)
-    lengths = {len(plan.mangle_reply(["extra"], REPLY)) - len(REPLY) for _ in range(100)}
+    lengths = {len(plan.mangle_reply(["extra"], REPLY).data) - len(REPLY) for _ in range(100)}
     assert lengths <= {1, 2, 3, 4}
     assert len(lengths) > 1
 
 
 def test_extra_after_a_silent_batch_sends_stray_bytes() -> None:
-    assert 1 <= len(FaultPlan(seed=1).mangle_reply(["extra"], b"")) <= 4
+    assert 1 <= len(FaultPlan(seed=1).mangle_reply(["extra"], b"").data) <= 4
+
+
+def test_stray_bytes_travel_with_the_byte_before_them_and_the_replys_tail() -> None:
+    plan = FaultPlan(seed=1)
+    for _ in range(100):
+        mangled = plan.mangle_reply(["extra"], REPLY)
+        stray, cut = len(mangled.data) - len(REPLY), mangled.together_from
+        assert 1 <= stray <= 4
+        # Paced: an untouched start of the reply. Together: at least its last byte, all
+        # the stray bytes, and no gap a pacing could open between them.
+        assert mangled.data[:cut] == REPLY[:cut] and cut < len(REPLY)
+        assert len(mangled.data[cut:]) == len(REPLY) - cut + stray
+    assert plan.mangle_reply(["garble"], REPLY).together_from == len(REPLY)
 
 
 def test_garble_flips_one_bit_and_keeps_the_length() -> None:
     """faults.py: garble is "a reply of the right length with a wrong value"."""
-    out = FaultPlan(seed=1).mangle_reply(["garble"], REPLY)
+    out = FaultPlan(seed=1).mangle_reply(["garble"], REPLY).data
     assert len(out) == len(REPLY)
     flipped = sum(bin(a ^ b).count("1") for a, b in zip(out, REPLY, strict=True))
     assert flipped == 1
